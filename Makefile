@@ -1,0 +1,29 @@
+# Two entry points (README quick start): `make reproduce` and `make test`.
+# Both create .venv on first use, so a fresh clone needs only Python >= 3.10 and pip.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+OUT ?= results
+
+.PHONY: reproduce test test-slow bench clean
+
+$(BIN)/fricctl: pyproject.toml
+	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e '.[test]'
+	touch $@
+
+reproduce: $(BIN)/fricctl
+	MPLBACKEND=Agg $(BIN)/fricctl reproduce --out $(OUT)
+
+test: $(BIN)/fricctl
+	MPLBACKEND=Agg $(BIN)/python -m pytest -q
+
+test-slow: $(BIN)/fricctl
+	MPLBACKEND=Agg $(BIN)/python -m pytest -q -m slow
+
+bench: $(BIN)/fricctl
+	MPLBACKEND=Agg $(BIN)/python benchmarks/run_all.py
+
+clean:
+	rm -rf $(VENV) $(OUT) build *.egg-info
