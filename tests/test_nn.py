@@ -1,0 +1,349 @@
+"""Tests of fricctl.nn: the 2-H-1 friction network, its trainers, I/O and C export."""
+
+import ctypes
+import dataclasses
+import json
+import math
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from fricctl import nn
+from fricctl.nn import (FORMAT_VERSION, FrictionNet, c_source, fit_percent, fit_report,
+                        load_net, r_squared, save_net, smooth_friction_patterns,
+                        train_backprop, train_casadi)
+
+
+def one_unit_net(**changes):
+    kw = dict(w1=[[0.8, -0.3]], b1=[0.1], w2=[1.5], b2=-0.2, input_offset=[0.1, -0.5],
+              input_scale=[0.5, 2.0], output_offset=0.05, output_scale=0.3,
+              envelope_low=[-0.4, -2.5], envelope_high=[0.6, 1.5])
+    kw.update(changes)
+    return FrictionNet(**kw)
+
+
+@pytest.fixture(scope="module")
+def sliding():
+    """Noise-free sliding patterns of the smooth law, train and held-out."""
+    rng = np.random.default_rng(0)
+    train = smooth_friction_patterns(rng, n_sliding=400, n_stuck=0)
+    test = smooth_friction_patterns(rng, n_sliding=400, n_stuck=0)
+    return train, test
+
+
+@pytest.fixture(scope="module")
+def casadi_net(sliding):
+    (tm, om, f), _ = sliding
+    return train_casadi(tm, om, f, rng=np.random.default_rng(1))
+
+
+# -- evaluation ----------------------------------------------------------------
+def test_call_matches_closed_form_one_unit():
+    # reference: the formula of the module docstring written out by hand for H = 1
+    net = one_unit_net()
+    tm = np.array([-0.3, 0.0, 0.45])
+    om = np.array([1.0, 0.0, -2.0])
+    xn0 = (tm - 0.1) / 0.5
+    xn1 = (om + 0.5) / 2.0
+    expected = (1.5 * np.tanh(0.8 * xn0 - 0.3 * xn1 + 0.1) - 0.2) * 0.3 + 0.05
+    np.testing.assert_allclose(net(tm, om), expected, rtol=0, atol=1e-15)  # same formula
+    assert net(0.1, 2.0).shape == ()
+    assert net(np.zeros((3, 4)), 0.5).shape == (3, 4)
+
+
+def test_clip_and_envelope_flags():
+    net = one_unit_net()
+    tm = np.array([-1.0, 0.0, 0.6, 0.61, 0.0, 0.0])
+    om = np.array([0.0, 0.0, 1.5, 0.0, -3.0, 1.6])
+    np.testing.assert_array_equal(net.outside_envelope(tm, om),
+                                  [True, False, False, True, True, True])
+    # reference: clipping by hand to the box, then the unclipped evaluation
+    tm_c = np.clip(tm, -0.4, 0.6)
+    om_c = np.clip(om, -2.5, 1.5)
+    np.testing.assert_array_equal(net(tm, om, clip=True), net(tm_c, om_c))
+    inside = ~net.outside_envelope(tm, om)
+    np.testing.assert_array_equal(net(tm, om, clip=True)[inside], net(tm, om)[inside])
+
+
+def test_torque_gain_against_finite_difference():
+    net = one_unit_net(w1=[[0.8, -0.3], [-1.2, 0.7]], b1=[0.1, 0.4], w2=[1.5, -0.6])
+    h = 1e-6
+    for tm, om in ((0.0, 0.0), (0.3, -1.0), (-0.2, 0.8)):
+        fd = (net(tm + h, om) - net(tm - h, om)) / (2 * h)
+        # reference: central difference, truncation O(h^2) ~ 1e-12, rounding ~ 1e-10
+        assert net.torque_gain(tm, om) == pytest.approx(fd, abs=1e-8)
+    assert net.gain_at_rest() == pytest.approx(float(net.torque_gain(0.0, 0.0)), abs=0)
+
+
+def test_net_is_immutable_and_validated():
+    net = one_unit_net()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        net.b2 = 1.0
+    with pytest.raises(ValueError):
+        net.w1[0, 0] = 2.0  # read-only array
+    with pytest.raises(TypeError):
+        net.metadata["x"] = 1
+    with pytest.raises(ValueError, match="w1"):
+        one_unit_net(w1=[[1.0, 2.0, 3.0]])
+    with pytest.raises(ValueError, match="b1"):
+        one_unit_net(b1=[0.1, 0.2])
+    with pytest.raises(ValueError, match="w2"):
+        one_unit_net(w2=[np.nan])
+    with pytest.raises(ValueError, match="input_scale"):
+        one_unit_net(input_scale=[0.0, 1.0])
+    with pytest.raises(ValueError, match="output_scale"):
+        one_unit_net(output_scale=-1.0)
+    with pytest.raises(ValueError, match="envelope_low"):
+        one_unit_net(envelope_low=[1.0, 0.0], envelope_high=[0.0, 1.0])
+    with pytest.raises(ValueError, match="metadata"):
+        one_unit_net(metadata={"x": object()})
+    with pytest.raises(ValueError, match="finite"):
+        net(np.nan, 0.0)
+    with pytest.raises(ValueError, match="broadcast"):
+        net(np.zeros(3), np.zeros(4))
+    with pytest.raises(ValueError, match="unknown"):
+        net.replace(w3=1.0)
+
+
+# -- metrics -------------------------------------------------------------------
+def test_fit_and_r2_closed_forms():
+    y = np.array([1.0, 2.0, 3.0, 4.0])
+    yhat = np.array([1.0, 2.0, 3.0, 5.0])
+    # by hand: ||e|| = 1, ||y - mean|| = sqrt(5)
+    assert fit_percent(y, yhat) == pytest.approx(100 * (1 - 1 / math.sqrt(5)), rel=1e-14)
+    assert r_squared(y, yhat) == pytest.approx(1 - 1 / 5, rel=1e-14)
+    rep = fit_report(y, yhat)
+    assert rep.rmse == pytest.approx(0.5, rel=1e-14) and rep.max_abs_error == 1.0
+    # the identity fit = 100*(1 - sqrt(1 - R^2)); R^2 = 0.98 is a fit of 85.86 %
+    assert rep.fit_percent == pytest.approx(100 * (1 - math.sqrt(1 - rep.r_squared)), rel=1e-12)
+    assert "fit" in rep.report() and "R^2" in rep.report()
+    with pytest.raises(ValueError, match="constant"):
+        fit_percent([1.0, 1.0], [1.0, 2.0])
+    with pytest.raises(ValueError, match="same length"):
+        r_squared([1.0, 2.0], [1.0])
+    with pytest.raises(ValueError, match="finite"):
+        fit_percent([1.0, np.nan], [1.0, 2.0])
+
+
+# -- back-propagation ----------------------------------------------------------
+def _scaled_loss(theta, hidden, xn, tn):
+    """Loss mean(0.5*(yn - tn)^2) through FrictionNet (the numpy path, not numba)."""
+    w1, b1, w2, b2 = nn._unpack(theta, hidden)
+    net = FrictionNet(w1=w1, b1=b1, w2=w2, b2=b2, input_offset=[0, 0], input_scale=[1, 1],
+                      output_offset=0.0, output_scale=1.0, envelope_low=[-1, -1],
+                      envelope_high=[1, 1])
+    return float(np.mean(0.5 * (net(xn[0], xn[1]) - tn) ** 2))
+
+
+def test_backprop_gradient_against_finite_differences():
+    rng = np.random.default_rng(3)
+    hidden = 4
+    xn = rng.uniform(-1, 1, (2, 50))
+    tn = rng.normal(size=50)
+    theta = nn._initial_theta(hidden, rng)
+    batch_loss_grad, _ = nn._kernels()
+    loss, grad = batch_loss_grad(theta, xn, tn, hidden)
+    assert loss == pytest.approx(_scaled_loss(theta, hidden, xn, tn), rel=1e-13)
+    h = 1e-6
+    fd = np.empty_like(theta)
+    for k in range(theta.size):
+        e = np.zeros_like(theta)
+        e[k] = h
+        fd[k] = (_scaled_loss(theta + e, hidden, xn, tn)
+                 - _scaled_loss(theta - e, hidden, xn, tn)) / (2 * h)
+    # reference: central differences of an independent evaluation; truncation
+    # O(h^2) ~ 1e-12 and rounding ~ 1e-16/h ~ 1e-10
+    np.testing.assert_allclose(grad, fd, rtol=1e-7, atol=1e-9)
+
+
+def test_full_batch_backprop_matches_plain_numpy_momentum(sliding):
+    # reference: gradient descent with momentum written in numpy with the
+    # analytic gradient; with batch_size = N the pattern order does not matter
+    (tm, om, f), _ = sliding
+    lr, mom, epochs, hidden = 0.1, 0.8, 20, 3
+    net, hist = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
+                               epochs=epochs, batch_size=tm.size, rng=np.random.default_rng(5))
+    scaling = nn._scaling(tm, om, f)
+    xn, tn = nn._scaled(tm, om, f, scaling)
+    theta = nn._initial_theta(hidden, np.random.default_rng(5))
+    v = np.zeros_like(theta)
+    for _ in range(epochs):
+        w1, b1, w2, b2 = nn._unpack(theta, hidden)
+        hid = np.tanh(w1 @ xn + b1[:, None])
+        e = w2 @ hid + b2 - tn
+        d = (w2[:, None] * (1 - hid**2)) * e
+        g = nn._pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
+        v = mom * v - lr * g
+        theta = theta + v
+    np.testing.assert_allclose(nn._pack(net.w1, net.b1, net.w2, net.b2), theta,
+                               rtol=1e-10, atol=1e-12)  # summation-order rounding only
+    assert hist.loss.shape == (epochs + 1,) and hist.step == "epoch"
+
+
+def test_backprop_per_pattern_learns_and_is_seeded(sliding):
+    (tm, om, f), (tm2, om2, f2) = sliding
+    kw = dict(learning_rate=0.01, momentum=0.9, epochs=300)
+    net, hist = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw)
+    again, _ = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw)
+    np.testing.assert_array_equal(net(tm, om), again(tm, om))  # same seed -> same net
+    # the loss history is in physical units: its last entry is the MSE of the net
+    assert hist.loss[-1] == pytest.approx(np.mean((net(tm, om) - f) ** 2), rel=1e-9)
+    # Honest level, not a pass mark tuned to 99 %: the paper's on-line trainer
+    # reaches a held-out fit of ~94 % after 300 epochs on this law (measured); 85 % fails
+    # for a broken update and passes for a working but slow one.
+    assert fit_percent(f2, net(tm2, om2)) > 85.0
+    assert hist.loss[-1] < 0.1 * hist.loss[0]
+    assert net.metadata["trainer"] == "backprop" and net.metadata["epochs"] == 300
+
+
+def test_backprop_rejects_bad_input(sliding):
+    (tm, om, f), _ = sliding
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="rng"):
+        train_backprop(tm, om, f, rng=0)
+    with pytest.raises(ValueError, match="same length"):
+        train_backprop(tm, om[:-1], f, rng=rng)
+    with pytest.raises(ValueError, match="finite"):
+        train_backprop(np.where(tm > 0, np.nan, tm), om, f, rng=rng)
+    with pytest.raises(ValueError, match="learning_rate"):
+        train_backprop(tm, om, f, learning_rate=0.0, rng=rng)
+    with pytest.raises(ValueError, match="momentum"):
+        train_backprop(tm, om, f, momentum=1.0, rng=rng)
+    with pytest.raises(ValueError, match="hidden"):
+        train_backprop(tm, om, f, hidden=0, rng=rng)
+    with pytest.raises(ValueError, match="omega is constant"):
+        train_backprop(tm, np.zeros_like(om), f, rng=rng)
+    with pytest.raises(ValueError, match="diverged"):
+        train_backprop(tm, om, f, learning_rate=1e6, epochs=5, rng=rng)
+
+
+# -- CasADi trainer -------------------------------------------------------------
+def test_casadi_fits_smooth_law_above_99_percent(casadi_net, sliding):
+    # reference: noise-free patterns of b*w + Fc*tanh(w/v), representable by a
+    # 2-4-1 tanh net; training and held-out fit > 99 % (measured ~99.99 %)
+    net, hist = casadi_net
+    (tm, om, f), (tm2, om2, f2) = sliding
+    assert fit_percent(f, net(tm, om)) > 99.0
+    held = fit_report(f2, net=net, tm=tm2, omega=om2)
+    assert held.fit_percent > 99.0
+    assert net.metadata["trainer"] == "casadi"
+    assert net.metadata["fit_percent"] == pytest.approx(fit_percent(f, net(tm, om)), rel=1e-12)
+    assert np.all(np.diff(hist.loss) <= 0)  # best-so-far loss never increases
+    assert hist.loss[-1] == pytest.approx(np.mean((net(tm, om) - f) ** 2), rel=1e-9)
+
+
+def test_casadi_beats_backprop_loss(casadi_net, sliding):
+    # the second-order trainer's final loss is below the paper's trainer's
+    (tm, om, f), _ = sliding
+    net, hist = casadi_net
+    _, bp = train_backprop(tm, om, f, learning_rate=0.01, epochs=100,
+                           rng=np.random.default_rng(1))
+    assert hist.loss[-1] < bp.loss[-1]
+    assert math.isfinite(hist.time_to_reach(bp.loss[-1]))
+    assert hist.time_to_reach(-1.0) == math.inf
+
+
+def test_stuck_patterns_give_a_gain_near_one_at_rest():
+    # While stuck the patterns are Tat = Tm, so dTat_hat/dTm at rest is close
+    # to 1; the tolerance 0.3 allows for the sliding patterns near omega = 0,
+    # which pull the other way (their friction does not depend on Tm).
+    rng = np.random.default_rng(4)
+    tm, om, f = smooth_friction_patterns(rng, n_sliding=300, n_stuck=150)
+    net, _ = train_casadi(tm, om, f, restarts=2, rng=np.random.default_rng(6))
+    assert net.gain_at_rest() == pytest.approx(1.0, abs=0.3)
+
+
+# -- JSON -----------------------------------------------------------------------
+def test_save_load_round_trip_is_exact(casadi_net, tmp_path, sliding):
+    net, _ = casadi_net
+    (tm, om, _), _ = sliding
+    path = save_net(net, tmp_path / "net.json")
+    back = load_net(path)
+    np.testing.assert_array_equal(back(tm, om), net(tm, om))  # bit-identical
+    for name in ("w1", "b1", "w2", "input_offset", "input_scale", "envelope_low",
+                 "envelope_high"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(net, name))
+    assert dict(back.metadata) == dict(net.metadata)
+    assert json.loads(path.read_text())["version"] == FORMAT_VERSION
+
+
+def test_load_rejects_malformed_and_wrong_version(tmp_path):
+    good = one_unit_net().to_dict()
+    cases = {
+        "bad json": "{not json",
+        "format": json.dumps(good | {"format": "something.else"}),
+        "version": json.dumps(good | {"version": FORMAT_VERSION + 1}),
+        "missing": json.dumps({k: v for k, v in good.items() if k != "b1"}),
+        "unknown": json.dumps(good | {"w3": [1.0]}),
+        "hidden": json.dumps(good | {"hidden": 7}),
+        "shape": json.dumps(good | {"w2": [1.0, 2.0]}),
+        "nan": json.dumps(good).replace('"b2": -0.2', '"b2": NaN'),
+        "list": "[1, 2, 3]",
+    }
+    messages = {"bad json": "malformed", "format": "not a FrictionNet", "version": "version",
+                "missing": "missing", "unknown": "unknown", "hidden": "hidden", "shape": "w2",
+                "nan": "b2", "list": "JSON object"}
+    for key, text in cases.items():
+        p = tmp_path / f"{key.replace(' ', '_')}.json"
+        p.write_text(text)
+        with pytest.raises(ValueError, match=messages[key]):
+            load_net(p)
+    with pytest.raises(FileNotFoundError):
+        load_net(tmp_path / "absent.json")
+
+
+# -- C export -------------------------------------------------------------------
+CC = shutil.which("cc") or shutil.which("gcc")
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
+def test_c_export_matches_python(casadi_net, tmp_path):
+    net, _ = casadi_net
+    src = tmp_path / "fricnet.c"
+    src.write_text(c_source(net, name="fricnet"))
+    lib = tmp_path / "libfricnet.so"
+    subprocess.run([CC, "-O2", "-shared", "-fPIC", "-std=c99", str(src), "-o", str(lib), "-lm"],
+                   check=True, capture_output=True)
+    so = ctypes.CDLL(str(lib))
+    so.fricnet.restype = ctypes.c_double
+    so.fricnet.argtypes = [ctypes.c_double, ctypes.c_double, ctypes.c_int]
+    so.fricnet_outside.restype = ctypes.c_int
+    so.fricnet_outside.argtypes = [ctypes.c_double, ctypes.c_double]
+    dp = ctypes.POINTER(ctypes.c_double)
+    so.fricnet_batch.argtypes = [dp, dp, dp, ctypes.c_long, ctypes.c_int]
+
+    rng = np.random.default_rng(7)
+    lo, hi = net.envelope_low, net.envelope_high
+    span = hi - lo
+    tm = rng.uniform(lo[0] - 0.5 * span[0], hi[0] + 0.5 * span[0], 2000)
+    om = rng.uniform(lo[1] - 0.5 * span[1], hi[1] + 0.5 * span[1], 2000)
+    for clip in (False, True):
+        out = np.empty_like(tm)
+        so.fricnet_batch(tm.ctypes.data_as(dp), om.ctypes.data_as(dp), out.ctypes.data_as(dp),
+                         tm.size, int(clip))
+        # reference: the Python evaluation; difference only from libm tanh and
+        # summation rounding (~1e-16), tolerance 1e-12 from the issue
+        np.testing.assert_allclose(out, net(tm, om, clip=clip), rtol=0, atol=1e-12)
+    single = [so.fricnet(float(a), float(b), 0) for a, b in zip(tm[:20], om[:20])]
+    np.testing.assert_allclose(single, net(tm[:20], om[:20]), rtol=0, atol=1e-12)
+    flags = [bool(so.fricnet_outside(float(a), float(b))) for a, b in zip(tm, om)]
+    np.testing.assert_array_equal(flags, net.outside_envelope(tm, om))
+
+
+def test_c_source_rejects_bad_name():
+    with pytest.raises(ValueError, match="identifier"):
+        c_source(one_unit_net(), name="1bad name")
+
+
+def test_smooth_patterns_obey_the_law():
+    rng = np.random.default_rng(0)
+    tm, om, f = smooth_friction_patterns(rng, n_sliding=50, n_stuck=20)
+    np.testing.assert_allclose(f[:50], 0.0169 * om[:50] + 0.144 * np.tanh(om[:50] / 0.05),
+                               rtol=1e-15)  # definition
+    np.testing.assert_array_equal(f[50:], tm[50:])  # stuck: Tat = Tm
+    np.testing.assert_array_equal(om[50:], 0.0)
+    assert np.all(om[:50] * f[:50] >= 0)  # friction dissipates
+    with pytest.raises(ValueError, match="n_stuck"):
+        smooth_friction_patterns(rng, n_stuck=-1)
