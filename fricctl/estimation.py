@@ -1,0 +1,418 @@
+"""Velocity and acceleration from encoder data.
+
+All estimators are pure functions ``f(t, position, *, ...) -> DerivativeEstimate``
+over a uniform time vector ``t`` [s] and a measured position [rad] (or [m]):
+
+* :func:`backward_difference` -- the raw estimate a 500 Hz controller has:
+  ``v[k] = (q[k] - q[k-1]) / Ts``, and the same again for the acceleration.
+* :func:`polynomial_segments` -- the paper's method (Gervini, Gomes & da Rosa
+  2003): backward-difference velocity, split into the segments where it is
+  non-zero, least-squares polynomial (6th order) on each segment, long segments
+  in overlapping windows, acceleration as the analytic derivative.
+* :func:`savitzky_golay` -- local polynomial smoothing/differentiation
+  (:func:`scipy.signal.savgol_filter`).
+* :func:`butterworth_central` -- the EMPS recipe (Janot, Gautier & Brunot 2019):
+  zero-phase Butterworth low-pass, then central differences twice.
+
+plus the signal helpers :func:`central_difference` (MATLAB ``diffcent``),
+:func:`zero_phase_filter` (MATLAB ``filtfilt`` end handling) and :func:`decimate`
+(MATLAB ``decimate``: order-8 Chebyshev I zero-phase low-pass, then one sample
+in ``factor``), which the IDIM-LS recipe in :mod:`fricctl.identify` uses.
+
+Notes
+-----
+None of these estimators knows the dynamics: no observer or Kalman filter is
+provided.  Edge samples are handled by each method's own rule (documented per
+function) and are less accurate; callers that need clean data drop a border.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal
+
+__all__ = [
+    "DerivativeEstimate",
+    "backward_difference",
+    "polynomial_segments",
+    "savitzky_golay",
+    "butterworth_central",
+    "central_difference",
+    "zero_phase_filter",
+    "decimate",
+    "ESTIMATORS",
+    "estimate",
+]
+
+_TIME_RTOL = 1e-3
+
+
+@dataclass(frozen=True, kw_only=True)
+class DerivativeEstimate:
+    """Velocity and acceleration estimated from a position record.
+
+    Notes
+    -----
+    ``position`` is the (possibly smoothed) position the method used; for
+    :func:`backward_difference` and :func:`polynomial_segments` it is the input.
+    """
+
+    t: np.ndarray = field(metadata={"unit": "s"})
+    """Sample times [s]."""
+    position: np.ndarray = field(metadata={"unit": "rad or m"})
+    """Position the derivatives belong to [rad] or [m]."""
+    velocity: np.ndarray = field(metadata={"unit": "rad/s or m/s"})
+    """Estimated velocity [rad/s] or [m/s]."""
+    acceleration: np.ndarray = field(metadata={"unit": "rad/s^2 or m/s^2"})
+    """Estimated acceleration [rad/s^2] or [m/s^2]."""
+    method: str
+    """Name of the estimator, e.g. ``"polynomial_segments"``."""
+
+    def __post_init__(self):
+        for name in ("t", "position", "velocity", "acceleration"):
+            x = np.array(getattr(self, name), dtype=float)
+            x.setflags(write=False)
+            object.__setattr__(self, name, x)
+
+
+def _check(t, position) -> tuple[np.ndarray, np.ndarray, float]:
+    t = np.asarray(t, dtype=float)
+    q = np.asarray(position, dtype=float)
+    if t.ndim != 1 or q.ndim != 1:
+        raise ValueError(f"t and position must be 1-D, got shapes {t.shape} and {q.shape}")
+    if t.size != q.size:
+        raise ValueError(f"position: length {q.size} differs from t ({t.size})")
+    if t.size < 5:
+        raise ValueError(f"fewer than 5 samples ({t.size})")
+    for name, x in (("t", t), ("position", q)):
+        bad = np.flatnonzero(~np.isfinite(x))
+        if bad.size:
+            raise ValueError(f"{name}: non-finite value at row {int(bad[0])}")
+    dt = np.diff(t)
+    ts = (t[-1] - t[0]) / (t.size - 1)
+    if np.any(dt <= 0) or np.any(np.abs(dt - ts) > _TIME_RTOL * ts):
+        raise ValueError("t: time must be strictly increasing and uniform")
+    return t, q, float(ts)
+
+
+def _backward(x: np.ndarray, ts: float) -> np.ndarray:
+    d = np.empty_like(x)
+    d[1:] = np.diff(x) / ts
+    d[0] = d[1]  # no sample before the first: repeat the first difference
+    return d
+
+
+def central_difference(x, sample_time: float) -> np.ndarray:
+    """Central difference with one-sided ends (MATLAB ``diffcent`` of M. Gautier).
+
+    ``[x1-x0, (x2-x0)/2, ..., (x[n-1]-x[n-3])/2, x[n-1]-x[n-2]] / Ts``.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        Samples.
+    sample_time : float
+        Sample time Ts [s].
+
+    Examples
+    --------
+    >>> central_difference([0.0, 1.0, 4.0, 9.0], 1.0).tolist()
+    [1.0, 2.0, 4.0, 5.0]
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1 or x.size < 3:
+        raise ValueError("x: expected a 1-D array of at least 3 samples")
+    if not sample_time > 0:
+        raise ValueError(f"sample_time: must be positive, got {sample_time}")
+    return np.concatenate(([x[1] - x[0]], (x[2:] - x[:-2]) / 2.0, [x[-1] - x[-2]])) / sample_time
+
+
+def zero_phase_filter(b, a, x) -> np.ndarray:
+    """Forward-backward IIR filtering with MATLAB ``filtfilt`` end handling.
+
+    Odd (point-reflected) extension of ``3*(max(len(a), len(b)) - 1)`` samples at each
+    end, as MATLAB does; SciPy's default pads one sample more, which changes the
+    first and last few dozen samples slightly.
+    """
+    x = np.asarray(x, dtype=float)
+    return signal.filtfilt(b, a, x, padtype="odd", padlen=3 * (max(len(a), len(b)) - 1))
+
+
+def decimate(x, factor: int) -> np.ndarray:
+    """Low-pass and keep one sample in ``factor`` (MATLAB ``decimate`` semantics).
+
+    Order-8 Chebyshev type I low-pass (0.05 dB ripple, edge 0.8/factor of Nyquist)
+    applied with :func:`zero_phase_filter`, then samples ``nbeg-1, nbeg-1+factor, ...``
+    with ``nbeg = factor - (factor*ceil(N/factor) - N)`` (MATLAB's 1-based choice,
+    which keeps the last sample).  This is the "parallel filtering + resampling"
+    of the IDIM-LS recipe.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        Samples.
+    factor : int
+        Decimation factor (>= 1; 1 returns a copy).
+
+    Examples
+    --------
+    >>> y = decimate(np.ones(25), 10)    # keeps samples 4, 14, 24
+    >>> len(y), round(float(y[0]), 4)    # DC gain of an even-order Chebyshev I: -0.05 dB twice
+    (3, 0.9886)
+    """
+    x = np.asarray(x, dtype=float)
+    if int(factor) != factor or factor < 1:
+        raise ValueError(f"factor: must be a positive integer, got {factor}")
+    factor = int(factor)
+    if factor == 1:
+        return x.copy()
+    if x.ndim != 1 or x.size <= 3 * 8:
+        raise ValueError("x: expected a 1-D array of more than 24 samples")
+    b, a = signal.cheby1(8, 0.05, 0.8 / factor)
+    y = zero_phase_filter(b, a, x)
+    n = x.size
+    nout = -(-n // factor)
+    nbeg = factor - (factor * nout - n)
+    return y[nbeg - 1::factor]
+
+
+def backward_difference(t, position) -> DerivativeEstimate:
+    """Backward-difference velocity and acceleration (what the controller sees).
+
+    ``v[k] = (q[k] - q[k-1]) / Ts``, ``a[k] = (v[k] - v[k-1]) / Ts``; the first
+    sample repeats the second.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Uniform sample times [s].
+    position : array_like, shape (N,)
+        Measured position [rad] or [m].
+
+    Notes
+    -----
+    The estimate lags by half a sample (velocity) and one sample (acceleration),
+    and on an encoder grid it jumps by one count per sample time; see
+    :func:`polynomial_segments` for the smoothed version.
+
+    Examples
+    --------
+    >>> est = backward_difference([0, 1, 2, 3, 4], [0.0, 1.0, 3.0, 6.0, 10.0])
+    >>> est.velocity.tolist(), est.acceleration.tolist()
+    ([1.0, 1.0, 2.0, 3.0, 4.0], [0.0, 0.0, 1.0, 1.0, 1.0])
+    """
+    t, q, ts = _check(t, position)
+    v = _backward(q, ts)
+    return DerivativeEstimate(t=t, position=q, velocity=v, acceleration=_backward(v, ts),
+                              method="backward_difference")
+
+
+def _segments(moving: np.ndarray) -> list[tuple[int, int]]:
+    """Half-open index ranges [start, stop) of the runs of True in ``moving``."""
+    m = np.concatenate(([False], moving, [False])).astype(np.int8)
+    edges = np.flatnonzero(np.diff(m))
+    return list(zip(edges[::2], edges[1::2]))
+
+
+def polynomial_segments(t, position, *, order: int = 6, window: int = 200,
+                        overlap: int = 100, min_samples: int | None = None) -> DerivativeEstimate:
+    """The paper's estimator: piecewise least-squares polynomials on the moving segments.
+
+    1. backward-difference velocity ``vb[k] = (q[k]-q[k-1])/Ts``;
+    2. split the record into segments where ``vb != 0`` (the axis moves);
+    3. on each segment fit ``vb`` with a least-squares polynomial of degree ``order``
+       in time; segments longer than ``window`` samples are covered by windows of
+       ``window`` samples overlapping by ``overlap``, blended with triangular weights;
+    4. velocity = the polynomial, acceleration = its analytic derivative.
+
+    Outside the segments velocity and acceleration are zero (the axis is at rest).
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Uniform sample times [s].
+    position : array_like, shape (N,)
+        Measured (encoder) position [rad] or [m].
+    order : int
+        Polynomial degree (the paper: 6).
+    window : int
+        Longest stretch one polynomial covers [samples].
+    overlap : int
+        Overlap of consecutive windows, ``0 <= overlap < window`` [samples].
+    min_samples : int, optional
+        Shorter segments get a polynomial of degree ``len - 2`` (at least 1), and
+        segments of one or two samples keep the backward difference with zero
+        acceleration; default ``order + 2``.
+
+    Notes
+    -----
+    The backward difference is the velocity at the middle of the sample interval,
+    so each polynomial is fitted against the mid-times ``t[k] - Ts/2`` and then
+    evaluated at ``t[k]``: this removes the half-sample lag a fit against ``t[k]``
+    would keep (a choice of ours; the paper does not say).  The polynomial is not
+    constrained at the segment ends (no continuity between windows other than the
+    blending), and a stop in the middle of a fast motion is not detected unless the
+    encoder count stops changing for a whole sample.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(400) * 0.002
+    >>> q = np.round(np.sin(t) / 1e-4) * 1e-4          # 1e-4 rad encoder grid
+    >>> est = polynomial_segments(t, q)
+    >>> bool(np.max(np.abs(est.velocity[10:-10] - np.cos(t[10:-10]))) < 5e-3)
+    True
+    """
+    t, q, ts = _check(t, position)
+    if order < 1:
+        raise ValueError(f"order: must be >= 1, got {order}")
+    if window < order + 2:
+        raise ValueError(f"window: must be at least order + 2 = {order + 2}, got {window}")
+    if not 0 <= overlap < window:
+        raise ValueError(f"overlap: must satisfy 0 <= overlap < window, got {overlap}")
+    min_samples = order + 2 if min_samples is None else int(min_samples)
+    vb = np.empty_like(q)
+    vb[1:] = np.diff(q) / ts
+    vb[0] = vb[1]
+    tm = t - ts / 2.0  # mid-interval times of the backward differences
+    vel = np.zeros_like(q)
+    acc = np.zeros_like(q)
+    for start, stop in _segments(vb != 0.0):
+        n = stop - start
+        if n <= 2:
+            vel[start:stop] = vb[start:stop]
+            continue
+        deg = order if n >= min_samples else max(1, n - 2)
+        if n <= window:
+            windows = [(start, stop)]
+        else:
+            stride = window - overlap
+            starts = list(range(start, stop - window + 1, stride))
+            if starts[-1] + window < stop:
+                starts.append(stop - window)
+            windows = [(s, s + window) for s in starts]
+        wsum = np.zeros(n)
+        vsum = np.zeros(n)
+        asum = np.zeros(n)
+        for s, e in windows:
+            p = np.polynomial.Polynomial.fit(tm[s:e], vb[s:e], deg)
+            dp = p.deriv()
+            m = e - s
+            if len(windows) == 1:
+                w = np.ones(m)
+            else:  # triangular weights: the centre of a window is trusted most
+                w = 1.0 - np.abs((np.arange(m) + 0.5) / m * 2.0 - 1.0) + 1e-9
+            sl = slice(s - start, e - start)
+            wsum[sl] += w
+            vsum[sl] += w * p(t[s:e])
+            asum[sl] += w * dp(t[s:e])
+        vel[start:stop] = vsum / wsum
+        acc[start:stop] = asum / wsum
+    return DerivativeEstimate(t=t, position=q, velocity=vel, acceleration=acc,
+                              method="polynomial_segments")
+
+
+def savitzky_golay(t, position, *, window_length: int = 51, polyorder: int = 3) -> DerivativeEstimate:
+    """Savitzky-Golay smoothing and differentiation (:func:`scipy.signal.savgol_filter`).
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Uniform sample times [s].
+    position : array_like, shape (N,)
+        Measured position [rad] or [m].
+    window_length : int
+        Odd window length [samples].
+    polyorder : int
+        Local polynomial degree, at least 2 for an acceleration.
+
+    Notes
+    -----
+    Ends are handled by scipy's ``mode="interp"`` (a polynomial fitted to the last
+    window), which is noisier than the interior.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(200) * 0.01
+    >>> est = savitzky_golay(t, t**2, window_length=11, polyorder=3)
+    >>> bool(np.allclose(est.acceleration, 2.0))
+    True
+    """
+    t, q, ts = _check(t, position)
+    if window_length % 2 != 1 or window_length > q.size:
+        raise ValueError(f"window_length: must be odd and at most {q.size}, got {window_length}")
+    if not 2 <= polyorder < window_length:
+        raise ValueError(f"polyorder: must satisfy 2 <= polyorder < window_length, got {polyorder}")
+    kw = dict(window_length=window_length, polyorder=polyorder, delta=ts, mode="interp")
+    return DerivativeEstimate(
+        t=t, position=signal.savgol_filter(q, deriv=0, **kw),
+        velocity=signal.savgol_filter(q, deriv=1, **kw),
+        acceleration=signal.savgol_filter(q, deriv=2, **kw), method="savitzky_golay")
+
+
+def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> DerivativeEstimate:
+    """Zero-phase Butterworth low-pass, then central differences twice (EMPS recipe).
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Uniform sample times [s].
+    position : array_like, shape (N,)
+        Measured position [rad] or [m].
+    cutoff : float
+        Cut-off frequency of the low-pass [Hz]; below the Nyquist frequency.  The
+        rule of thumb of the EMPS report is 5x the closed-loop bandwidth (100 Hz there).
+    order : int
+        Filter order (applied twice, forward and backward).
+
+    Notes
+    -----
+    Velocity and acceleration are :func:`central_difference` of the filtered
+    position and of the velocity, so the first and last few dozen samples carry
+    filter and difference end effects; the EMPS recipe drops the first 49.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(2000) * 0.001
+    >>> est = butterworth_central(t, np.sin(2 * np.pi * t), cutoff=100.0)
+    >>> bool(np.allclose(est.velocity[100:-100], 2 * np.pi * np.cos(2 * np.pi * t[100:-100]), atol=1e-3))
+    True
+    """
+    t, q, ts = _check(t, position)
+    nyq = 0.5 / ts
+    if not 0 < cutoff < nyq:
+        raise ValueError(f"cutoff: must lie in (0, {nyq:g}) Hz, got {cutoff}")
+    if order < 1:
+        raise ValueError(f"order: must be >= 1, got {order}")
+    b, a = signal.butter(order, cutoff / nyq)
+    qf = zero_phase_filter(b, a, q)
+    v = central_difference(qf, ts)
+    return DerivativeEstimate(t=t, position=qf, velocity=v,
+                              acceleration=central_difference(v, ts), method="butterworth_central")
+
+
+#: Estimators by name (for the CLI and :func:`estimate`).
+ESTIMATORS = {
+    "backward_difference": backward_difference,
+    "polynomial_segments": polynomial_segments,
+    "savitzky_golay": savitzky_golay,
+    "butterworth_central": butterworth_central,
+}
+
+
+def estimate(t, position, method: str = "polynomial_segments", **options) -> DerivativeEstimate:
+    """Run the estimator named ``method`` with its keyword ``options``.
+
+    ``butterworth_central`` without a ``cutoff`` uses a fifth of the Nyquist
+    frequency (100 Hz at 1 kHz, the EMPS choice).
+    """
+    if method not in ESTIMATORS:
+        raise ValueError(f"method: unknown estimator {method!r}; choose from {sorted(ESTIMATORS)}")
+    if method == "butterworth_central" and "cutoff" not in options:
+        t_arr = np.asarray(t, dtype=float)
+        options = dict(options, cutoff=0.1 / ((t_arr[-1] - t_arr[0]) / (t_arr.size - 1)))
+    return ESTIMATORS[method](t, position, **options)
