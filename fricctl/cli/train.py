@@ -1,0 +1,128 @@
+"""``fricctl train PATTERNS.csv --out NET.json``: train the friction network.
+
+PATTERNS.csv has a header naming exactly the columns ``tm,omega,friction``
+(any order): motor torque [N*m], velocity [rad/s] and friction torque [N*m],
+load side, one pattern per row.  The trained net is written as JSON
+(:func:`fricctl.nn.save_net`) and its fit on the training patterns printed.
+``--json`` prints one JSON object instead: ``out, trainer, hidden, seed,
+n_patterns, fit{fit_percent, r_squared, rmse, max_abs_error, n, outside_envelope},
+train_mse, gain_at_rest, envelope{tm[lo, hi], omega[lo, hi]}, c_source``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+COLUMNS = ("tm", "omega", "friction")
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "train",
+        help="train the 2-H-1 friction network on (tm, omega, friction) patterns",
+        description=__doc__.split("\n\n", 1)[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("patterns", type=Path, metavar="PATTERNS.csv",
+                   help="CSV with header tm,omega,friction [N*m, rad/s, N*m]")
+    p.add_argument("--out", type=Path, required=True, metavar="NET.json",
+                   help="where to write the trained network")
+    p.add_argument("--trainer", choices=("casadi", "backprop"), default="casadi",
+                   help="casadi: Levenberg-Marquardt (default); backprop: the paper's "
+                        "back-propagation with momentum")
+    p.add_argument("--hidden", type=int, default=4, help="hidden units (paper: 4)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the initial weights")
+    p.add_argument("--epochs", type=int, default=1000, help="backprop: epochs")
+    p.add_argument("--learning-rate", type=float, default=0.01, help="backprop: step size")
+    p.add_argument("--momentum", type=float, default=0.9, help="backprop: momentum [0, 1)")
+    p.add_argument("--batch-size", type=int, default=1,
+                   help="backprop: patterns per update (1 = per pattern, as in the paper)")
+    p.add_argument("--restarts", type=int, default=3, help="casadi: seeded starting points")
+    p.add_argument("--c-source", type=Path, default=None, metavar="NET.c",
+                   help="also write a self-contained C function of the net")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def read_patterns(path: Path):
+    """Read ``tm, omega, friction`` arrays from a CSV file with a header.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        Missing, duplicate or unknown columns, a non-numeric or non-finite
+        entry (the message names the line), a ragged row, or fewer than 2 rows.
+    """
+    with open(path, newline="", encoding="utf-8") as fh:
+        reader = csv.reader(fh)
+        try:
+            header = [h.strip() for h in next(reader)]
+        except StopIteration:
+            raise ValueError(f"{path}: empty file, expected a header {','.join(COLUMNS)}") from None
+        unknown = [h for h in header if h not in COLUMNS]
+        if unknown:
+            raise ValueError(f"{path}: unknown column(s) {', '.join(map(repr, unknown))}; "
+                             f"expected exactly {','.join(COLUMNS)}")
+        missing = [c for c in COLUMNS if c not in header]
+        if missing or len(header) != len(COLUMNS):
+            raise ValueError(f"{path}: header must name each of {','.join(COLUMNS)} once, "
+                             f"got {','.join(header)}")
+        rows = []
+        for line_no, row in enumerate(reader, start=2):
+            if not row or all(not c.strip() for c in row):
+                continue
+            if len(row) != len(header):
+                raise ValueError(f"{path}, line {line_no}: {len(row)} fields, expected "
+                                 f"{len(header)}")
+            try:
+                vals = [float(c) for c in row]
+            except ValueError:
+                raise ValueError(f"{path}, line {line_no}: not a number in {row!r}") from None
+            if not all(math.isfinite(v) for v in vals):
+                raise ValueError(f"{path}, line {line_no}: NaN or inf in {row!r}")
+            rows.append(vals)
+    if len(rows) < 2:
+        raise ValueError(f"{path}: need at least 2 patterns, got {len(rows)}")
+    data = np.array(rows)
+    return tuple(data[:, header.index(c)] for c in COLUMNS)
+
+
+def run(args) -> int:
+    from .. import nn
+
+    tm, omega, friction = read_patterns(args.patterns)
+    rng = np.random.default_rng(args.seed)
+    extra = {"seed": args.seed, "patterns_file": args.patterns.name}
+    if args.trainer == "casadi":
+        net, hist = nn.train_casadi(tm, omega, friction, hidden=args.hidden,
+                                    restarts=args.restarts, rng=rng, metadata=extra)
+    else:
+        net, hist = nn.train_backprop(tm, omega, friction, hidden=args.hidden,
+                                      learning_rate=args.learning_rate,
+                                      momentum=args.momentum, epochs=args.epochs,
+                                      batch_size=args.batch_size, rng=rng, metadata=extra)
+    nn.save_net(net, args.out)
+    if args.c_source is not None:
+        args.c_source.write_text(nn.c_source(net), encoding="utf-8")
+    rep = nn.fit_report(friction, net=net, tm=tm, omega=omega)
+    if args.json:
+        out = {"out": str(args.out), "trainer": args.trainer, "hidden": net.hidden,
+               "seed": args.seed, "n_patterns": int(tm.size), "fit": rep.as_dict(),
+               "train_mse": float(hist.loss[-1]), "gain_at_rest": net.gain_at_rest(),
+               "envelope": {"tm": [float(net.envelope_low[0]), float(net.envelope_high[0])],
+                            "omega": [float(net.envelope_low[1]), float(net.envelope_high[1])]},
+               "c_source": None if args.c_source is None else str(args.c_source)}
+        print(json.dumps(out, indent=2, allow_nan=False))
+    else:
+        print(f"trained a 2-{net.hidden}-1 net with {args.trainer} (seed {args.seed}) "
+              f"in {hist.elapsed[-1]:.3g} s -> {args.out}")
+        print(rep.report())
+        print(f"gain at rest dTat/dTm  {net.gain_at_rest():.4f}")
+    return 0
