@@ -652,7 +652,15 @@ _KERNELS = None
 def _kernels():
     global _KERNELS
     if _KERNELS is None:
-        _KERNELS = _numba_kernels()
+        kernels = _numba_kernels()
+        # compile (or load from the cache) now, so that training histories
+        # time the training and not the compiler
+        theta = np.zeros(5)
+        xn = np.zeros((2, 2))
+        tn = np.zeros(2)
+        kernels[0](theta, xn, tn, 1)
+        kernels[1](theta, np.zeros(5), xn, tn, np.arange(2), 1, 0.1, 0.5, 1)
+        _KERNELS = kernels
     return _KERNELS
 
 

@@ -347,3 +347,36 @@ def test_smooth_patterns_obey_the_law():
     assert np.all(om[:50] * f[:50] >= 0)  # friction dissipates
     with pytest.raises(ValueError, match="n_stuck"):
         smooth_friction_patterns(rng, n_stuck=-1)
+
+
+# -- figures (Agg; inspect artists, not pixels) ---------------------------------
+def test_plot_friction_map_draws_curves_and_envelope(casadi_net):
+    from fricctl.figures.network import plot_friction_map
+
+    net, _ = casadi_net
+    ax = plot_friction_map(net, tm_values=[0.0, 0.1])
+    solid = [ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and ln.get_label()
+             .startswith("Tm")]
+    assert len(solid) == 2
+    x, y = solid[1].get_data()
+    inside = np.isfinite(y)
+    np.testing.assert_allclose(y[inside], net(0.1, x[inside]), rtol=0, atol=0)  # same values
+    assert not inside.all()  # the margin outside the envelope is not solid
+    assert len(ax.patches) == 1  # the shaded envelope
+    assert "[rad/s]" in ax.get_xlabel() and "[N*m]" in ax.get_ylabel()
+
+
+def test_plot_history_and_fit(casadi_net, sliding):
+    from fricctl.figures.network import plot_fit, plot_training_history
+
+    net, hist = casadi_net
+    ax = plot_training_history(hist, against="time")
+    np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), hist.loss)
+    assert ax.get_yscale() == "log" and "[s]" in ax.get_xlabel()
+    (tm, om, f), _ = sliding
+    ax = plot_fit(f, net(tm, om))
+    assert len(ax.get_lines()) == 2 and "fit" in ax.get_title()
+    with pytest.raises(ValueError, match="same length"):
+        plot_fit(f, f[:-1])
+    with pytest.raises(ValueError, match="against"):
+        plot_training_history(hist, against="epochs")
