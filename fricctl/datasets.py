@@ -45,7 +45,7 @@ __all__ = [
 MIN_SAMPLES = 10
 
 #: Relative tolerance on the time step: a record is uniform when every step lies
-#: within this fraction of the mean step (EMPS steps scatter by 2.4e-5 from float
+#: within this fraction of the median step (EMPS steps scatter by 2.4e-5 from float
 #: rounding in the acquisition).
 TIME_STEP_RTOL = 1e-3
 
@@ -143,12 +143,13 @@ class Run:
         bad = np.flatnonzero(dt <= 0)
         if bad.size:
             raise ValueError(f"t: non-increasing time at row {int(bad[0]) + 1}")
-        mean_dt = (arrays["t"][-1] - arrays["t"][0]) / (n - 1)
-        bad = np.flatnonzero(np.abs(dt - mean_dt) > TIME_STEP_RTOL * mean_dt)
+        # the median step is robust to the one bad step the message should point at
+        ref_dt = float(np.median(dt))
+        bad = np.flatnonzero(np.abs(dt - ref_dt) > TIME_STEP_RTOL * ref_dt)
         if bad.size:
             raise ValueError(
                 f"t: non-uniform time step at row {int(bad[0]) + 1} "
-                f"({dt[bad[0]]:.6g} s against a mean of {mean_dt:.6g} s)")
+                f"({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
         if np.ptp(arrays["position"]) == 0.0:
             raise ValueError("position: no motion (the position is constant)")
         for name, x in arrays.items():

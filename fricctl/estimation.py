@@ -297,7 +297,8 @@ def polynomial_segments(t, position, *, order: int = 6, window: int = 200,
         vsum = np.zeros(n)
         asum = np.zeros(n)
         for s, e in windows:
-            p = np.polynomial.Polynomial.fit(tm[s:e], vb[s:e], deg)
+            f0 = max(s, 1)  # sample 0 has no backward difference (vb[0] is a copy)
+            p = np.polynomial.Polynomial.fit(tm[f0:e], vb[f0:e], min(deg, e - f0 - 1))
             dp = p.deriv()
             m = e - s
             if len(windows) == 1:

@@ -415,22 +415,30 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
         raise ValueError("prediction: must return one casadi scalar")
     f = ca.Function("f", [th, xs], [pred, ca.jacobian(pred, th)])
     fmap = f.map(n)
+    # The objective is one mapped per-sample function with the data passed as NLP
+    # parameters (not constants): building the graph and its derivatives then does not
+    # grow with N, and the summation happens inside the map (reduce_out).
+    ys = ca.SX.sym("y")
+    zs = ca.SX.sym("z", p)
+    per_sample = ca.Function("e", [zs, xs, ys], [0.5 * (ys - prediction(zs * ca.DM(sc), xs)) ** 2])
+    total = per_sample.map(n, [True, False, False], [True])
     z = ca.MX.sym("z", p)
-    dmat = ca.DM(data.T)
-    yhat = fmap(z * ca.DM(sc), dmat)[0]
+    dsym = ca.MX.sym("data", m, n)
+    ysym = ca.MX.sym("y", 1, n)
     ynorm2 = float(y @ y) or 1.0
-    obj = 0.5 * ca.sumsqr(ca.DM(y).T - yhat) / ynorm2
+    obj = total(z, dsym, ysym) / ynorm2
     opts = {"print_level": 0, "tol": 1e-12, "max_iter": 500, "sb": "yes"}
     opts.update(solver_options or {})
-    solver = ca.nlpsol("idim", "ipopt", {"x": z, "f": obj},
+    solver = ca.nlpsol("idim", "ipopt", {"x": z, "f": obj, "p": ca.vertcat(ca.vec(dsym), ca.vec(ysym))},
                        {"ipopt": opts, "print_time": False, "error_on_fail": False})
-    sol = solver(x0=x0 / sc, lbx=lb / sc, ubx=ub / sc)
+    sol = solver(x0=x0 / sc, lbx=lb / sc, ubx=ub / sc,
+                 p=np.concatenate([data.ravel(), y]))
     stats = solver.stats()
     status = str(stats.get("return_status", ""))
     if not stats.get("success", False) and status not in ("Solved_To_Acceptable_Level",):
         raise ValueError(f"IPOPT did not converge: {status}")
     est = np.asarray(sol["x"]).ravel() * sc
-    yh, jac = fmap(ca.DM(est), dmat)
+    yh, jac = fmap(ca.DM(est), ca.DM(data.T))
     yh = np.asarray(yh).ravel()
     J = _jacobian_rows(jac, n, p)
     cond = float(np.linalg.cond(J))
