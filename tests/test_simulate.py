@@ -1,0 +1,180 @@
+"""The sampled loop: exactness against closed forms, timing, stick-slip, batch, errors."""
+import control as ct
+import numpy as np
+import pytest
+
+from fricctl.compensators import CoulombCompensator, NNCompensator, NoCompensation
+from fricctl.controllers import (constant, from_array, open_loop, p_control, pd_control, sawtooth,
+                                 sequence, sinusoid, step)
+from fricctl.friction import Coulomb, Static, Viscous
+from fricctl.params import paper_actuator
+from fricctl.simulate import simulate, simulate_batch
+
+P = paper_actuator()
+
+
+def test_viscous_plant_matches_exact_zoh_discretisation():
+    # reference: python-control's exact ZOH discretisation of 1/(s (I s + b)) driven by the
+    # recorded motor torque; RK4 with 4 substeps errs by ~(0.5 ms / 0.17 s)^4 relative
+    rng = np.random.default_rng(3)
+    t = np.arange(500) * P.sample_time
+    torque = from_array(t, rng.uniform(-0.3, 0.3, t.size))
+    res = simulate(P, open_loop(torque), friction=Viscous(P.viscous).model(), duration=1.0,
+                   quantize=False)
+    i, b = P.inertia, P.viscous
+    sys = ct.ss([[0, 1], [0, -b / i]], [[0], [1 / i]], np.eye(2), [[0], [0]])
+    sysd = ct.c2d(sys, P.sample_time, method="zoh")
+    out = ct.forced_response(sysd, T=res.t, U=res.torque_motor, X0=[0, 0])
+    assert np.max(np.abs(out.states[0] - res.q)) < 1e-9 * np.max(np.abs(res.q))
+    assert np.max(np.abs(out.states[1] - res.omega)) < 1e-9 * np.max(np.abs(res.omega))
+
+
+def test_loop_timing_one_sample_delay_and_saturation():
+    res = simulate(P, pd_control(2.0, 0.05, step(1.0)), duration=0.5)
+    # Tm(k+1) = clip(Tc(k), +-Tmax) with no compensation; Tm(0) = 0
+    assert res.torque_motor[0] == 0.0
+    np.testing.assert_array_equal(res.torque_motor[1:], np.clip(res.torque_cmd[:-1], -P.max_torque, P.max_torque))
+    assert res.torque_cmd[0] == 2.0 and res.torque_motor[1] == P.max_torque
+    # backward difference of the encoder reading
+    np.testing.assert_allclose(res.omega_hat[1:], np.diff(res.q_meas) / P.sample_time, rtol=0, atol=1e-9)
+    # encoder quantised to one count on the load side, truncating
+    res_counts = res.q_meas / P.encoder_resolution
+    np.testing.assert_allclose(res_counts, np.round(res_counts), atol=1e-6)
+    assert np.all(res.q_meas <= res.q + 1e-15) and np.all(res.q - res.q_meas < P.encoder_resolution)
+
+
+@pytest.mark.parametrize("kp,r", [(0.277, 0.436), (1.0, 0.5), (3.0, -0.2), (0.5, 1.0)])
+def test_p_control_final_error_within_stiction_band(kp, r):
+    # with Coulomb/static friction a P loop stops anywhere with |Kp e| <= Fs: |e| <= Fs/Kp
+    res = simulate(P, p_control(kp, step(r)), duration=6.0)
+    assert res.stuck[-1]
+    assert abs(res.reference[-1] - res.q_meas[-1]) <= P.static / kp + P.encoder_resolution
+
+
+def test_joint_does_not_move_below_breakaway_in_closed_loop():
+    # Fig. 11 situation: the P design's first torque Kp * 25 deg = 0.121 N*m < Fs = 0.18 N*m
+    res = simulate(P, p_control(0.2769, step(np.deg2rad(25))), duration=2.0)
+    assert np.all(res.q == 0.0) and res.stuck.all()
+    assert res.stuck_intervals() == [(0.0, res.t[-1])]
+
+
+def test_friction_dissipates_and_stuck_means_still():
+    res = simulate(P, pd_control(1.23, 0.0906, sawtooth(1.0, 2.0)), duration=4.0)
+    assert np.all(res.omega * res.friction >= 0)
+    s = res.stuck
+    assert np.all(res.omega[s] == 0.0)
+    assert s.any() and (~s).any()
+    # no chattering: the true velocity keeps its sign between stops (sign changes only through rest)
+    moving = res.omega[~s]
+    segments = np.split(np.sign(res.omega), np.flatnonzero(s))
+    changes = sum(int(np.sum(np.diff(seg[seg != 0]) != 0)) for seg in segments)
+    assert changes <= len(res.stuck_intervals()) + 5 and moving.size > 0
+
+
+def test_extra_delay_shifts_the_response():
+    ctrl = open_loop(sequence([0.5, -0.5, 0.0], [0.1, 0.1, 0.3]))
+    a = simulate(P, ctrl, duration=0.5)
+    b = simulate(P, ctrl, duration=0.5, delay=3)
+    np.testing.assert_array_equal(b.q[3:], a.q[:-3])
+    np.testing.assert_array_equal(a.torque_motor, b.torque_motor)  # the record is unchanged
+
+
+def test_noise_is_seeded():
+    ctrl = open_loop(sinusoid(0.3, 1.0))
+    a = simulate(P, ctrl, duration=1.0, noise_std=0.01, rng=np.random.default_rng(7))
+    b = simulate(P, ctrl, duration=1.0, noise_std=0.01, rng=np.random.default_rng(7))
+    c = simulate(P, ctrl, duration=1.0, noise_std=0.01, rng=np.random.default_rng(8))
+    np.testing.assert_array_equal(a.q, b.q)
+    assert np.any(a.q != c.q)
+    with pytest.raises(ValueError, match="rng"):
+        simulate(P, ctrl, duration=1.0, noise_std=0.01)
+
+
+class _Net:
+    """A tiny stand-in with the FrictionNet attributes (compiled path)."""
+
+    w1 = np.array([[1.0, 2.0], [-0.5, 0.3]])
+    b1 = np.array([0.1, -0.2])
+    w2 = np.array([0.05, 0.08])
+    b2 = 0.01
+    input_offset = np.array([0.0, 0.0])
+    input_scale = np.array([1.0, 2.0])
+    output_offset = 0.0
+    output_scale = 1.5
+    envelope_low = np.array([-1.0, -5.0])
+    envelope_high = np.array([1.0, 5.0])
+
+    def __call__(self, tm, omega, clip=False):
+        x = np.stack(np.broadcast_arrays(np.asarray(tm, float), np.asarray(omega, float)), axis=-1)
+        if clip:
+            x = np.clip(x, self.envelope_low, self.envelope_high)
+        xn = (x - self.input_offset) / self.input_scale
+        return (np.tanh(xn @ self.w1.T + self.b1) @ self.w2 + self.b2) * self.output_scale + self.output_offset
+
+
+@pytest.mark.parametrize("comp", [
+    NoCompensation(), CoulombCompensator.symmetric(0.144, deadband=0.05),
+    NNCompensator(_Net(), scale=0.95), NNCompensator(_Net(), clip=True)])
+def test_compiled_and_python_loops_agree(comp):
+    # the Python loop (any callable) is an independent driver of the same plant kernel
+    ctrl = pd_control(1.23, 0.0906, sawtooth(0.1, 0.5))
+    fast = simulate(P, ctrl, comp, duration=2.0)
+    slow_comp = NNCompensator(lambda tm, w: comp(tm, w), scale=comp.scale)
+    slow = simulate(P, ctrl, slow_comp, duration=2.0)
+    assert fast.info["loop"] == "compiled" and slow.info["loop"] == "python"
+    np.testing.assert_allclose(slow.q, fast.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(slow.friction_est, fast.friction_est, rtol=0, atol=1e-12)
+
+
+def test_batch_equals_single_runs():
+    ps = [P, P.replace(inertia=2 * P.inertia), P.with_link()]
+    ctrl = pd_control(1.23, 0.0906, step(0.3))
+    batch = simulate_batch(ps, ctrl, duration=2.0, friction=[p.friction_model().scaled(s) for p, s in
+                                                             zip(ps, (1.0, 0.8, 1.2))])
+    assert len(batch) == 3
+    for i, p in enumerate(ps):
+        one = simulate(p, ctrl, duration=2.0, friction=p.friction_model().scaled((1.0, 0.8, 1.2)[i]))
+        np.testing.assert_array_equal(batch[i].q, one.q)
+    np.testing.assert_allclose(batch.steady_state_error(), [batch[i].steady_state_error() for i in range(3)])
+
+
+def test_flexible_plant_runs_and_rings():
+    p = P.with_link()
+    res = simulate(p, open_loop(step(0.6)), plant="flexible", duration=0.3, quantize=False)
+    assert np.any(res.q_load != res.q)
+    assert res.q[-1] > 0 and res.q_load[-1] > 0
+
+
+@pytest.mark.parametrize("kwargs,words", [
+    ({"duration": -1.0}, "duration"), ({"duration": 1.0, "plant": "soft"}, "plant"),
+    ({"duration": 1.0, "substeps": 0}, "substeps"), ({"duration": 1.0, "delay": -1}, "delay"),
+    ({"duration": 1.0, "q0": np.nan}, "q0"), ({"duration": 1.0, "noise_std": -1.0}, "noise_std"),
+    ({"duration": 0.001}, "shorter"),
+])
+def test_bad_arguments_raise(kwargs, words):
+    with pytest.raises(ValueError, match=words):
+        simulate(P, open_loop(constant(0.1)), **kwargs)
+
+
+def test_bad_objects_raise():
+    with pytest.raises(ValueError, match="controller"):
+        simulate(P, lambda t: 0.0, duration=1.0)
+    with pytest.raises(ValueError, match="compensator"):
+        simulate(P, open_loop(constant(0.1)), compensator=3, duration=1.0)
+    with pytest.raises(ValueError, match="runs"):
+        simulate_batch([P, P], open_loop(constant(0.1)), friction=[Coulomb(0.1).model()] * 3, duration=1.0)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        from_array([0.0, 0.0], [1.0, 2.0])
+    with pytest.raises(ValueError, match="gains"):
+        p_control(-1.0, step(1.0))
+    with pytest.raises(ValueError, match="NaN"):
+        simulate(P, open_loop(NNCompensator(lambda a, b: np.nan)(0.0, 0.0) and constant(0.0)), NNCompensator(
+            lambda a, b: np.full(np.shape(a), np.nan)), duration=0.1)
+
+
+def test_static_plus_coulomb_model_sticks_exactly():
+    fr = Viscous(P.viscous) + Coulomb(0.144) + Static(0.036)
+    res = simulate(P, open_loop(constant(0.1799)), friction=fr, duration=0.5)
+    assert np.all(res.q == 0.0)
+    res = simulate(P, open_loop(constant(0.1801)), friction=fr, duration=0.5)
+    assert res.q[-1] > 0
