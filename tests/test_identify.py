@@ -1,0 +1,170 @@
+import json
+
+import numpy as np
+import pytest
+
+from fricctl import estimation as E
+from fricctl import identify as I
+
+TS = 0.002
+GRID = 3.14e-5
+# paper-like load-side values (fricctl.params): inertia, viscous 0.0169, Coulomb 0.144, static 0.18
+TRUE = dict(inertia=0.0046, viscous=0.0169, coulomb=0.144, offset=0.003)
+TRUE_ASYM = dict(inertia=0.0046, viscous_pos=0.015, coulomb_pos=0.13, viscous_neg=0.02,
+                 coulomb_neg=0.16)
+TRUE_STRIBECK = dict(inertia=0.0046, viscous=0.0169, coulomb=0.144, static=0.18,
+                     stribeck_velocity=0.05, offset=0.003)
+
+
+def _motion(duration=8.0):
+    """Exact velocity/acceleration of a smooth trajectory that changes direction (closed form)."""
+    t = np.arange(0.0, duration, TS)
+    q = 1.2 * np.sin(1.3 * t) + 0.4 * np.sin(3.1 * t + 0.5)
+    w = 1.2 * 1.3 * np.cos(1.3 * t) + 0.4 * 3.1 * np.cos(3.1 * t + 0.5)
+    a = -1.2 * 1.3 ** 2 * np.sin(1.3 * t) - 0.4 * 3.1 ** 2 * np.sin(3.1 * t + 0.5)
+    return t, q, w, a
+
+
+def _law(p, w, a):
+    """Independent numpy statement of the friction laws (module docstring of identify)."""
+    tau = p["inertia"] * a + p.get("offset", 0.0)
+    if "viscous_pos" in p:
+        return tau + np.where(w > 0, p["viscous_pos"] * w + p["coulomb_pos"], 0) \
+                   + np.where(w < 0, p["viscous_neg"] * w - p["coulomb_neg"], 0)
+    tau = tau + p["viscous"] * w + p["coulomb"] * np.sign(w)
+    if "static" in p:
+        tau = tau + (p["static"] - p["coulomb"]) * np.exp(-(w / p["stribeck_velocity"]) ** 2) * np.sign(w)
+    return tau
+
+
+@pytest.mark.parametrize("model,true", [("coulomb_viscous", TRUE), ("asymmetric", TRUE_ASYM),
+                                        ("stribeck", TRUE_STRIBECK)])
+def test_noise_free_recovery(model, true):
+    # noise-free data with the exact acceleration: parameters back to 1e-6 relative
+    _, _, w, a = _motion()
+    res = I.fit_friction(w, a, _law(true, w, a), model=model)
+    assert res.names == I.model_names(model)
+    for name, value in true.items():
+        assert res.parameters[name] == pytest.approx(value, rel=1e-6), name
+    assert res.relative_error < 1e-5
+
+
+@pytest.mark.parametrize("model", ["coulomb_viscous", "asymmetric"])
+def test_linear_case_matches_lstsq(model):
+    # independent implementation: numpy.linalg.lstsq on the same regressor, to 1e-8
+    rng = np.random.default_rng(7)
+    _, _, w, a = _motion()
+    true = TRUE if model == "coulomb_viscous" else TRUE_ASYM
+    y = _law(true, w, a) + rng.normal(0.0, 0.02, w.size)
+    res = I.fit_friction(w, a, y, model=model)
+    X = I.regressor(model, w, a)
+    ref, *_ = np.linalg.lstsq(X, y, rcond=None)
+    np.testing.assert_allclose(res.estimates, ref, rtol=1e-8)
+    # std errors: sigma^2 (X^T X)^-1 with sigma the sample std of the residual (IDIM-LS)
+    e = y - X @ ref
+    std = np.std(e, ddof=1) * np.sqrt(np.diag(np.linalg.inv(X.T @ X)))
+    np.testing.assert_allclose(res.std, std, rtol=1e-6)
+    assert res.condition_number == pytest.approx(np.linalg.cond(X), rel=1e-12)
+    # relative error as EMPS eq. (11)
+    assert res.relative_error == pytest.approx(100 * np.linalg.norm(e) / np.linalg.norm(y), rel=1e-6)
+
+
+@pytest.mark.parametrize("estimator,opts", [("polynomial_segments", {}),
+                                            ("butterworth_central", {"cutoff": 20.0})])
+def test_noisy_encoder_within_four_std(estimator, opts):
+    # seeded torque noise + encoder quantisation, derivatives from section-3 estimators:
+    # every estimate within 4 standard errors of the truth
+    rng = np.random.default_rng(2024)
+    t, q, w, a = _motion(20.0)
+    tau = _law(TRUE, w, a) + rng.normal(0.0, 0.01, t.size)
+    qe = np.round(q / GRID) * GRID
+    from fricctl.datasets import Run
+
+    run = Run(t=t, torque=tau, position=qe, source="synthetic")
+    res = I.identify_run(run, estimator=estimator, estimator_options=opts)
+    for name, value in TRUE.items():
+        k = res.names.index(name)
+        assert abs(res.estimates[k] - value) < 4 * res.std[k], (name, res.estimates[k], res.std[k])
+
+
+def test_stribeck_noisy_within_four_std():
+    rng = np.random.default_rng(11)
+    _, _, w, a = _motion(20.0)
+    y = _law(TRUE_STRIBECK, w, a) + rng.normal(0.0, 0.005, w.size)
+    res = I.fit_friction(w, a, y, model="stribeck")
+    for name, value in TRUE_STRIBECK.items():
+        k = res.names.index(name)
+        assert abs(res.estimates[k] - value) < 4 * res.std[k], name
+
+
+def test_generic_fit_nonlinear():
+    # y = A exp(-x/tau): exact data, recovery to 1e-6 (noise-free)
+    import casadi as ca
+
+    x = np.linspace(0, 5, 200)
+    y = 3.0 * np.exp(-x / 1.7)
+    res = I.fit_least_squares(lambda th, r: th[0] * ca.exp(-r[0] / th[1]), x[:, None], y,
+                              names=("A", "tau"), initial=[1.0, 1.0], lower=[0, 1e-3])
+    np.testing.assert_allclose(res.estimates, [3.0, 1.7], rtol=1e-6)
+    with pytest.raises(ValueError, match="no friction model"):
+        res.predict([1.0], [0.0])
+
+
+def test_result_report_predict_json():
+    _, _, w, a = _motion()
+    res = I.fit_friction(w, a, _law(TRUE, w, a), units="linear")
+    text = res.report()
+    for needle in ("Parameter inertia", "Condition number of the observation matrix",
+                   "Relative error (%)", "Deviation of error", "[N*s/m]"):
+        assert needle in text
+    np.testing.assert_allclose(res.predict(w, a), _law(TRUE, w, a), atol=1e-9)
+    d = json.loads(res.to_json())
+    assert set(d["parameters"]) == set(TRUE)
+    assert d["parameters"]["coulomb"]["value"] == pytest.approx(0.144, rel=1e-6)
+    assert {"fit_percent", "condition_number"} <= set(d)
+    assert res.fit_percent > 99.99  # noise-free
+
+
+def test_inverse_dynamics_sign_convention():
+    # friction has the sign of velocity: with a = 0 the torque opposes... i.e. equals friction
+    p = dict(inertia=1.0, viscous_pos=1.0, coulomb_pos=2.0, viscous_neg=3.0, coulomb_neg=4.0)
+    np.testing.assert_allclose(I.inverse_dynamics("asymmetric", p, [1.0, -1.0, 0.0], [0, 0, 0]),
+                               [3.0, -7.0, 0.0])
+
+
+def test_bad_input():
+    _, _, w, a = _motion(1.0)
+    y = _law(TRUE, w, a)
+    with pytest.raises(ValueError, match="unknown friction model"):
+        I.fit_friction(w, a, y, model="lugre")
+    with pytest.raises(ValueError, match="do not excite inertia"):
+        I.fit_friction(w, np.zeros_like(a), y)
+    bad = y.copy(); bad[3] = np.nan
+    with pytest.raises(ValueError, match="torque: non-finite value at row 3"):
+        I.fit_friction(w, a, bad)
+    with pytest.raises(ValueError, match="length"):
+        I.fit_friction(w, a[:-1], y)
+    with pytest.raises(ValueError, match="initial: unknown"):
+        I.fit_friction(w, a, y, initial={"mass": 1.0})
+    with pytest.raises(ValueError, match="not linear"):
+        I.regressor("stribeck", w, a)
+    with pytest.raises(ValueError, match="rank deficient"):
+        # offset with the asymmetric model and no rest samples: collinear columns
+        I.fit_friction(w, a, y, model="asymmetric", offset=True)
+    with pytest.raises(ValueError, match="parameters: expected"):
+        I.inverse_dynamics("coulomb_viscous", {"inertia": 1.0}, w, a)
+
+
+def test_plot_identification():
+    from fricctl.figures import plot_identification
+
+    t, _, w, a = _motion(1.0)
+    res = I.fit_friction(w, a, _law(TRUE, w, a))
+    ax = plot_identification(res, t=t)
+    lines = ax.get_lines()
+    assert len(lines) == 3
+    np.testing.assert_array_equal(lines[0].get_ydata(), res.measured)
+    np.testing.assert_array_equal(lines[2].get_ydata(), res.residual)
+    assert "[N*m]" in ax.get_ylabel() and "[s]" in ax.get_xlabel()
+    with pytest.raises(ValueError, match="length"):
+        plot_identification(res, t=t[:-1])
