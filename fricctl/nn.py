@@ -774,24 +774,31 @@ def train_backprop(tm, omega, target, *, hidden: int = 4, learning_rate: float =
 _CASADI_CACHE: dict = {}
 
 
-def _casadi_residuals(hidden: int, n: int):
-    """CasADi Function (theta, xn 2xN, tn 1xN) -> (r 1xN, J^T (4H+1)xN), cached."""
+def _casadi_functions(hidden: int, n: int):
+    """CasADi Functions of (theta, xn 2xN, tn 1xN), cached per (H, N).
+
+    Returns ``(residuals, residuals_and_jacobian)``: ``r`` (N,) and the exact
+    Jacobian ``J`` (N x (4H+1)).  The network is written with MX matrix
+    operations over all patterns at once (one ``tanh`` node on an H x N
+    matrix), which CasADi's virtual machine evaluates as dense loops; this is
+    ~2x faster than mapping a per-pattern SX function and ~10x quicker to build.
+    """
     key = (hidden, n)
     if key not in _CASADI_CACHE:
         import casadi as ca
 
-        theta = ca.SX.sym("theta", 4 * hidden + 1)
-        x = ca.SX.sym("x", 2)
-        t = ca.SX.sym("t")
+        theta = ca.MX.sym("theta", 4 * hidden + 1)
+        x = ca.MX.sym("xn", 2, n)
+        t = ca.MX.sym("tn", 1, n)
         w1 = ca.reshape(theta[:2 * hidden], 2, hidden).T  # row-major (H, 2), see _pack
         b1 = theta[2 * hidden:3 * hidden]
         w2 = theta[3 * hidden:4 * hidden]
-        r = ca.dot(w2, ca.tanh(w1 @ x + b1)) + theta[4 * hidden] - t
-        one = ca.Function("r1", [theta, x, t], [r, ca.jacobian(r, theta).T])
+        r = (w2.T @ ca.tanh(w1 @ x + ca.repmat(b1, 1, n)) + theta[4 * hidden] - t).T
+        fr = ca.Function("residuals", [theta, x, t], [r])
+        frj = ca.Function("residuals_jacobian", [theta, x, t], [r, ca.jacobian(r, theta)])
         if len(_CASADI_CACHE) > 16:
             _CASADI_CACHE.clear()
-        # theta (input 0) is shared by all patterns, not repeated
-        _CASADI_CACHE[key] = one.map("residuals", "serial", n, [0], [])
+        _CASADI_CACHE[key] = (fr, frj)
     return _CASADI_CACHE[key]
 
 
@@ -802,10 +809,10 @@ def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
 
     Minimises ``0.5*sum_i (yn_i - tn_i)^2`` over the 4H+1 weights (same scaling
     as :func:`train_backprop`).  The residuals and their exact Jacobian are a
-    CasADi expression graph (algorithmic differentiation, mapped over the
-    patterns); each iteration solves ``(J'J + mu*I) d = -J'r`` and adapts the
-    damping ``mu`` (halved on success, quadrupled on failure).  Several seeded
-    starting points are run and the best net is kept.
+    CasADi expression graph (algorithmic differentiation over all patterns);
+    each iteration solves ``(J'J + mu*I) d = -J'r`` and updates the damping
+    ``mu`` with Nielsen's gain-ratio rule (Madsen, Nielsen & Tingleff, 2004).
+    Several seeded starting points are run and the best net is kept.
 
     Parameters
     ----------
@@ -819,7 +826,8 @@ def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
         Iteration limit per start.
     tolerance : float
         Stop a start when the relative decrease of the loss over an accepted
-        step, or the scaled gradient norm, falls below this [-].
+        step, or the gradient's infinity norm relative to the loss, falls below
+        this [-].
     rng : numpy.random.Generator
         Source of the initial weights.
     metadata : dict, optional
@@ -828,8 +836,8 @@ def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
     Returns
     -------
     TrainingResult
-        ``(net, history)``; history entries are LM iterations, the loss being
-        the best so far over all starts.
+        ``(net, history)``; history entries are LM iterations (accepted or
+        rejected steps), the loss being the best so far over all starts.
 
     Notes
     -----
@@ -855,84 +863,93 @@ def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
     if not tol > 0:
         raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
     n = tm.size
+    p = 4 * hidden + 1
     rng_state = rng.bit_generator.state
     scaling = _scaling(tm, omega, target)
     xn, tn = _scaled(tm, omega, target, scaling)
-    tn_row = tn[None, :]
 
     t0 = time.perf_counter()
-    fun = _casadi_residuals(hidden, n)
-    p = 4 * hidden + 1
-    eye = np.eye(p)
-
-    # CasADi's copy-free buffer interface: the mapped Function reads and writes
-    # these numpy arrays directly (column-major 2xN input = row-major (N, 2)).
-    buf, run = fun.buffer()
+    fr, frj = _casadi_functions(hidden, n)
+    # CasADi's copy-free buffer interface: the Functions read and write these
+    # numpy arrays in place (CasADi is column-major: the 2xN input is the
+    # row-major (N, 2) array, the N x p Jacobian the row-major (p, N) array J').
     theta_buf = np.zeros(p)
     x_buf = np.ascontiguousarray(xn.T)
+    t_buf = np.ascontiguousarray(tn)
     r_buf = np.zeros(n)
-    j_buf = np.zeros((n, p))  # J^T (p x N) column-major = J (N x p) row-major
-    buf.set_arg(0, memoryview(theta_buf))
-    buf.set_arg(1, memoryview(x_buf))
-    buf.set_arg(2, memoryview(tn_row.ravel()))
-    buf.set_res(0, memoryview(r_buf))
-    buf.set_res(1, memoryview(j_buf.reshape(-1)))
-
-    def evaluate(theta):
-        theta_buf[:] = theta
-        run()
-        return r_buf.copy(), j_buf.T.copy()
+    jt_buf = np.zeros((p, n))
+    runs = []
+    for fun, outs in ((fr, (r_buf,)), (frj, (r_buf, jt_buf))):
+        buf, run = fun.buffer()
+        for i, a in enumerate((theta_buf, x_buf, t_buf)):
+            buf.set_arg(i, memoryview(a.reshape(-1)))
+        for i, a in enumerate(outs):
+            buf.set_res(i, memoryview(a.reshape(-1)))
+        runs.append((buf, run))  # keep buf alive with its run
+    run_r, run_rj = runs[0][1], runs[1][1]
 
     loss_hist = []
     elapsed = []
-    best = (math.inf, None)
+    best_cost, best_theta = math.inf, None
     iterations = []
     for _ in range(restarts):
         theta = _initial_theta(hidden, rng)
-        r, jt = evaluate(theta)
+        theta_buf[:] = theta
+        run_rj()
+        r, jt = r_buf.copy(), jt_buf.copy()
         cost = 0.5 * float(r @ r)
-        best = min(best, (cost, theta.copy()), key=lambda c: c[0])
-        loss_hist.append(best[0])
+        a = jt @ jt.T
+        g = jt @ r
+        mu = 1e-3 * float(np.max(np.diag(a)))
+        nu = 2.0
+        if cost < best_cost:
+            best_cost, best_theta = cost, theta.copy()
+        loss_hist.append(best_cost)
         elapsed.append(time.perf_counter() - t0)
-        mu = 1e-2
         it = 0
         while it < max_iterations:
-            it += 1
-            g = jt @ r
-            if np.linalg.norm(g, np.inf) <= tol * max(1.0, cost):
+            if np.linalg.norm(g, np.inf) <= tol * max(cost, 1e-300):
                 break
-            a = jt @ jt.T
+            it += 1
             try:
-                d = np.linalg.solve(a + mu * eye, -g)
+                d = np.linalg.solve(a + mu * np.eye(p), -g)
             except np.linalg.LinAlgError:
                 d = None
-            improved = False
-            if d is not None:
-                trial = theta + d
-                r_new, jt_new = evaluate(trial)
-                cost_new = 0.5 * float(r_new @ r_new)
-                if cost_new < cost:
-                    improved = True
+            accepted = False
+            if d is not None and np.all(np.isfinite(d)):
+                theta_buf[:] = theta + d
+                run_r()
+                cost_new = 0.5 * float(r_buf @ r_buf)
+                predicted = 0.5 * float(d @ (mu * d - g))  # model decrease, > 0
+                rho = (cost - cost_new) / predicted if predicted > 0 else -1.0
+                if rho > 0:
+                    accepted = True
                     decrease = (cost - cost_new) / max(cost, 1e-300)
-                    theta, r, jt, cost = trial, r_new, jt_new, cost_new
-                    mu = max(mu * 0.5, 1e-12)
-            if not improved:
-                mu *= 4.0
-            if cost < best[0]:
-                best = (cost, theta.copy())
-            loss_hist.append(best[0])
+                    theta = theta + d
+                    run_rj()  # Jacobian only at accepted points
+                    r, jt = r_buf.copy(), jt_buf.copy()
+                    cost = cost_new
+                    a = jt @ jt.T
+                    g = jt @ r
+                    mu *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                    nu = 2.0
+            if not accepted:
+                mu *= nu
+                nu *= 2.0
+            if cost < best_cost:
+                best_cost, best_theta = cost, theta.copy()
+            loss_hist.append(best_cost)
             elapsed.append(time.perf_counter() - t0)
-            if mu > 1e12 or (improved and decrease < tol):
+            if mu > 1e15 or (accepted and decrease < tol):
                 break
         iterations.append(it)
-    theta = best[1]
     mse = 2.0 * np.asarray(loss_hist) / n * scaling["output_scale"] ** 2
     history = TrainingHistory(trainer="casadi", step="iteration", loss=mse,
                               elapsed=np.asarray(elapsed))
     meta = {"trainer": "casadi", "method": "levenberg-marquardt", "hidden": hidden,
             "restarts": int(restarts), "iterations": iterations, "n_patterns": n,
             "rng_state": rng_state, "train_mse": float(mse[-1])}
-    net = _make_net(theta, hidden, scaling, meta)
+    net = _make_net(best_theta, hidden, scaling, meta)
     rep = fit_report(target, net(tm, omega))
     meta.update(fit_percent=rep.fit_percent, r_squared=rep.r_squared)
     meta.update(metadata or {})
