@@ -39,7 +39,7 @@ from .friction import NPARAM, FrictionModel
 from .params import ActuatorParams
 from .plant import FLEXIBLE, LUGRE, RIGID, advance, advance_many, state_torque
 
-__all__ = ["SimResult", "BatchResult", "simulate", "simulate_batch", "DEFAULT_SUBSTEPS"]
+__all__ = ["SimResult", "BatchResult", "simulate", "simulate_batch", "replay", "DEFAULT_SUBSTEPS"]
 
 #: Internal RK4 sub-intervals per sample, by plant kind.
 DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, LUGRE: 40}
@@ -490,3 +490,63 @@ def simulate(params: ActuatorParams, controller: Controller, compensator: Compen
     return simulate_batch(params, controller, compensator, duration=duration, friction=friction,
                           plant=plant, substeps=substeps, q0=q0, noise_std=noise_std, rng=rng,
                           delay=delay, quantize=quantize)[0]
+
+
+@njit(cache=True)
+def _replay(kind, st, fp, torque, t0, ts, nsub, jm, jl, k, d, o_q, o_w, o_f):
+    for i in range(torque.size):
+        t = t0 + i * ts
+        o_q[i] = st[0]
+        o_w[i] = st[1]
+        f, a = state_torque(kind, st, fp, torque[i], t, jm, k, d)
+        o_f[i] = f
+        advance(kind, st, fp, torque[i], t, ts, nsub, jm, jl, k, d)
+
+
+def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float = 0.0,
+           t0: float = 0.0, substeps: int | None = None, state=None):
+    """Drive a joint open loop with a recorded torque sequence (held per sample).
+
+    This is "what the model predicts" for a measured record: the joint starts at
+    ``(q0, omega0)`` (or a full ``state``) and receives ``torque[i]`` over
+    ``[t0 + i*Ts, t0 + (i+1)*Ts)``.
+
+    Parameters
+    ----------
+    joint : RigidJoint or FlexibleJoint
+    torque : array_like, shape (K,)
+        Torque held over each sample [N*m].
+    sample_time : float
+        Ts [s].
+    q0, omega0 : float
+        Initial position [rad] and velocity [rad/s].
+    t0 : float
+        Time of the first sample [s] (matters for a drifting friction model).
+    substeps : int, optional
+        RK4 sub-intervals per sample.
+    state : array_like, optional
+        Full initial state ``[q, omega, q_load, omega_load, z]``; overrides q0/omega0.
+
+    Returns
+    -------
+    q, omega, friction : ndarray
+        Position [rad], velocity [rad/s] and resistive torque [N*m] at each sample
+        instant (before that sample's torque acts).
+    """
+    tq = np.asarray(torque, dtype=float)
+    if tq.ndim != 1 or tq.size == 0:
+        raise ValueError(f"torque must be a non-empty 1-D array, got shape {tq.shape}")
+    if not np.all(np.isfinite(tq)):
+        raise ValueError("torque contains NaN or inf")
+    if not (math.isfinite(sample_time) and sample_time > 0):
+        raise ValueError(f"sample_time must be > 0 s, got {sample_time!r}")
+    kind, jm, jl, k, d = joint.kernel_args()
+    st = joint.initial_state(q0, omega0) if state is None else np.array(state, dtype=float)
+    if st.shape != (5,) or not np.all(np.isfinite(st)):
+        raise ValueError("state must be 5 finite numbers [q, omega, q_load, omega_load, z]")
+    if substeps is None:
+        substeps = DEFAULT_SUBSTEPS[kind]
+    o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
+    _replay(kind, st, joint.friction.vector(), tq, float(t0), float(sample_time), int(substeps),
+            jm, jl, k, d, o_q, o_w, o_f)
+    return o_q, o_w, o_f

@@ -178,3 +178,16 @@ def test_static_plus_coulomb_model_sticks_exactly():
     assert np.all(res.q == 0.0)
     res = simulate(P, open_loop(constant(0.1801)), friction=fr, duration=0.5)
     assert res.q[-1] > 0
+
+
+def test_replay_reproduces_the_closed_loop_from_its_record():
+    # driving the same joint open loop with the recorded torque gives back the same trajectory
+    from fricctl.plant import RigidJoint
+    from fricctl.simulate import replay
+
+    res = simulate(P, pd_control(1.23, 0.0906, sawtooth(1.0, 2.0)), duration=2.0)
+    q, w, f = replay(RigidJoint.from_params(P), res.torque_motor, P.sample_time)
+    np.testing.assert_array_equal(q, res.q)
+    np.testing.assert_array_equal(f, res.friction)
+    with pytest.raises(ValueError, match="NaN"):
+        replay(RigidJoint.from_params(P), [0.0, np.nan], P.sample_time)
