@@ -330,11 +330,12 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
     Parameters
     ----------
     prediction : callable
-        ``prediction(theta, x) -> casadi.SX`` scalar: the model output for one
-        sample, written in CasADi symbols (``theta`` is an ``SX`` of length p, ``x``
-        an ``SX`` of length m, one row of ``data``).  Anything CasADi can
-        differentiate works: a dot product (linear regression), ``casadi.exp``,
-        ``casadi.sign``, ``casadi.tanh`` ...
+        ``prediction(theta, x) -> casadi.MX`` of shape (1, N): the model output for
+        all samples, written in CasADi symbols.  ``theta`` is an ``MX`` of length p
+        (``theta[i]`` a scalar), ``x`` a list of m ``MX`` rows of shape (1, N), one
+        per column of ``data``; write the model element-wise (``*``, ``/``, ``**``,
+        ``casadi.exp``, ``casadi.sign``, ``casadi.tanh``...), e.g.
+        ``lambda th, x: th[0] * x[0] + th[1] * casadi.sign(x[1])``.
     data : array_like, shape (N, m)
         Per-sample inputs (regressor rows, or e.g. ``[acceleration, velocity]``).
     y : array_like, shape (N,)
@@ -367,9 +368,9 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
 
     Notes
     -----
-    The per-sample function is built once and mapped over the N samples
-    (``casadi.Function.map``), so the graph does not grow with N.  IPOPT uses the
-    exact Hessian; the objective is divided by ``||y||^2`` so its scale does not
+    The data enter as NLP parameters, not constants, and the prediction is a few
+    element-wise nodes over whole rows, so the graph does not grow with N.  IPOPT
+    uses the exact Hessian; the objective is divided by ``||y||^2`` so its scale does not
     depend on the data's units.
 
     Examples
@@ -408,39 +409,38 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
         if np.any(sc <= 0):
             raise ValueError("scale: must be positive")
 
-    th = ca.SX.sym("theta", p)
-    xs = ca.SX.sym("x", m)
-    pred = prediction(th, xs)
-    if not isinstance(pred, (ca.SX, ca.MX, ca.DM)) or pred.numel() != 1:
-        raise ValueError("prediction: must return one casadi scalar")
-    f = ca.Function("f", [th, xs], [pred, ca.jacobian(pred, th)])
-    fmap = f.map(n)
-    # The objective is one mapped per-sample function with the data passed as NLP
-    # parameters (not constants): building the graph and its derivatives then does not
-    # grow with N, and the summation happens inside the map (reduce_out).
-    ys = ca.SX.sym("y")
-    zs = ca.SX.sym("z", p)
-    per_sample = ca.Function("e", [zs, xs, ys], [0.5 * (ys - prediction(zs * ca.DM(sc), xs)) ** 2])
-    total = per_sample.map(n, [True, False, False], [True])
+    # Vectorised formulation: each data column is one 1 x N row symbol (an NLP
+    # parameter, so the data are not baked into the graph) and the prediction is a
+    # handful of element-wise MX nodes over all samples.  This evaluates like numpy
+    # and its derivatives stay as small as the per-sample expression (a per-sample
+    # Function mapped N times was 7x slower at N = 50 000).
     z = ca.MX.sym("z", p)
-    dsym = ca.MX.sym("data", m, n)
+    rows = [ca.MX.sym(f"x{j}", 1, n) for j in range(m)]
     ysym = ca.MX.sym("y", 1, n)
+    theta = z * ca.DM(sc)
+    pred = prediction(theta, rows)
+    if not isinstance(pred, (ca.MX, ca.DM)) or pred.shape not in ((1, n), (1, 1)):
+        raise ValueError("prediction: must return a casadi expression of shape (1, N)")
+    pred = pred * ca.DM.ones(1, n) if pred.shape == (1, 1) else pred
     ynorm2 = float(y @ y) or 1.0
-    obj = total(z, dsym, ysym) / ynorm2
+    obj = 0.5 * ca.sumsqr(ysym - pred) / ynorm2
     opts = {"print_level": 0, "tol": 1e-12, "max_iter": 500, "sb": "yes"}
     opts.update(solver_options or {})
-    solver = ca.nlpsol("idim", "ipopt", {"x": z, "f": obj, "p": ca.vertcat(ca.vec(dsym), ca.vec(ysym))},
+    psym = ca.vertcat(*[ca.vec(r) for r in rows], ca.vec(ysym))
+    solver = ca.nlpsol("idim", "ipopt", {"x": z, "f": obj, "p": psym},
                        {"ipopt": opts, "print_time": False, "error_on_fail": False})
-    sol = solver(x0=x0 / sc, lbx=lb / sc, ubx=ub / sc,
-                 p=np.concatenate([data.ravel(), y]))
+    pval = np.concatenate([data.T.ravel(), y])
+    sol = solver(x0=x0 / sc, lbx=lb / sc, ubx=ub / sc, p=pval)
     stats = solver.stats()
     status = str(stats.get("return_status", ""))
     if not stats.get("success", False) and status not in ("Solved_To_Acceptable_Level",):
         raise ValueError(f"IPOPT did not converge: {status}")
     est = np.asarray(sol["x"]).ravel() * sc
-    yh, jac = fmap(ca.DM(est), ca.DM(data.T))
+    # Jacobian of the prediction w.r.t. theta (not z): d pred/d theta = d pred/d z / sc
+    evaluate = ca.Function("pred_jac", [z, psym], [pred, ca.jacobian(ca.vec(pred), z)])
+    yh, jac = evaluate(est / sc, pval)
+    J = np.asarray(jac) / sc[None, :]
     yh = np.asarray(yh).ravel()
-    J = _jacobian_rows(jac, n, p)
     cond = float(np.linalg.cond(J))
     if not np.isfinite(cond) or cond > 1e12:
         raise ValueError(f"observation matrix is rank deficient (condition number {cond:.3g}): "
@@ -461,11 +461,6 @@ def _as_1d_inf(name, x, n):
     if x.shape != (n,) or np.any(np.isnan(x)):
         raise ValueError(f"{name}: expected {n} numbers (inf allowed), got {x!r}")
     return x
-
-
-def _jacobian_rows(jac, n: int, p: int) -> np.ndarray:
-    """The mapped Jacobian is (1, p*n): block k holds d yhat_k / d theta."""
-    return np.asarray(jac).reshape(n, p)
 
 
 # --------------------------------------------------------------------------- friction fits
@@ -554,13 +549,16 @@ def fit_friction(velocity, acceleration, torque, *, model: str = "coulomb_viscou
     vmax = float(np.percentile(np.abs(w), 95))
     if vmax == 0:
         raise ValueError("velocity: no motion, a Stribeck curve cannot be identified")
-    base = fit_friction(w, a, y, model="coulomb_viscous", offset="offset" in names, units=units,
-                        solver_options=solver_options).parameters
-    start = dict(inertia=base["inertia"], viscous=base["viscous"], coulomb=base["coulomb"],
-                 static=1.5 * base["coulomb"], stribeck_velocity=0.1 * vmax)
-    if "offset" in names:
-        start["offset"] = base["offset"]
-    start.update(initial or {})
+    if initial is not None and set(initial) == set(names):
+        start = dict(initial)
+    else:
+        base = fit_friction(w, a, y, model="coulomb_viscous", offset="offset" in names,
+                            units=units, solver_options=solver_options).parameters
+        start = dict(inertia=base["inertia"], viscous=base["viscous"], coulomb=base["coulomb"],
+                     static=1.5 * base["coulomb"], stribeck_velocity=0.1 * vmax)
+        if "offset" in names:
+            start["offset"] = base["offset"]
+        start.update(initial or {})
     x0 = np.array([float(start[nm]) for nm in names])
     lower[names.index("stribeck_velocity")] = 1e-6 * vmax
     scale = np.maximum(np.abs(x0), 1e-3 * np.max(np.abs(x0)))
@@ -569,10 +567,12 @@ def fit_friction(velocity, acceleration, torque, *, model: str = "coulomb_viscou
                              units=units, solver_options=solver_options)
 
 
-def _dot(theta, row):
-    import casadi as ca
-
-    return ca.dot(theta, row)
+def _dot(theta, rows):
+    """Linear prediction ``sum_j theta_j * x_j`` over the data rows."""
+    out = theta[0] * rows[0]
+    for j in range(1, len(rows)):
+        out = out + theta[j] * rows[j]
+    return out
 
 
 def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butterworth_central",
