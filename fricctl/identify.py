@@ -363,7 +363,7 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
     Raises
     ------
     ValueError
-        Wrong shapes, non-finite data, bounds that exclude the start, a rank-deficient
+        Wrong shapes, non-finite data, lower bound above upper, a rank-deficient
         Jacobian (parameters not excited by the data), or IPOPT failure.
 
     Notes
