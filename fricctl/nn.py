@@ -780,8 +780,9 @@ def _casadi_functions(hidden: int, n: int):
     Returns ``(residuals, residuals_and_jacobian)``: ``r`` (N,) and the exact
     Jacobian ``J`` (N x (4H+1)).  The network is written with MX matrix
     operations over all patterns at once (one ``tanh`` node on an H x N
-    matrix), which CasADi's virtual machine evaluates as dense loops; this is
-    ~2x faster than mapping a per-pattern SX function and ~10x quicker to build.
+    matrix), which CasADi's virtual machine evaluates as dense loops: for 1000
+    patterns the Jacobian takes ~0.2 ms, against ~0.35-0.6 ms for a per-pattern
+    SX function mapped over the patterns (building either takes ~10 ms).
     """
     key = (hidden, n)
     if key not in _CASADI_CACHE:
