@@ -87,6 +87,8 @@ _POINTS_PER_RISE = 2000
 #: Sub-steps per sample used to evaluate the sampled loop between samples [-].
 _SUBSTEPS = 20
 _PRIORITIES = ("rise_time", "damping")
+#: Below this overshoot the 0-100 % rise time is ill-conditioned (warning hint) [%].
+_ILL_CONDITIONED_OVERSHOOT = 2.0
 
 
 class DesignWarning(UserWarning):
@@ -612,9 +614,21 @@ def _finish(*, law, kp, kd, params, rise_time, damping, priority, definition, ex
         for name, unit in (("rise_time", " s"), ("damping", "")):
             c, s = getattr(achieved, name), getattr(sampled, name)
             if not math.isfinite(s) or _rel(s, c) > WARN_TOLERANCE:
-                msgs.append(f"sampled loop (Ts = {ts:g} s) {name.replace('_', ' ')} {s:.4g}{unit} "
-                            f"differs from the continuous design's {c:.4g}{unit} by more than "
-                            f"{WARN_TOLERANCE:.0%}")
+                msg = (f"sampled loop (Ts = {ts:g} s) {name.replace('_', ' ')} {s:.4g}{unit} "
+                       f"differs from the continuous design's {c:.4g}{unit} by more than "
+                       f"{WARN_TOLERANCE:.0%}")
+                if name == "rise_time" and definition == "0-100" \
+                        and achieved.overshoot_percent < _ILL_CONDITIONED_OVERSHOOT:
+                    # near zeta = 1 the step creeps up to its final value, so the first
+                    # crossing of 100 % moves a lot for a tiny change; say so, with the
+                    # 10-90 % comparison that is not ill-conditioned
+                    c9 = _continuous_metrics(kp, kd, inertia, viscous, wn, zeta, "10-90")
+                    s9 = _sampled_metrics(kp, kd, inertia, viscous, ts, "10-90", t_end)
+                    msg += (f" (overshoot {achieved.overshoot_percent:.2g} % < "
+                            f"{_ILL_CONDITIONED_OVERSHOOT:g} %: the 0-100 % rise time is "
+                            f"ill-conditioned here; the 10-90 % rise times are "
+                            f"{c9.rise_time:.4g} s and {s9.rise_time:.4g} s)")
+                msgs.append(msg)
     for msg in msgs:
         warnings.warn(msg, DesignWarning, stacklevel=3)
     cl = control.tf([kp], [inertia, viscous + kd, kp])
