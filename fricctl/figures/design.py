@@ -113,7 +113,7 @@ def plot_step(design: Design, *, ax=None, t_end: float | None = None, sampled: b
     if sampled:
         ax.plot(t, linear_response(design, t, r, sampled=True), color="C1", ls="--",
                 label=f"sampled, Ts = {ts:g} s")
-    lo, hi = RISE_TIME_DEFINITIONS[design.rise_time_definition]
+    _, hi = RISE_TIME_DEFINITIONS[design.rise_time_definition]
     ax.axvline(a.rise_time, color="C2", lw=1, ls=":",
                label=f"rise time {a.rise_time:.3f} s ({design.rise_time_definition})")
     if design.requested_rise_time is not None:
