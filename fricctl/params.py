@@ -86,7 +86,7 @@ def derive_inertia_from_p_design(
     Examples
     --------
     >>> round(derive_inertia_from_p_design(), 7)
-    0.0028651
+    0.0028653
     """
     if not 0.0 < damping < 1.0:
         raise ValueError(f"damping must lie in (0, 1) for a 0-100 % rise time, got {damping!r}")

@@ -442,7 +442,7 @@ class RigidJoint:
     >>> p = paper_actuator()
     >>> joint = RigidJoint.from_params(p)
     >>> st = joint.initial_state()
-    >>> joint.advance(st, torque=0.9 * p.static, t0=0.0, dt=0.002)[0]   # below breakaway
+    >>> float(joint.advance(st, torque=0.9 * p.static, t0=0.0, dt=0.002)[0])   # below breakaway
     0.0
     """
 

@@ -35,7 +35,7 @@ from numba import njit, prange
 
 from .compensators import COMP_COULOMB, COMP_NN, Compensator, NoCompensation
 from .controllers import Controller
-from .friction import NPARAM, FrictionModel
+from .friction import NPARAM, FrictionModel, _Law
 from .params import ActuatorParams
 from .plant import FLEXIBLE, LUGRE, RIGID, advance, advance_many, state_torque
 
@@ -386,6 +386,10 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", (Controller,))
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      (Compensator,))
+    if isinstance(friction, _Law):
+        friction = friction.model()
+    elif isinstance(friction, (list, tuple)):
+        friction = [f.model() if isinstance(f, _Law) else f for f in friction]
     frs = [p.friction_model() for p in plist] if friction is None else _as_list(
         friction, n, "friction", (FrictionModel,))
     if plant not in _PLANTS:
