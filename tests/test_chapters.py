@@ -1,0 +1,75 @@
+"""Every teaching chapter (``chapters/NN_*.py``) runs, and has the house structure.
+
+Each chapter is executed as a script in a fresh interpreter, as a reader would
+run it: fast mode (``FRICCTL_FAST=1``), non-interactive backend
+(``MPLBACKEND=Agg``), working directory a temporary folder (so a chapter that
+reads or writes relative to the working directory fails here), and the
+``FRICCTL_DATA`` folder of the environment passed through (the chapters skip
+their real-data part with a message when it is absent).  A chapter fails its
+test when it raises, including its own ``assert`` checks of the claims its
+prose makes.
+
+New chapters are picked up automatically by the glob.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+jupytext = pytest.importorskip("jupytext")
+
+CHAPTERS_DIR = Path(__file__).resolve().parent.parent / "chapters"
+CHAPTERS = sorted(CHAPTERS_DIR.glob("[0-9][0-9]_*.py"))
+IDS = [c.name for c in CHAPTERS]
+
+#: Wall-clock limit for one chapter in fast mode [s]; the target is ~20 s, this is
+#: only a guard against a hung run on a slow, loaded machine.
+TIMEOUT = 300
+
+FAST_SWITCH = 'FAST = os.environ.get("FRICCTL_FAST") == "1"'
+
+
+def test_chapters_found():
+    # the glob must find the chapters this file was written with
+    names = {c.name for c in CHAPTERS}
+    assert {"01_actuator_and_stick_slip.py", "06_gain_design_and_closed_loop.py"} <= names
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=IDS)
+def test_chapter_runs(path, tmp_path):
+    env = dict(os.environ, FRICCTL_FAST="1", MPLBACKEND="Agg")
+    proc = subprocess.run([sys.executable, str(path)], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=TIMEOUT)
+    if proc.returncode != 0:
+        pytest.fail(f"{path.name} exited with {proc.returncode}\n--- stdout (tail)\n"
+                    f"{proc.stdout[-3000:]}\n--- stderr (tail)\n{proc.stderr[-5000:]}")
+    assert proc.stdout.strip(), f"{path.name} printed nothing: results must be printed"
+    assert list(tmp_path.iterdir()) == [], f"{path.name} wrote files into the working directory"
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=IDS)
+def test_chapter_structure(path):
+    text = path.read_text(encoding="utf-8")
+    nb = jupytext.reads(text, fmt="py:percent")
+    md = [c.source for c in nb.cells if c.cell_type == "markdown"]
+    code = [c.source for c in nb.cells if c.cell_type == "code"]
+    assert md, "no markdown cell"
+    assert code, "no code cell"
+    # percent format: every cell is introduced by a '# %%' marker
+    assert text.count("# %%") >= len(nb.cells) - 1
+    assert md[0].lstrip().startswith("# "), "the first markdown cell must be the title"
+    assert any(FAST_SWITCH in c for c in code), f"missing the fast switch `{FAST_SWITCH}`"
+    assert any(re.search(r"^#+\s*Exercises", m, re.M) for m in md), "missing an 'Exercises' section"
+    for c in code:
+        for line in c.splitlines():
+            s = line.strip()
+            assert not s.startswith(("%", "!")), f"magic or shell escape: {line!r}"
+            assert not re.match(r"from\s+\S+\s+import\s+\*", s), f"star import: {line!r}"
+            assert "plt.savefig" not in s and "input(" not in s, f"forbidden call: {line!r}"
+    assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code")
