@@ -14,7 +14,8 @@
 # %% [markdown]
 # # Chapter 6 -- Gain design and the closed loop without compensation
 #
-# *Gervini, Gomes & da Rosa (2003), Section 6, Figs. 11-14.*
+# *Gervini, Gomes & da Rosa (2003): the controller design and the closed-loop
+# experiments of Figs. 11-14.*
 #
 # The paper designs its position controllers "as if the system was linear (only
 # viscous friction)": the classic second-order design from a rise time and a
