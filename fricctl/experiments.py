@@ -1,0 +1,361 @@
+"""Experiments on the virtual bench: training patterns, estimator comparison, the dead zone.
+
+The paper's pipeline, step by step:
+
+1. :func:`training_experiments` -- the experiments of its Table 2, in spirit:
+   open-loop torque steps of many amplitudes up to the maximum torque, both
+   signs, with null-torque intervals between them, and closed-loop P and PD step
+   sequences; optionally a pre-heating sinusoid first (the paper runs 5 minutes
+   of it; on the virtual bench it only matters for a friction model with drift).
+   Each returns a :class:`~fricctl.datasets.Run` (what a lab records) and the
+   simulator's truth.
+2. :func:`friction_patterns` -- ``Tat = Tm - I*alpha_hat`` with alpha_hat from
+   the encoder (the paper's piecewise 6th-order polynomial fit by default).
+3. :func:`train_network` -- the 2-4-1 network on those patterns.
+4. :func:`dead_zone` -- open-loop sinusoids of growing amplitude; the dead zone
+   is the smallest amplitude that moves the encoder by more than a few counts.
+
+:func:`compare_estimators` measures each velocity/acceleration estimator
+against the simulator's truth (issue: "which estimator, how wrong").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .compensators import Compensator, NoCompensation
+from .controllers import open_loop, p_control, pd_control, sequence, sinusoid
+from .datasets import Run
+from .estimation import ESTIMATORS, estimate
+from .friction import FrictionModel
+from .params import ActuatorParams, paper_actuator
+from .simulate import SimResult, simulate, simulate_batch
+
+__all__ = [
+    "Experiment", "training_experiments", "Patterns", "friction_patterns", "train_network",
+    "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "predicted_dead_zone", "paper_gains",
+]
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One bench experiment: the record a lab would keep, and the simulator's truth."""
+
+    name: str
+    run: Run
+    truth: SimResult
+
+
+def paper_gains(params: ActuatorParams):
+    """(Kp, Kd) of the paper's P (0.2 s, 0.3) and PD (0.3 s, 0.9) designs for ``params``."""
+    from .design import design_p, design_pd
+
+    p = design_p(params, rise_time=0.2, damping=0.3)
+    pd = design_pd(params, rise_time=0.3, damping=0.9)
+    return (p.kp, 0.0), (pd.kp, pd.kd)
+
+
+def training_experiments(params: ActuatorParams | None = None, *, friction: FrictionModel | None = None,
+                         fast: bool = False, preheat: bool = False, noise_std: float = 0.0,
+                         rng: np.random.Generator | None = None) -> list[Experiment]:
+    """Run the training-pattern experiments (paper Table 2 in spirit).
+
+    Parameters
+    ----------
+    params : ActuatorParams, optional
+        Default :func:`~fricctl.params.paper_actuator`.
+    friction : FrictionModel, optional
+        The bench's true friction; default ``params.friction_model()``.
+    fast : bool
+        Fewer amplitudes and shorter sequences (for tests and chapters).
+    preheat : bool
+        Prepend a sinusoidal pre-heating run (300 s, or 20 s with ``fast``) at 30 %
+        of the maximum torque, 0.5 Hz; returned first, named ``"preheat"``.
+    noise_std : float
+        White torque noise at the joint [N*m] (needs ``rng``).
+    rng : numpy.random.Generator, optional
+
+    Returns
+    -------
+    list of Experiment
+        ``"open-loop steps"``, ``"P steps"``, ``"PD steps"`` (and ``"preheat"``).
+
+    Notes
+    -----
+    Amplitudes are fractions of the maximum torque: 20 levels from 2.5 % to 100 %
+    (8 with ``fast``), each held 0.1 s with alternating sign, followed by 0.4 s at
+    zero torque so the joint stops.  Closed-loop references are steps among
+    +-0.2 ... +-0.8 rad, 1 s each, with the paper's P and PD gains.
+    """
+    p = paper_actuator() if params is None else params
+    tmax = p.max_torque
+    fr = p.friction_model() if friction is None else friction
+    kw = dict(friction=fr, noise_std=noise_std, rng=rng)
+    out = []
+    if preheat:
+        dur = 20.0 if fast else 300.0
+        res = simulate(p, open_loop(sinusoid(0.3 * tmax, 0.5)), duration=dur, **kw)
+        out.append(Experiment("preheat", res.to_run(source="bench: preheat"), res))
+    fractions = (np.array([0.05, 0.1, 0.15, 0.25, 0.4, 0.6, 0.8, 1.0]) if fast
+                 else np.linspace(0.025, 1.0, 20))
+    levels, durations = [0.0], [0.1]
+    for i, f in enumerate(fractions):
+        levels += [(-1) ** i * f * tmax, 0.0]
+        durations += [0.1, 0.4]
+    ctrl = open_loop(sequence(levels, durations))
+    res = simulate(p, ctrl, duration=float(np.sum(durations)), **kw)
+    out.append(Experiment("open-loop steps", res.to_run(source="bench: open-loop torque steps"), res))
+    (kp_p, _), (kp_pd, kd_pd) = paper_gains(p)
+    refs = [0.4, -0.4, 0.8, 0.0, -0.8, 0.2] if fast else [0.4, -0.4, 0.8, 0.0, -0.8, 0.2, 0.6, -0.2, 0.5, -0.6,
+                                                           0.3, 0.0]
+    ref = sequence(refs, [1.0] * len(refs))
+    for name, ctrl in (("P steps", p_control(kp_p, ref)), ("PD steps", pd_control(kp_pd, kd_pd, ref))):
+        res = simulate(p, ctrl, duration=float(len(refs)), **kw)
+        out.append(Experiment(name, res.to_run(source=f"bench: closed-loop {name}"), res))
+    return out
+
+
+@dataclass(frozen=True)
+class Patterns:
+    """Training patterns ``(Tm, omega) -> Tat`` with where they came from.
+
+    Attributes
+    ----------
+    tm : motor torque [N*m]
+    omega : estimated velocity [rad/s]
+    friction : ``Tm - I*alpha_hat`` [N*m]
+    friction_true : the simulator's true friction at the same samples [N*m]
+    t : sample time within its experiment [s]
+    experiment : index of the experiment each pattern comes from
+    method : velocity/acceleration estimator used
+    """
+
+    tm: np.ndarray
+    omega: np.ndarray
+    friction: np.ndarray
+    friction_true: np.ndarray
+    t: np.ndarray
+    experiment: np.ndarray
+    method: str
+
+    def __len__(self):
+        return self.tm.size
+
+    def subset(self, index) -> "Patterns":
+        return Patterns(self.tm[index], self.omega[index], self.friction[index], self.friction_true[index],
+                        self.t[index], self.experiment[index], self.method)
+
+    def split(self, fraction: float, rng: np.random.Generator):
+        """Random (train, held-out) split; ``fraction`` of the patterns go to training."""
+        if not 0 < fraction < 1:
+            raise ValueError(f"fraction must lie in (0, 1), got {fraction!r}")
+        idx = rng.permutation(len(self))
+        k = int(round(fraction * len(self)))
+        return self.subset(np.sort(idx[:k])), self.subset(np.sort(idx[k:]))
+
+
+def friction_patterns(experiments, params: ActuatorParams, *, method: str = "polynomial_segments",
+                      border: int = 5, **options) -> Patterns:
+    """Friction patterns ``Tat = Tm - I*alpha_hat`` from the experiments' encoder records.
+
+    Parameters
+    ----------
+    experiments : list of Experiment
+    params : ActuatorParams
+        Its ``total_inertia`` is the I of the patterns (the paper uses the nominal one).
+    method : str
+        Estimator from :data:`fricctl.estimation.ESTIMATORS`.
+    border : int
+        Samples dropped at each end of each record [samples].
+    **options
+        Passed to the estimator.
+    """
+    if method not in ESTIMATORS:
+        raise ValueError(f"unknown estimator {method!r}; choose from {sorted(ESTIMATORS)}")
+    parts = []
+    for i, ex in enumerate(experiments):
+        est = estimate(ex.run.t, ex.run.position, method, **options)
+        sl = slice(border, ex.run.n_samples - border)
+        tm = ex.run.torque[sl]
+        parts.append((tm, est.velocity[sl], tm - params.total_inertia * est.acceleration[sl],
+                      ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i)))
+    cols = [np.concatenate(c) for c in zip(*parts)]
+    return Patterns(*cols, method=method)
+
+
+def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 4, max_patterns: int = 4000,
+                  rng: np.random.Generator | None = None, **options):
+    """Train the friction network on (a random subset of at most ``max_patterns``) patterns.
+
+    Returns
+    -------
+    fricctl.nn.TrainingResult
+        ``.net`` and ``.history``.
+    """
+    from .nn import train_backprop, train_casadi
+
+    rng = np.random.default_rng(0) if rng is None else rng
+    if trainer not in ("casadi", "backprop"):
+        raise ValueError(f"trainer must be 'casadi' or 'backprop', got {trainer!r}")
+    pats = patterns
+    if len(patterns) > max_patterns:
+        pats = patterns.subset(np.sort(rng.choice(len(patterns), max_patterns, replace=False)))
+    fn = train_casadi if trainer == "casadi" else train_backprop
+    meta = {"patterns": len(pats), "estimator": patterns.method}
+    return fn(pats.tm, pats.omega, pats.friction, hidden=hidden, rng=rng, metadata=meta, **options)
+
+
+@dataclass(frozen=True)
+class EstimatorError:
+    """Errors of one estimator against the simulator's truth.
+
+    RMS errors are dominated by the few samples around torque steps (the true
+    acceleration jumps there, every smoothing estimator spreads the jump); the
+    medians of the absolute errors over the samples where the joint truly moves
+    say how good the estimate is elsewhere.
+    """
+
+    method: str
+    velocity_rms: float
+    acceleration_rms: float
+    friction_rms: float
+    velocity_median: float
+    acceleration_median: float
+    friction_median: float
+
+    def as_dict(self):
+        return {k: getattr(self, k) for k in ("method", "velocity_rms", "acceleration_rms", "friction_rms",
+                                               "velocity_median", "acceleration_median", "friction_median")}
+
+
+def compare_estimators(experiment: Experiment, params: ActuatorParams, *, methods=None, border: int = 25,
+                       options: dict | None = None) -> list[EstimatorError]:
+    """Velocity [rad/s], acceleration [rad/s^2] and friction [N*m] RMS errors per estimator.
+
+    Samples where the truth is at rest are included (an estimator must say "at
+    rest" there); ``border`` samples at each end are dropped.
+    """
+    options = {"butterworth_central": {"cutoff": 25.0}} if options is None else options
+    methods = list(ESTIMATORS) if methods is None else methods
+    tr = experiment.truth
+    sl = slice(border, tr.t.size - border)
+    out = []
+    for m in methods:
+        est = estimate(experiment.run.t, experiment.run.position, m, **options.get(m, {}))
+        fr = experiment.run.torque - params.total_inertia * est.acceleration
+        ev = est.velocity[sl] - tr.omega[sl]
+        ea = est.acceleration[sl] - tr.accel[sl]
+        ef = fr[sl] - tr.friction[sl]
+        moving = tr.omega[sl] != 0.0
+        if not moving.any():
+            raise ValueError(f"experiment {experiment.name!r} never moves: nothing to compare")
+        out.append(EstimatorError(
+            m, *(float(np.sqrt(np.mean(e ** 2))) for e in (ev, ea, ef)),
+            *(float(np.median(np.abs(e[moving]))) for e in (ev, ea, ef))))
+    return out
+
+
+@dataclass(frozen=True)
+class DeadZone:
+    """Open-loop sinusoid amplitudes and the motion each produced.
+
+    Attributes
+    ----------
+    amplitudes : control torque amplitudes tried [N*m]
+    counts : peak-to-peak encoder motion at each amplitude [counts]
+    threshold_counts : motion that counts as "moves" [counts]
+    max_torque : Tmax of the actuator [N*m]
+    compensator : name of the compensation used
+    """
+
+    amplitudes: np.ndarray
+    counts: np.ndarray
+    threshold_counts: int
+    max_torque: float
+    compensator: str
+    results: tuple = field(default=(), repr=False)
+
+    @property
+    def dead_zone(self) -> float:
+        """Smallest amplitude [N*m] above which every amplitude moves the joint."""
+        moves = self.counts > self.threshold_counts
+        if not moves.any():
+            return float("inf")
+        if moves.all():
+            return float(self.amplitudes[0])
+        last_still = np.flatnonzero(~moves)[-1]
+        if last_still + 1 >= moves.size:
+            return float("inf")
+        return float(self.amplitudes[last_still + 1])
+
+    @property
+    def fraction(self) -> float:
+        """Dead zone as a fraction of the maximum torque [-]."""
+        return self.dead_zone / self.max_torque
+
+
+def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
+              friction: FrictionModel | None = None, amplitudes=None, frequency: float = 1.0,
+              periods: float = 2.0, threshold_counts: int = 3, keep_results: bool = False) -> DeadZone:
+    """Measure the torque dead zone with open-loop sinusoidal control torques.
+
+    One run per amplitude (a batch), each ``periods`` periods of
+    ``Tc = A*sin(2*pi*f*t)``; the joint "moves" at amplitude A when its encoder
+    spans more than ``threshold_counts`` counts.
+
+    Parameters
+    ----------
+    params : ActuatorParams
+    compensator : Compensator, optional
+        Default: none.
+    friction : FrictionModel, optional
+    amplitudes : array_like, optional
+        Increasing amplitudes [N*m]; default 200 levels from 0.25 % to 20 % of Tmax.
+    frequency : float
+        [Hz].
+    periods : float
+        Periods per run.
+    threshold_counts : int
+        "A few encoder counts".
+    """
+    comp = NoCompensation() if compensator is None else compensator
+    amps = (np.linspace(0.0025, 0.2, 200) * params.max_torque if amplitudes is None
+            else np.asarray(amplitudes, dtype=float))
+    if amps.ndim != 1 or amps.size < 2 or np.any(np.diff(amps) <= 0) or np.any(amps <= 0):
+        raise ValueError("amplitudes must be a 1-D increasing array of positive torques")
+    ctrls = [open_loop(sinusoid(float(a), frequency)) for a in amps]
+    batch = simulate_batch(params, ctrls, comp, duration=periods / frequency, friction=friction)
+    counts = np.round(np.ptp(batch.q_meas, axis=1) / params.encoder_resolution).astype(int)
+    results = tuple(batch[i] for i in range(len(batch))) if keep_results else ()
+    return DeadZone(amps, counts, int(threshold_counts), params.max_torque, comp.name, results)
+
+
+def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0, n: int = 2001) -> tuple[float, float]:
+    """Dead zone the compensated loop should show, from the estimator alone [N*m].
+
+    At rest the encoder does not move, so ``omega_hat = 0`` and the loop iterates
+    ``Tm(k+1) = Tc + s*T^at(Tm(k), 0)``.  For a slowly varying ``Tc`` it climbs
+    to the first fixed point; the joint breaks loose only if no fixed point lies
+    below the breakaway torque Fs, i.e. when
+
+        Tc > max_{0 <= Tm <= Fs} (Tm - s*T^at(Tm, 0)).
+
+    That maximum is the predicted dead zone (per direction).  For a linear
+    estimate ``T^at = g*Tm`` near rest it is ``Fs*(1 - s*g)``: a reduction by
+    ``1/(1 - s*g)``; with ``s*g >= 1`` it goes to zero (the loop winds the torque
+    up like an integrator).
+
+    Returns
+    -------
+    (positive, negative) : tuple of float
+        Predicted dead zones for the two directions, positive magnitudes [N*m].
+    """
+    if not (math.isfinite(breakaway) and breakaway > 0):
+        raise ValueError(f"breakaway must be > 0 N*m, got {breakaway!r}")
+    tm = np.linspace(0.0, breakaway, n)
+    pos = float(np.max(tm - scale * np.asarray(estimator(tm, np.zeros(n)))))
+    neg = float(np.max(tm + scale * np.asarray(estimator(-tm, np.zeros(n)))))
+    return max(pos, 0.0), max(neg, 0.0)
