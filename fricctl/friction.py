@@ -330,6 +330,10 @@ class FrictionModel:
             return self
         return NotImplemented
 
+    def model(self) -> "FrictionModel":
+        """Itself (so laws and models share ``.model()``)."""
+        return self
+
     def scaled(self, factor: float) -> "FrictionModel":
         """Copy with every friction term multiplied by ``factor`` (wear, load)."""
         factor = _check("scale factor", factor, positive=True, allow_zero=False)
