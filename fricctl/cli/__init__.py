@@ -13,7 +13,7 @@ import importlib
 import sys
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
-SUBCOMMANDS = ("demo", "design", "identify", "train", "reproduce", "diagnose")
+SUBCOMMANDS = ("simulate", "design", "identify", "train", "reproduce", "diagnose")
 
 
 def build_parser() -> argparse.ArgumentParser:
