@@ -190,20 +190,21 @@ class ActuatorParams:
         return 2.0 * math.pi / (self.encoder_counts * self.gear_ratio)
 
     @classmethod
-    def unit(cls, name: str) -> str:
-        """Unit of field ``name`` (raises ``ValueError`` for an unknown field)."""
+    def _metadata(cls, name: str) -> dict:
         for f in fields(cls):
             if f.name == name:
-                return f.metadata["unit"]
+                return f.metadata
         raise ValueError(f"unknown ActuatorParams field {name!r}")
+
+    @classmethod
+    def unit(cls, name: str) -> str:
+        """Unit of field ``name`` (raises ``ValueError`` for an unknown field)."""
+        return cls._metadata(name)["unit"]
 
     @classmethod
     def source(cls, name: str) -> str:
         """Provenance of field ``name``: 'paper', 'derived' or 'assumption'."""
-        for f in fields(cls):
-            if f.name == name:
-                return f.metadata["source"]
-        raise ValueError(f"unknown ActuatorParams field {name!r}")
+        return cls._metadata(name)["source"]
 
     def with_link(self, link_inertia: float = PAPER_LINK_INERTIA) -> "ActuatorParams":
         """Copy with the SCARA link attached (0.0046 kg*m^2 by default)."""
