@@ -191,3 +191,19 @@ def test_replay_reproduces_the_closed_loop_from_its_record():
     np.testing.assert_array_equal(f, res.friction)
     with pytest.raises(ValueError, match="NaN"):
         replay(RigidJoint.from_params(P), [0.0, np.nan], P.sample_time)
+
+
+def test_friction_net_runs_compiled_exactly_as_in_python():
+    # a real FrictionNet inside the compiled loop equals its own numpy evaluation in the Python loop
+    from fricctl.nn import smooth_friction_patterns, train_casadi
+
+    tm, w, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=50)
+    net = train_casadi(tm, w, f, restarts=1, rng=np.random.default_rng(0)).net
+    ctrl = pd_control(1.23, 0.0906, sawtooth(1.0, 2.0))
+    for clip in (False, True):
+        comp = NNCompensator(net, scale=0.95, clip=clip)
+        fast = simulate(P, ctrl, comp, duration=1.0)
+        slow = simulate(P, ctrl, NNCompensator(lambda a, b, c=comp: c(a, b), scale=0.95), duration=1.0)
+        assert fast.info["loop"] == "compiled" and slow.info["loop"] == "python"
+        np.testing.assert_allclose(fast.friction_est, slow.friction_est, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(fast.q, slow.q, rtol=0, atol=1e-12)
