@@ -1,0 +1,175 @@
+# ---
+# jupyter:
+#   jupytext:
+#     formats: py:percent
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # Chapter 4 -- The neural network
+#
+# *Gervini, Gomes & da Rosa (2003): the friction patterns (Fig. 5), the 2-4-1
+# network and its training, and the comparison of measured and learned friction
+# (Fig. 8).*
+#
+# The paper does not write down a friction law.  It *measures* friction torque
+# samples on the bench -- `Tat = Tm - I*alpha_hat`, motor torque minus inertia
+# times the estimated acceleration -- and lets a small network learn the map
+# `(Tm, omega) -> Tat`: two inputs, four tanh hidden units, one linear output.
+# This chapter builds those patterns on the virtual bench, trains the network with
+# two trainers, asks what "98 % accuracy" can mean, and looks at where the net may
+# be trusted (its envelope), how it is exported to C for a 500 Hz controller, and
+# how it is saved.
+
+# %%
+import os
+import tempfile
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from fricctl import figures
+from fricctl import paper
+from fricctl.experiments import train_network
+from fricctl.nn import c_source, fit_percent, fit_report, load_net, r_squared, save_net
+from fricctl.params import paper_actuator
+
+FAST = os.environ.get("FRICCTL_FAST") == "1"
+SEED = 0                               # seed of the split and the trainers [-]
+BACKPROP_EPOCHS = 200 if FAST else 2000  # epochs of the paper's back-propagation [-]
+
+# %% [markdown]
+# ## 1. The patterns (Fig. 5)
+#
+# `train_paper_network` runs the whole pipeline once: open-loop torque steps of
+# growing amplitude up to the maximum torque, closed-loop P and PD step
+# sequences, the paper's polynomial velocity/acceleration estimator on the encoder
+# record, and an 80/20 split of the patterns into training and held-out sets.
+
+# %%
+p = paper_actuator()
+net_run = paper.train_paper_network(p, fast=FAST, seed=SEED)
+for ex in net_run.experiments:
+    print(f"{ex.name:16s} {ex.run.t[-1]:5.1f} s, {ex.run.n_samples} samples")
+print(f"patterns: {len(net_run.patterns)} ({len(net_run.train)} training, {len(net_run.held_out)} held out)")
+stuck = net_run.patterns.omega == 0
+print(f"{np.mean(stuck) * 100:.0f} % of the patterns are at rest, where Tat = Tm exactly")
+figures.plot_fig5(paper.fig5(net_run))
+plt.show()
+
+# %% [markdown]
+# Notice the two kinds of pattern.  While the joint is stuck, `alpha_hat = 0` and
+# the pattern says "friction equals the motor torque", for any torque up to the
+# breakaway level -- a vertical line at `omega = 0`.  While it slides, friction is
+# roughly `Fc + b*omega`.  A smooth net has to bridge the two at `omega = 0`.
+#
+# ## 2. Two trainers
+#
+# The paper trains with back-propagation and momentum.  fricctl also offers a
+# second-order trainer, Levenberg-Marquardt on the least-squares problem, posed
+# in CasADi (exact Jacobian by algorithmic differentiation).  Same patterns, same
+# seed:
+
+# %%
+lm = net_run.training
+bp = train_network(net_run.train, trainer="backprop", epochs=BACKPROP_EPOCHS, max_patterns=2000,
+                   rng=np.random.default_rng(SEED))
+for name, res in (("CasADi LM", lm), ("back-prop", bp)):
+    h = res.history
+    print(f"{name:10s} final training MSE {h.loss[-1]:.3e} (N*m)^2 after {h.loss.size - 1} "
+          f"{h.step}s, {h.elapsed[-1]:.2f} s")
+assert lm.history.loss[-1] < bp.history.loss[-1]  # the second-order trainer ends lower
+ax = figures.plot_training_history(lm.history, against="step")
+figures.plot_training_history(bp.history, ax=ax, against="step")
+ax.set_xscale("log")
+plt.show()
+
+# %% [markdown]
+# ## 3. What does "98 % accuracy" mean?  (Fig. 8)
+#
+# The paper reports 98 % without a definition.  Two common ones:
+#
+# * the normalised **fit** `100 (1 - ||e|| / ||y - mean y||)` of system identification;
+# * the coefficient of determination **R^2** `= 1 - ||e||^2 / ||y - mean y||^2`.
+#
+# They are tied by `fit = 100 (1 - sqrt(1 - R^2))`: R^2 = 0.98 is a fit of only
+# 85.9 %.  Measured on the held-out patterns, and against the simulator's *true*
+# friction (which a lab never has):
+
+# %%
+ho = net_run.held_out
+net = net_run.net
+for name, fr in (("held-out, measured", net_run.fit_held_out), ("training, measured", net_run.fit_train),
+                 ("held-out, true friction", net_run.fit_true)):
+    print(f"{name:24s} fit {fr.fit_percent:6.2f} %   R^2 {fr.r_squared:.4f}   RMSE {fr.rmse:.4f} N*m")
+yhat = net(ho.tm, ho.omega)
+assert abs(fit_percent(ho.friction, yhat)
+           - 100 * (1 - np.sqrt(1 - r_squared(ho.friction, yhat)))) < 1e-9
+moving = ho.omega != 0
+print(f"fit on the sliding patterns only: {fit_report(ho.friction[moving], yhat[moving]).fit_percent:.1f} %; "
+      f"at rest only: {fit_report(ho.friction[~moving], yhat[~moving]).fit_percent:.1f} %")
+assert net_run.fit_held_out.fit_percent < 98 and net_run.fit_held_out.r_squared < 0.98
+figures.plot_fig8(paper.fig8(net_run))
+plt.show()
+
+# %% [markdown]
+# Neither definition gets to 98 % here (checked below).  The patterns carry the
+# estimator's error wherever the acceleration jumps (each torque step, each
+# stick/slip transition), and the static map cannot be sharp at `omega = 0`.
+# Compare the fit against the *true* friction with the fit against the measured
+# patterns: where the two are close, the limit is the map itself, not the noise
+# of the patterns.
+#
+# ## 4. The envelope: where the net may be trusted
+#
+# A net extrapolates badly.  fricctl stores the box of the training inputs with
+# the net; the compiled loop can clip its inputs to it (`NNCompensator(clip=True)`).
+# The box is generous: its corners (large torque at zero velocity) held no
+# patterns.
+
+# %%
+lo, hi = net.envelope_low, net.envelope_high
+print(f"envelope: Tm in [{lo[0]:.3f}, {hi[0]:.3f}] N*m, omega in [{lo[1]:.2f}, {hi[1]:.2f}] rad/s")
+print(f"gain at rest g = dTat/dTm(0, 0) = {net.gain_at_rest():.3f} (Chapter 5: it sets the dead zone)")
+w = np.linspace(2 * lo[1], 2 * hi[1], 201)
+print(f"at Tm = 0: {np.count_nonzero(net.outside_envelope(0.0, w))} of {w.size} velocities on a "
+      f"grid twice the envelope lie outside it")
+figures.plot_friction_map(net)
+plt.show()
+
+# %% [markdown]
+# ## 5. Exporting to C, saving and loading
+#
+# A 500 Hz controller evaluates the net 500 times a second; `c_source` writes a
+# self-contained C function (with the same scaling and optional clipping).  The
+# JSON file keeps weights, scaling, envelope and metadata -- no pickle.
+
+# %%
+src = c_source(net)
+print("\n".join(src.splitlines()[:6]))
+print(f"... {len(src.splitlines())} lines of C")
+assert "double fricctl_friction_net(double tm, double omega, int clip)" in src
+with tempfile.TemporaryDirectory() as tmp:
+    path = save_net(net, Path(tmp) / "net.json")
+    again = load_net(path)
+    print(f"saved {path.stat().st_size} bytes; metadata keys: {sorted(again.metadata)}")
+tm_grid, w_grid = np.meshgrid(np.linspace(lo[0], hi[0], 21), np.linspace(lo[1], hi[1], 21))
+assert np.array_equal(again(tm_grid, w_grid), net(tm_grid, w_grid))  # round trip is exact
+
+# %% [markdown]
+# ## Exercises
+#
+# 1. Train with `estimator="savitzky_golay"` (pass `window_length=51`) instead of
+#    the paper's polynomial segments: how do the fit, R^2 and the gain at rest move?
+# 2. Increase `BACKPROP_EPOCHS` until back-propagation reaches the CasADi trainer's
+#    final loss.  How many epochs does it take, and how long?
+# 3. Fit only the sliding patterns (`net_run.train.subset(net_run.train.omega != 0)`).
+#    What does the resulting net predict at rest, and why is that dangerous for the
+#    compensator of Chapter 5?
