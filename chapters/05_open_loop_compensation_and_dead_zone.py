@@ -148,7 +148,8 @@ assert np.all(factors > 1)  # compensation always shrinks the dead zone here
 # %%
 print(f"linear picture: factor 6 <=> g = 1 - 1/6 = {1 - 1 / 6:.3f}; "
       f"{np.count_nonzero(gains > 1)} of {gains.size} nets above have g > 1")
-#
+
+# %% [markdown]
 # ## Exercises
 #
 # 1. Plot `net(Tm, 0)` against `Tm` for `0 <= Tm <= Fs` together with the line `Tm - Tc`
