@@ -1,0 +1,91 @@
+"""``fricctl diagnose RUN.csv``: what the model gets wrong, its cause, the extended model, the gain.
+
+Reads a record (CSV header ``t,torque,position[,reference]``, SI units, uniform
+sampling, any rate; see :class:`fricctl.datasets.Run`), fits the rigid baseline
+(or takes ``--model FILE``, a ``fricctl.joint_model`` JSON file, as given),
+re-simulates it over 0.5 s windows, scores every candidate cause by blocked
+cross-validation, names the best (or ``none``), extends the model and reports
+the held-out gain.  ``--json`` prints one object: ``cause``, ``ranking``
+(``[{cause, score}]``), ``evidence``, ``baseline`` and ``extended`` (parameter
+dicts), ``gain`` (``torque_rms_before``, ``torque_rms_after``,
+``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data.
+``--report DIR`` writes the figures (PNG), ``report.md`` and ``extended_model.json``.
+Bad input prints one line on stderr and exits with code 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "diagnose", help="name what the model gets wrong in a record, extend it, measure the gain",
+        description=__doc__.split("\n\n", 1)[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("run", metavar="RUN.csv", help="record with header t,torque,position[,reference]")
+    p.add_argument("--model", metavar="FILE", default=None,
+                   help="nominal model (fricctl.joint_model JSON) to diagnose as given")
+    p.add_argument("--units", choices=("rotary", "linear"), default=None,
+                   help="override the record's '# units:' line")
+    p.add_argument("--window", type=float, default=0.5, metavar="S",
+                   help="re-simulation window [s] (default 0.5)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--report", metavar="DIR", default=None,
+                   help="write figures, report.md and extended_model.json to DIR")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..datasets import Run
+    from ..diagnose import JointModel, diagnose
+
+    record = Run.from_csv(args.run, units=args.units)
+    model = JointModel.load(args.model) if args.model else None
+    if model is not None and args.units is None and model.units != record.units:
+        raise ValueError(f"{Path(args.model).name}: model units {model.units!r} differ from the "
+                         f"record's {record.units!r}")
+    result = diagnose(record, model, window=args.window)
+    if args.report:
+        write_report(result, args.report)
+    if args.json:
+        print(json.dumps(result.as_dict(), indent=2))
+    else:
+        print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s")
+        print(result.report())
+    return 0
+
+
+def write_report(result, folder) -> Path:
+    """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..figures.diagnosis import plot_diagnosis, plot_residual_spectrum, plot_simulation
+
+    out = Path(folder)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--report: {out} exists and is not a folder")
+    out.mkdir(parents=True, exist_ok=True)
+    figs = {}
+    fig = plot_diagnosis(result)
+    figs["residuals.png"] = fig
+    fig2, ax = plt.subplots(2, 1, figsize=(8, 5), layout="constrained", sharex=True)
+    plot_simulation(result, ax=ax[0], quantity="position")
+    plot_simulation(result, ax=ax[1], quantity="velocity")
+    figs["simulation.png"] = fig2
+    fig3, ax3 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    plot_residual_spectrum(result, ax=ax3)
+    figs["spectrum.png"] = fig3
+    for name, f in figs.items():
+        f.savefig(out / name, dpi=110)
+        plt.close(f)
+    text = result.report() + "\n## Figures\n\n" + "\n".join(
+        f"![{n[:-4]}]({n})" for n in figs) + "\n"
+    (out / "report.md").write_text(text)
+    result.extended.save(out / "extended_model.json")
+    return out

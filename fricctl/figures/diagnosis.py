@@ -1,0 +1,129 @@
+"""Figures of the diagnosis: measured vs simulated, residual against velocity, position,
+time and torque, residual spectrum (:func:`fricctl.diagnose.diagnose` results)."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import signal
+
+from ._common import get_ax
+
+__all__ = ["plot_simulation", "plot_residual", "plot_residual_spectrum", "plot_diagnosis"]
+
+_AGAINST = ("velocity", "position", "time", "torque")
+
+
+def _units(result):
+    return ("N*m", "rad") if result.units == "rotary" else ("N", "m")
+
+
+def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
+    """Measured motion and the windowed re-simulation of baseline and extended model.
+
+    Parameters
+    ----------
+    result : fricctl.diagnose.Diagnosis
+    ax : matplotlib.axes.Axes, optional
+    quantity : {"position", "velocity"}
+        Position [rad] (encoder) or velocity [rad/s] (estimate).
+    span : tuple (t0, t1), optional
+        Time range to show [s]; default the whole record.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if quantity not in ("position", "velocity"):
+        raise ValueError(f"quantity must be 'position' or 'velocity', got {quantity!r}")
+    ax = get_ax(ax)
+    tu, qu = _units(result)
+    t = result.t
+    sel = np.ones(t.size, bool) if span is None else (t >= span[0]) & (t <= span[1])
+    if quantity == "position":
+        meas, b, a = result.position, result.sim_before.q, result.sim_after.q
+        ax.plot(t[sel], meas[sel], drawstyle="steps-post", color="k", lw=1.0, label="measured (encoder)")
+        ax.set_ylabel(f"position $q$ [{qu}]")
+    else:
+        meas, b, a = result.velocity, result.sim_before.omega, result.sim_after.omega
+        ax.plot(t[sel], meas[sel], color="k", lw=1.0, label="estimated")
+        ax.set_ylabel(rf"velocity $\omega$ [{qu}/s]")
+    ax.plot(t[sel], b[sel], color="tab:red", lw=1.0, label="baseline, simulated")
+    if result.cause != "none":
+        ax.plot(t[sel], a[sel], color="tab:blue", lw=1.0, ls="--", label=f"+ {result.cause}, simulated")
+    ax.set_xlabel("time $t$ [s]")
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = False):
+    """Equation-error torque residual against velocity, position, time or torque.
+
+    Parameters
+    ----------
+    result : fricctl.diagnose.Diagnosis
+    against : {"velocity", "position", "time", "torque"}
+    ax : matplotlib.axes.Axes, optional
+    after : bool
+        Also draw the residual of the extended model.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if against not in _AGAINST:
+        raise ValueError(f"against must be one of {_AGAINST}, got {against!r}")
+    ax = get_ax(ax)
+    tu, qu = _units(result)
+    x = {"velocity": result.velocity, "position": result.position, "time": result.t,
+         "torque": result.torque}[against]
+    label = {"velocity": rf"velocity $\omega$ [{qu}/s]", "position": f"position $q$ [{qu}]",
+             "time": "time $t$ [s]", "torque": f"recorded torque $T_m$ [{tu}]"}[against]
+    ok = ~np.isnan(result.residual_before)
+    ax.plot(x[ok], result.residual_before[ok], ".", ms=1.5, color="tab:red", alpha=0.5,
+            label="baseline")
+    if after and result.cause != "none":
+        ok2 = ~np.isnan(result.residual_after)
+        ax.plot(x[ok2], result.residual_after[ok2], ".", ms=1.5, color="tab:blue", alpha=0.5,
+                label=f"+ {result.cause}")
+    ax.axhline(0.0, color="0.3", lw=0.8)
+    ax.set_xlabel(label)
+    ax.set_ylabel(f"torque residual [{tu}]")
+    ax.legend(loc="best", fontsize="small", markerscale=6)
+    return ax
+
+
+def plot_residual_spectrum(result, *, ax=None):
+    """Power spectral density (Welch) of the torque residual, baseline and extended.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = get_ax(ax)
+    tu, _ = _units(result)
+    fs = 1.0 / float(result.t[1] - result.t[0])
+    for res, color, lab in ((result.residual_before, "tab:red", "baseline"),
+                            (result.residual_after, "tab:blue", f"+ {result.cause}")):
+        if lab != "baseline" and result.cause == "none":
+            continue
+        r = np.nan_to_num(res, nan=0.0)
+        f, p = signal.welch(r, fs=fs, nperseg=min(2048, r.size))
+        ax.semilogy(f[1:], p[1:], color=color, lw=1.0, label=lab)
+    ax.set_xlabel("frequency $f$ [Hz]")
+    ax.set_ylabel(f"residual PSD [({tu})$^2$/Hz]")
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def plot_diagnosis(result):
+    """Six panels: position and velocity simulation, residual vs velocity, position,
+    time and torque.  Returns the Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 2, figsize=(11, 8.5), layout="constrained")
+    plot_simulation(result, ax=axes[0, 0], quantity="position")
+    plot_simulation(result, ax=axes[0, 1], quantity="velocity")
+    for ax, against in zip(axes.ravel()[2:], _AGAINST):
+        plot_residual(result, against, ax=ax, after=True)
+    fig.suptitle(f"diagnosis: {result.cause}")
+    return fig

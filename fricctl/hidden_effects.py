@@ -1,0 +1,391 @@
+"""Records with one hidden effect, made on the virtual bench (seeded).
+
+:func:`hidden_effect_record` builds a measured record (:class:`~fricctl.datasets.Run`)
+of a randomly drawn actuator (baseline: rigid joint, viscous + Coulomb friction with
+stiction at the Coulomb level, the model :func:`fricctl.diagnose.diagnose` fits)
+with **one** effect added from :data:`HIDDEN_CAUSES`, under a randomly drawn
+excitation.  It is the test bench of the diagnosis: tests hand the record (and, for
+the nominal-model causes, the nominal model an engineer would have) to
+``diagnose`` and require it to name the effect; they never read the answer from
+the returned metadata.
+
+Baseline actuator (drawn per record, load side, around the paper's actuator)
+-----------------------------------------------------------------------------
+=====================  ===========================  ==============================
+quantity               range (uniform)              note
+=====================  ===========================  ==============================
+actuator inertia       1.5e-3 .. 4.5e-3 kg*m^2      paper: 2.87e-3 (derived)
+link inertia           0 .. 6e-3 kg*m^2             paper's SCARA link: 4.6e-3
+viscous b              0.008 .. 0.030 N*m*s/rad     paper: 0.0169
+Coulomb Fc             0.08 .. 0.25 N*m             paper: 0.144 (assumed 0.8*Fs)
+torque noise (joint)   1 .. 3 % of Fc (std)         white, N*m
+encoder                3.14e-5 rad per count        paper actuator (2000 counts, n=100)
+torque limit           12 * Fc                      paper: Fs = 12.7 % of Tmax
+=====================  ===========================  ==============================
+
+Hidden effects and their magnitudes (uniform within the ranges)
+-----------------------------------------------------------------
+=================  =====================================================================
+cause              magnitude
+=================  =====================================================================
+none               nothing added
+stribeck           excess Fs - Fc = 0.5 .. 1.0 Fc, Stribeck velocity 0.02 .. 0.1 rad/s
+asymmetry          one of: Coulomb ratio 1.3 .. 1.7 between the directions; viscous
+                   ratio 1.5 .. 2.2; a constant torque offset of 0.2 .. 0.4 Fc
+load_dependent     mu = 0.08 .. 0.20 (friction + mu*|Tm|; harmonic drives lose 10-30 %)
+position_ripple    amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase
+time_delay         4 .. 8 samples (8-16 ms at 500 Hz)
+thermal_drift      friction level changes by 25 .. 50 % over the record (either sign)
+compliance         elastic joint (paper Eq. 1), link 0.5 .. 1.5 x actuator inertia,
+                   coupled resonance 12 .. 40 Hz, structural damping ratio 0.02 .. 0.1
+presliding         LuGre bristles, presliding length Fc/sigma0 = 6 .. 20 encoder counts,
+                   bristle damping ratio 0.3 .. 1
+inertia            (nominal model) true inertia 1.3 .. 2.6 x or 0.6 .. 0.8 x the nominal
+friction_scale     (nominal model) friction 0.80 .. 0.93 x or 1.07 .. 1.20 x the nominal
+=================  =====================================================================
+
+The lower ends are the sizes the issue requires to be found (ripple 20 % of Fc,
+Stribeck excess 50 %, delay 4 samples, 25 % drift); each range starts where the
+effect lowers the held-out torque residual or windowed simulation error by well
+over 10 % on these excitations (measured in ``benchmarks/bench_diagnose.py``).
+
+Excitation (drawn per record)
+-----------------------------
+The record is a random sequence of segments, every kind present at least once,
+in random order, with random durations and levels: open-loop torque steps in both
+directions (1.3-2.5 x breakaway, with pauses), an open-loop torque sinusoid,
+PD tracking of a slow sinusoid (peak speed 0.03-0.4 rad/s, stick-slip), PD
+tracking of a fast one (peak speed 2-8 rad/s), and PD tracking of a trapezoidal
+(constant speed 0.1-3 rad/s) reference.  PD gains are drawn for a closed-loop
+natural frequency of 2-4.5 Hz, damping 0.7.  The loop has the timing of
+:mod:`fricctl.simulate` (ZOH at Ts, one sample of computation delay, backward
+difference velocity, quantised encoder).
+
+Notes
+-----
+Left out: measurement noise on the recorded torque (only process noise at the
+joint), a position-dependent inertia or gravity, combined effects (exactly one is
+hidden; chapter 08 shows the paper's combined inertia + 0.95 case by hand).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit
+
+from .datasets import Run
+from .friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
+from .plant import FLEXIBLE, LUGRE, RIGID, advance
+
+__all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
+           "ENCODER_RESOLUTION"]
+
+#: Effects the generator hides without a nominal model (``none`` included).
+HIDDEN_CAUSES = ("none", "stribeck", "asymmetry", "load_dependent", "position_ripple",
+                 "time_delay", "thermal_drift", "compliance", "presliding")
+#: Effects that only exist against a supplied nominal model.
+NOMINAL_CAUSES = ("inertia", "friction_scale")
+
+#: Load-side encoder count of the paper actuator [rad] (2000 counts/rev, n = 100).
+ENCODER_RESOLUTION = 2.0 * math.pi / (2000 * 100)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class HiddenEffectRecord:
+    """A generated record and what was hidden in it.
+
+    Attributes
+    ----------
+    run : Run
+        The measured record (t, recorded torque, encoder position, reference).
+    nominal : fricctl.diagnose.JointModel or None
+        The nominal model an engineer would hold (the true baseline actuator) for
+        the nominal-model causes and ``none`` drawn with ``nominal=True``; else None.
+    cause : str
+        The hidden cause (ground truth; tests must not pass it to the diagnosis).
+    magnitude : dict
+        Parameters of the hidden effect (SI units).
+    truth : fricctl.diagnose.JointModel
+        The complete true model (baseline + effect).
+    excitation : tuple of str
+        The segments, in order.
+    """
+
+    run: Run
+    nominal: object
+    cause: str
+    magnitude: dict = field(default_factory=dict)
+    truth: object = None
+    excitation: tuple = ()
+
+
+# ----------------------------------------------------------------------------- loop
+@njit(cache=True)
+def _bench_loop(kind, fp, jm, jl, kst, dmp, ts, nsub, res, tmax, kp, kd, ref, ff, seg_start,
+                delay, noise, o_tm, o_y, o_r):
+    st = np.zeros(5)
+    tm_next = 0.0
+    y_prev = 0.0
+    offset = 0.0
+    n = kp.size
+    for k in range(n):
+        t = k * ts
+        y = res * math.floor(st[0] / res)
+        wh = (y - y_prev) / ts if k > 0 else 0.0
+        if seg_start[k]:
+            offset = y
+        tm_k = tm_next
+        r = offset + ref[k]
+        tc = ff[k] + kp[k] * (r - y) - kd[k] * wh
+        tm_next = min(max(tc, -tmax), tmax)
+        o_tm[k] = tm_k
+        o_y[k] = y
+        o_r[k] = r
+        applied = o_tm[k - delay] if k >= delay else 0.0
+        applied = min(max(applied + noise[k], -tmax), tmax)
+        advance(kind, st, fp, applied, t, ts, nsub, jm, jl, kst, dmp)
+        y_prev = y
+
+
+# ----------------------------------------------------------------------------- excitation
+_SEGMENTS = ("torque_steps", "torque_sine", "slow_tracking", "fast_tracking", "ramps")
+
+
+def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax):
+    """(kp, kd, ref, ff) arrays of one segment of n samples."""
+    t = np.arange(n) * ts
+    zeros = np.zeros(n)
+    if kind in ("torque_steps", "torque_sine"):
+        kp = kd = zeros
+        ref = zeros
+        if kind == "torque_steps":
+            ff = np.zeros(n)
+            k = 0
+            sign = rng.choice((-1.0, 1.0))
+            while k < n:
+                on = int(rng.uniform(0.25, 0.8) / ts)
+                off = int(rng.uniform(0.15, 0.4) / ts)
+                ff[k:k + on] = sign * rng.uniform(1.3, 2.5) * breakaway
+                sign = -sign if rng.random() < 0.8 else sign
+                k += on + off
+        else:
+            amp = rng.uniform(1.3, 2.5) * breakaway
+            f = rng.uniform(0.4, 1.5)
+            ff = amp * np.sin(2 * np.pi * f * t) * np.minimum(1.0, t / 0.2)
+            ff[-int(0.2 / ts):] = 0.0  # let it coast to rest
+        return kp, kd, ref, ff
+    wn = 2 * np.pi * rng.uniform(2.0, 4.5)
+    kp = np.full(n, inertia * wn ** 2)
+    kd = np.full(n, max(2 * 0.7 * wn * inertia - viscous, 0.0))
+    ff = zeros
+    if kind == "slow_tracking":
+        vpk = rng.uniform(0.03, 0.4)
+        f = rng.uniform(0.1, 0.4)
+        amp = vpk / (2 * np.pi * f)
+        ref = amp * (1 - np.cos(2 * np.pi * f * t)) * rng.choice((-1.0, 1.0))
+    elif kind == "fast_tracking":
+        f = rng.uniform(0.5, 1.5)
+        vpk = rng.uniform(2.0, 8.0)
+        amax = 0.5 * (tmax - 1.5 * breakaway) / inertia
+        vpk = min(vpk, amax / (2 * np.pi * f))
+        amp = vpk / (2 * np.pi * f)
+        ref = amp * (1 - np.cos(2 * np.pi * f * t)) * rng.choice((-1.0, 1.0))
+    else:  # trapezoids: constant-speed plateaus both ways, random speeds
+        ref = np.zeros(n)
+        v = np.zeros(n)
+        k = 0
+        sign = rng.choice((-1.0, 1.0))
+        while k < n:
+            m = int(rng.uniform(0.6, 1.5) / ts)
+            v[k:k + m] = sign * math.exp(rng.uniform(math.log(0.1), math.log(3.0)))
+            sign = -sign
+            k += m
+        # smooth the speed steps (0.1 s) so the reference is trackable
+        w = max(int(0.1 / ts), 1)
+        v = np.convolve(v, np.ones(w) / w, mode="same")
+        ref = np.cumsum(v) * ts
+    return kp, kd, ref, ff
+
+
+def _excitation(rng, n, ts, inertia, breakaway, viscous, tmax):
+    kinds = list(_SEGMENTS) + list(rng.choice(_SEGMENTS, size=rng.integers(0, 3)))
+    rng.shuffle(kinds)
+    weights = rng.uniform(0.6, 1.4, size=len(kinds))
+    lengths = np.floor(weights / weights.sum() * n).astype(int)
+    lengths[-1] = n - lengths[:-1].sum()
+    parts = [_segment(k, rng, int(m), ts, inertia, breakaway, viscous, tmax)
+             for k, m in zip(kinds, lengths)]
+    kp, kd, ref, ff = (np.concatenate([p[i] for p in parts]) for i in range(4))
+    start = np.zeros(n, dtype=np.bool_)
+    start[np.concatenate([[0], np.cumsum(lengths)[:-1]])] = True
+    return tuple(kinds), kp, kd, ref, ff, start
+
+
+# ----------------------------------------------------------------------------- generator
+def _uniform_pm(rng, lo, hi):
+    """A value in [lo, hi] or [1/hi, 1/lo] (a ratio either way)."""
+    v = rng.uniform(lo, hi)
+    return v if rng.random() < 0.5 else 1.0 / v
+
+
+def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
+                         duration: float = 40.0, sample_time: float = 0.002,
+                         nominal: bool = False, noise: bool = True) -> HiddenEffectRecord:
+    """Simulate one record with one hidden effect drawn at random.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        All randomness (actuator, effect, magnitude, excitation, noise).
+    cause : str, optional
+        Force this cause (a name of :data:`HIDDEN_CAUSES` or :data:`NOMINAL_CAUSES`);
+        default: drawn uniformly from :data:`HIDDEN_CAUSES`, or from ``("none",) +
+        NOMINAL_CAUSES`` when ``nominal`` is true.
+    duration : float
+        Record length [s], 10 .. 120.
+    sample_time : float
+        Ts [s], 0.0005 .. 0.005.
+    nominal : bool
+        Also return the nominal model (the true baseline actuator).  Implied by
+        the nominal-model causes.
+    noise : bool
+        Torque noise at the joint on (default) or off (the draws are made either
+        way, so a seed gives the same record apart from the noise).
+
+    Returns
+    -------
+    HiddenEffectRecord
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rec = hidden_effect_record(np.random.default_rng(1), cause="none", duration=10.0)
+    >>> rec.run.n_samples, rec.nominal is None
+    (5000, True)
+    """
+    from .diagnose import JointModel
+
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError("rng must be a numpy.random.Generator")
+    if not (isinstance(duration, (int, float)) and 10.0 <= duration <= 120.0):
+        raise ValueError(f"duration must lie in [10, 120] s, got {duration!r}")
+    if not (isinstance(sample_time, (int, float)) and 5e-4 <= sample_time <= 5e-3):
+        raise ValueError(f"sample_time must lie in [0.0005, 0.005] s, got {sample_time!r}")
+    if cause is None:
+        pool = ("none",) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
+        cause = str(rng.choice(pool))
+    if cause not in HIDDEN_CAUSES + NOMINAL_CAUSES:
+        raise ValueError(f"cause must be one of {HIDDEN_CAUSES + NOMINAL_CAUSES}, got {cause!r}")
+    nominal = nominal or cause in NOMINAL_CAUSES
+
+    ts = float(sample_time)
+    n = int(round(duration / ts))
+    jm = rng.uniform(1.5e-3, 4.5e-3)
+    jl = rng.uniform(0.0, 6e-3)
+    b = rng.uniform(0.008, 0.030)
+    fc = rng.uniform(0.08, 0.25)
+    noise_std = rng.uniform(0.01, 0.03) * fc
+    tmax = 12.0 * fc
+    base = (Viscous(b) + Coulomb(fc))
+    inertia = jm + jl
+    friction = base
+    delay = 0
+    mag: dict = {}
+    kind = RIGID
+    kst = dmp = 0.0
+    jm_sim, jl_sim = inertia, inertia
+    nsub = 4
+    truth_kw = {}
+    breakaway = fc
+    if cause == "stribeck":
+        mag = dict(excess=rng.uniform(0.5, 1.0) * fc, velocity=rng.uniform(0.02, 0.1))
+        friction = base + Stribeck(mag["excess"], mag["velocity"])
+        breakaway = fc + mag["excess"]
+    elif cause == "asymmetry":
+        which = str(rng.choice(("coulomb", "viscous", "offset")))
+        if which == "coulomb":
+            r = _uniform_pm(rng, 1.3, 1.7)
+            friction = Viscous(b) + Coulomb(pos=fc * math.sqrt(r), neg=fc / math.sqrt(r))
+            mag = dict(kind=which, coulomb_pos=fc * math.sqrt(r), coulomb_neg=fc / math.sqrt(r))
+        elif which == "viscous":
+            r = _uniform_pm(rng, 1.5, 2.2)
+            friction = Viscous(pos=b * math.sqrt(r), neg=b / math.sqrt(r)) + Coulomb(fc)
+            mag = dict(kind=which, viscous_pos=b * math.sqrt(r), viscous_neg=b / math.sqrt(r))
+        else:
+            off = rng.uniform(0.2, 0.4) * fc * rng.choice((-1.0, 1.0))
+            # a constant resistive torque c is Coulomb fc+c one way, fc-c the other
+            # (identical sliding torque and identical breakaway band)
+            friction = Viscous(b) + Coulomb(pos=fc + off, neg=fc - off)
+            mag = dict(kind=which, offset=off)
+        breakaway = max(friction.coulomb_pos, friction.coulomb_neg)
+    elif cause == "load_dependent":
+        mag = dict(coefficient=rng.uniform(0.08, 0.20))
+        friction = base + LoadDependent(mag["coefficient"])
+    elif cause == "position_ripple":
+        mag = dict(amplitude=rng.uniform(0.2, 0.5) * fc,
+                   period=math.exp(rng.uniform(math.log(0.04), math.log(0.5))),
+                   phase=rng.uniform(0, 2 * math.pi))
+        friction = base + PositionRipple(mag["amplitude"], mag["period"], mag["phase"])
+        breakaway = fc + mag["amplitude"]
+    elif cause == "time_delay":
+        delay = int(rng.integers(4, 9))
+        mag = dict(samples=delay, seconds=delay * ts)
+    elif cause == "thermal_drift":
+        change = rng.uniform(0.25, 0.5) * rng.choice((-1.0, 1.0))
+        mag = dict(change=change, rate=change / duration)
+        friction = base.with_drift(change / duration)
+        breakaway = fc * max(1.0, 1.0 + change)
+    elif cause == "compliance":
+        jl = rng.uniform(0.5, 1.5) * jm
+        inertia = jm + jl
+        fr = rng.uniform(12.0, 40.0)
+        kst = (2 * math.pi * fr) ** 2 / (1.0 / jm + 1.0 / jl)
+        zeta = rng.uniform(0.02, 0.1)
+        dmp = 2 * zeta * math.sqrt(kst * jl)
+        kind, jm_sim, jl_sim, nsub = FLEXIBLE, jm, jl, 10
+        mag = dict(stiffness=kst, damping=dmp, motor_inertia=jm, load_inertia=jl, resonance_hz=fr)
+        truth_kw = dict(load_inertia=jl, stiffness=kst, damping=dmp)
+    elif cause == "presliding":
+        xc = rng.uniform(6.0, 20.0) * ENCODER_RESOLUTION
+        sigma0 = fc / xc
+        sigma1 = rng.uniform(0.3, 1.0) * 2.0 * math.sqrt(sigma0 * inertia)
+        friction = base + LuGre(sigma0, sigma1)
+        kind = LUGRE
+        # RK4 on z' = w - |w| z / xc needs h*|w|/xc < ~2.5 at the highest speed (~10 rad/s)
+        nsub = int(min(max(40, math.ceil(ts * 12.0 / xc / 1.5)), 2000))
+        mag = dict(sigma0=sigma0, sigma1=sigma1, presliding_length=xc)
+    elif cause == "inertia":
+        f = rng.uniform(1.3, 2.6) if rng.random() < 0.7 else rng.uniform(0.6, 0.8)
+        mag = dict(factor=f, nominal=inertia, true=inertia * f)
+        jm_sim = jl_sim = inertia * f
+    elif cause == "friction_scale":
+        f = rng.uniform(0.80, 0.93) if rng.random() < 0.5 else rng.uniform(1.07, 1.20)
+        mag = dict(factor=f)
+        friction = base.scaled(f)
+        breakaway = fc * max(f, 1.0)
+    if not isinstance(friction, FrictionModel):
+        friction = friction.model()
+
+    kinds, kp, kd, ref, ff, start = _excitation(rng, n, ts, max(jm_sim, inertia) if kind != FLEXIBLE
+                                                else inertia, breakaway, b, tmax)
+    noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
+    o_tm, o_y, o_r = np.empty(n), np.empty(n), np.empty(n)
+    _bench_loop(kind, friction.vector(), float(jm_sim), float(jl_sim), float(kst), float(dmp), ts,
+                int(nsub), ENCODER_RESOLUTION, float(tmax), kp, kd, ref, ff, start, int(delay),
+                noise, o_tm, o_y, o_r)
+    if not (np.all(np.isfinite(o_y)) and np.all(np.isfinite(o_tm))):
+        raise ValueError("the bench simulation diverged (report this seed)")
+    run = Run(t=np.arange(n) * ts, torque=o_tm, position=o_y, reference=o_r,
+              source=f"fricctl virtual bench, hidden effect record ({n} samples)")
+    base_model = JointModel(inertia=jm + jl, friction=base)
+    if cause == "inertia":
+        truth = JointModel(inertia=inertia * mag["factor"], friction=friction)
+    elif cause == "compliance":
+        truth = JointModel(inertia=jm + jl, friction=friction, **truth_kw)
+    else:
+        truth = JointModel(inertia=inertia, friction=friction, delay=delay * ts)
+    return HiddenEffectRecord(run=run, nominal=base_model if nominal else None, cause=cause,
+                              magnitude=mag, truth=truth, excitation=kinds)
