@@ -799,7 +799,10 @@ def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
         Accuracy asked for [rad] (default the paper's 0.3 deg).
     executor : concurrent.futures.Executor, optional
         Runs the rows (``executor.submit``); e.g. a ``ProcessPoolExecutor`` or a
-        ``dask.distributed.Client``'s executor.  Default: in this process.
+        ``dask.distributed.Client``'s executor.  Default: in this process.  A
+        process pool must use the ``"spawn"`` start method
+        (``mp_context=multiprocessing.get_context("spawn")``): forking a process
+        whose numba/OpenMP threads have started aborts the workers.
     simulator : callable
         Batch simulator with :func:`fricctl.simulate.simulate_batch`'s signature.
 
