@@ -95,9 +95,11 @@ CAUSES = ("none", "stribeck", "asymmetry", "load_dependent", "position_ripple", 
 #: Causes that only exist against a supplied nominal model.
 NOMINAL_ONLY = ("inertia", "friction_scale")
 #: Smallest held-out fraction of the baseline torque residual (sum of squares) a
-#: candidate must remove to be named.  A term that fits noise removes nothing
-#: held out (or less than nothing); the bench's smallest effects remove > 15 %.
-MIN_SCORE = 0.06
+#: candidate must remove to be named: 1 - 0.9**2, i.e. the held-out torque RMS must
+#: drop by 10 %, the issue's definition of an effect that matters.  Terms that fit
+#: only noise remove nothing held out; terms built on the measured acceleration
+#: (compliance) can remove a few % of pure process noise, which this margin covers.
+MIN_SCORE = 1.0 - 0.9 ** 2
 MODEL_FORMAT = "fricctl.joint_model"
 MODEL_VERSION = 1
 

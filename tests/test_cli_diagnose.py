@@ -1,0 +1,66 @@
+"""``fricctl diagnose``: JSON output, report folder, bad input -> one line + exit 2."""
+
+import json
+
+import numpy as np
+import pytest
+
+from fricctl.cli import main
+from fricctl.diagnose import CAUSES, JointModel
+from fricctl.hidden_effects import hidden_effect_record
+
+
+@pytest.fixture(scope="module")
+def record_csv(tmp_path_factory):
+    rec = hidden_effect_record(np.random.default_rng([2026, 77]), cause="time_delay", duration=20.0)
+    path = tmp_path_factory.mktemp("rec") / "run.csv"
+    rec.run.to_csv(path)
+    return path, rec
+
+
+def test_json_output(record_csv, capsys):
+    path, rec = record_csv
+    assert main(["diagnose", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["cause"] == "time_delay"
+    assert all(r["cause"] in CAUSES for r in out["ranking"])
+    assert {"inertia", "viscous_pos", "coulomb_pos"} <= set(out["baseline"])
+    assert "delay" in out["extended"]
+    assert set(out["gain"]) >= {"torque_rms_before", "torque_rms_after",
+                                "simulation_rms_before", "simulation_rms_after"}
+    assert out["gain"]["torque_rms_after"] < out["gain"]["torque_rms_before"]
+
+
+def test_nominal_model_and_report(record_csv, tmp_path, capsys):
+    path, rec = record_csv
+    model = JointModel(inertia=rec.truth.inertia, friction=rec.truth.friction)  # without the delay
+    mfile = model.save(tmp_path / "nominal.json")
+    out_dir = tmp_path / "report"
+    assert main(["diagnose", str(path), "--model", str(mfile), "--report", str(out_dir)]) == 0
+    text = capsys.readouterr().out
+    assert "time_delay" in text
+    for name in ("report.md", "residuals.png", "simulation.png", "spectrum.png", "extended_model.json"):
+        assert (out_dir / name).is_file(), name
+    ext = JointModel.load(out_dir / "extended_model.json")
+    assert ext.delay_samples(rec.run.sample_time) == rec.magnitude["samples"]
+
+
+@pytest.mark.parametrize("content, match", [
+    ("t,torque\n0,1\n0.002,1\n", "missing column"),
+    ("t,torque,position,speed\n0,1,0,0\n", "unknown column"),
+])
+def test_bad_csv_exits_2(tmp_path, capsys, content, match):
+    p = tmp_path / "bad.csv"
+    p.write_text(content)
+    assert main(["diagnose", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert match in err and len(err.strip().splitlines()) == 1
+
+
+def test_bad_model_file_exits_2(record_csv, tmp_path, capsys):
+    path, _ = record_csv
+    bad = tmp_path / "m.json"
+    bad.write_text(json.dumps({"format": "fricctl.joint_model", "version": 9}))
+    assert main(["diagnose", str(path), "--model", str(bad)]) == 2
+    assert "version" in capsys.readouterr().err
+    assert main(["diagnose", str(tmp_path / "absent.csv")]) == 2
