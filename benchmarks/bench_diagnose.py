@@ -3,10 +3,11 @@ and the time of one 40 s record end to end against a named alternative.
 
 Records: :func:`fricctl.hidden_effects.hidden_effect_record`, seeds [7000, i]; every
 fifth record is drawn with a nominal model (causes none / inertia / friction_scale),
-the others from the nine hidden causes.  Timing: one 40 s record at 500 Hz, end to
+the others from the nine hidden causes.  A second, stratified pass forces every cause
+k times (seeds [7200, j, i]) so that no cause escapes the draw.  Timing: one 40 s record at 500 Hz, end to
 end (generate, diagnose, write the report), against the same record's plain CasADi
 baseline fit (:func:`fricctl.identify.identify_run`) as the named alternative.
-Run:  .venv/bin/python benchmarks/bench_diagnose.py [N]
+Run:  .venv/bin/python benchmarks/bench_diagnose.py [N_random [K_per_cause]]
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import time
 
 import numpy as np
 
-from fricctl.diagnose import CAUSES, diagnose
+from fricctl.diagnose import CAUSES, NOMINAL_ONLY, diagnose
 from fricctl.hidden_effects import hidden_effect_record
 
 
@@ -26,8 +27,24 @@ def confusion(n):
     for i in range(n):
         rec = hidden_effect_record(np.random.default_rng([7000, i]), nominal=bool(i % 5 == 4))
         rows.append((rec.cause, diagnose(rec.run, rec.nominal).cause))
+    return _report(rows, f"{n} random records")
+
+
+def stratified(k):
+    """Every cause k times (seeds [7200, j, i]), so no cause is missed by the draw."""
+    rows = []
+    for j, cause in enumerate(CAUSES):
+        nominal = cause in NOMINAL_ONLY
+        for i in range(k):
+            rec = hidden_effect_record(np.random.default_rng([7200, j, i]), cause=cause, nominal=nominal)
+            rows.append((rec.cause, diagnose(rec.run, rec.nominal).cause))
+    return _report(rows, f"{k} records per cause")
+
+
+def _report(rows, title):
+    n = len(rows)
     names = [c for c in CAUSES if any(a == c or b == c for a, b in rows)]
-    print(f"confusion matrix ({n} records; rows = hidden, columns = named)")
+    print(f"confusion matrix ({title}; rows = hidden, columns = named)")
     print(" " * 16 + " ".join(f"{c[:7]:>7}" for c in names))
     for a in names:
         cnt = [sum(1 for x, y in rows if x == a and y == b) for b in names]
@@ -63,3 +80,4 @@ if __name__ == "__main__":
     diagnose(hidden_effect_record(np.random.default_rng(0), cause="none", duration=10.0).run)  # JIT warm-up
     timing()
     confusion(int(sys.argv[1]) if len(sys.argv) > 1 else 60)
+    stratified(int(sys.argv[2]) if len(sys.argv) > 2 else 6)

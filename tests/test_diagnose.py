@@ -113,14 +113,7 @@ def test_true_model_replays_noise_free_record():
 
 
 # ----------------------------------------------------------------------------- hidden effects
-_LOAD_XFAIL = pytest.mark.xfail(
-    reason="known weakness (benchmarks/README.md): |Tm|*sign(w) is nearly collinear with "
-           "I*q'' + friction except while braking, so the load term is often not identified "
-           "by equation error at mu = 0.08 .. 0.2", strict=False)
-
-
-@pytest.mark.parametrize("cause", [pytest.param(c, marks=_LOAD_XFAIL) if c == "load_dependent"
-                                   else c for c in ALL])
+@pytest.mark.parametrize("cause", ALL)
 def test_diagnose_names_the_hidden_cause(cause):
     rec = _record(cause, ALL.index(cause))
     d = diagnose(rec.run, rec.nominal)  # nominal is None except for the nominal-model causes
@@ -254,10 +247,12 @@ def test_emps_published_model(data_dir):
 @pytest.mark.slow
 def test_confusion_matrix_random_records():
     # >= 50 random records (cause drawn by the generator), >= 95 % named correctly,
-    # no false cause on `none`; seeds 5000.. never used while building the method
+    # no false cause on `none`; seeds [6000, i] never looked at while building the method
+    # (seeds [5000, i], used before, showed the Stribeck veto weakness that led to the
+    # "torque evidence decides when nothing simulates better" rule)
     rows = []
     for i in range(55):
-        rng = np.random.default_rng([5000, i])
+        rng = np.random.default_rng([6000, i])
         rec = hidden_effect_record(rng, nominal=bool(i % 5 == 4))
         rows.append((rec.cause, diagnose(rec.run, rec.nominal).cause))
     correct = sum(a == b for a, b in rows)
