@@ -27,7 +27,7 @@ runs through an equivalent Python loop (same results, slower).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Sequence
 
 import numpy as np
@@ -50,7 +50,30 @@ _PLANTS = {"rigid": RIGID, "flexible": FLEXIBLE}
 # results
 # --------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
-class SimResult:
+class _Trajectories:
+    """The arrays every result holds: per sample (SimResult) or per run and sample (BatchResult)."""
+
+    t: np.ndarray
+    reference: np.ndarray
+    q: np.ndarray
+    q_meas: np.ndarray
+    q_load: np.ndarray
+    omega: np.ndarray
+    omega_hat: np.ndarray
+    torque_cmd: np.ndarray
+    torque_motor: np.ndarray
+    friction: np.ndarray
+    friction_est: np.ndarray
+    accel: np.ndarray
+    stuck: np.ndarray
+
+
+#: Names of the per-sample arrays of a run (all but the time vector).
+_ARRAYS = tuple(f.name for f in fields(_Trajectories) if f.name != "t")
+
+
+@dataclass(frozen=True, eq=False)
+class SimResult(_Trajectories):
     """One simulated run; arrays of length K, sample k at ``t[k] = k*Ts``.
 
     Attributes
@@ -71,19 +94,6 @@ class SimResult:
     info : dict of what was simulated (params, friction, controller, ...)
     """
 
-    t: np.ndarray
-    reference: np.ndarray
-    q: np.ndarray
-    q_meas: np.ndarray
-    q_load: np.ndarray
-    omega: np.ndarray
-    omega_hat: np.ndarray
-    torque_cmd: np.ndarray
-    torque_motor: np.ndarray
-    friction: np.ndarray
-    friction_est: np.ndarray
-    accel: np.ndarray
-    stuck: np.ndarray
     info: dict = field(default_factory=dict)
 
     @property
@@ -131,22 +141,9 @@ class SimResult:
 
 
 @dataclass(frozen=True, eq=False)
-class BatchResult:
-    """N simulated runs of equal length; each array has shape (N, K)."""
+class BatchResult(_Trajectories):
+    """N simulated runs of equal length: ``t`` has shape (K,), every other array (N, K)."""
 
-    t: np.ndarray
-    reference: np.ndarray
-    q: np.ndarray
-    q_meas: np.ndarray
-    q_load: np.ndarray
-    omega: np.ndarray
-    omega_hat: np.ndarray
-    torque_cmd: np.ndarray
-    torque_motor: np.ndarray
-    friction: np.ndarray
-    friction_est: np.ndarray
-    accel: np.ndarray
-    stuck: np.ndarray
     infos: tuple = ()
 
     def __len__(self):
@@ -156,9 +153,7 @@ class BatchResult:
         n = len(self)
         if not isinstance(i, (int, np.integer)) or not -n <= i < n:
             raise IndexError(f"index {i!r} out of range for {n} runs")
-        names = ("reference", "q", "q_meas", "q_load", "omega", "omega_hat", "torque_cmd",
-                 "torque_motor", "friction", "friction_est", "accel", "stuck")
-        return SimResult(t=self.t, info=self.infos[i], **{k: getattr(self, k)[i] for k in names})
+        return SimResult(t=self.t, info=self.infos[i], **{k: getattr(self, k)[i] for k in _ARRAYS})
 
     def steady_state_error(self, window: float = 0.5) -> np.ndarray:
         """Mean error r - q over the last ``window`` seconds, per run [rad]."""
