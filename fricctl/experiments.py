@@ -35,7 +35,7 @@ from .params import ActuatorParams, paper_actuator
 from .simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
-    "Experiment", "training_experiments", "Patterns", "friction_patterns", "train_network",
+    "Experiment", "training_experiments", "Patterns", "friction_patterns", "true_patterns", "train_network",
     "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "predicted_dead_zone", "paper_gains",
 ]
 
@@ -192,6 +192,21 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
                       ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i)))
     cols = [np.concatenate(c) for c in zip(*parts)]
     return Patterns(*cols, method=method)
+
+
+def true_patterns(experiments, *, border: int = 5) -> Patterns:
+    """The patterns a perfect measuring chain would give: the simulator's true velocity and friction.
+
+    Same samples as :func:`friction_patterns` with the same ``border``; an upper
+    bound of what the network can learn from these experiments.
+    """
+    parts = []
+    for i, ex in enumerate(experiments):
+        sl = slice(border, ex.run.n_samples - border)
+        parts.append((ex.run.torque[sl], ex.truth.omega[sl], ex.truth.friction[sl], ex.truth.friction[sl],
+                      ex.run.t[sl], np.full(ex.run.t[sl].size, i)))
+    cols = [np.concatenate(c) for c in zip(*parts)]
+    return Patterns(*cols, method="truth")
 
 
 def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 4, max_patterns: int = 4000,
