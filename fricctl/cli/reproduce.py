@@ -5,7 +5,8 @@ Figs. 4-18 and a robustness sweep, and writes into DIR: one PNG per figure
 (``fig04.png`` ... ``fig18.png``, ``sweep.png``), ``claims.md`` (the table of
 claims, pass/fail, and why the failures fail) and ``claims.json`` (a list of
 objects with ``id, claim, paper, measured, passed, figure, note``).  Prints
-"N of M claims reproduced".  A claim that fails is reported, not an error: the
+"N of M claims of the paper reproduced" (the extras, checks of ours marked "not in
+the paper", are counted apart).  A claim that fails is reported, not an error: the
 exit code is 0 whenever the run completes (2 for bad arguments).
 """
 
