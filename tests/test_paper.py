@@ -303,7 +303,8 @@ def test_plot_fig12_lines(figs):
     ax = fp.plot_fig12(figs[12])
     labels = [ln.get_label() for ln in ax.get_lines()]
     assert "linear viscous simulation" in labels and ax.get_lines()[0].get_linestyle() == "--"
-    assert len(ax.get_lines()) == 4  # linear, reference, NN, NN - b*omega
+    assert len(ax.get_lines()) == 6  # linear, reference, NN, NN - b*omega, ideal, ideal - b*omega
+    np.testing.assert_allclose(ax.get_lines()[-1].get_ydata(), np.rad2deg(figs[12].ideal_no_viscous.q))
 
 
 def test_plot_sweep_and_rejects(network):

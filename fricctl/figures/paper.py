@@ -142,6 +142,10 @@ def plot_fig12(result: Fig12Result, ax=None):
     ax.plot(result.run.t, _DEG * result.linear, "k--", label="linear viscous simulation")
     _position(ax, result.run, "NN compensation (paper)")
     ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label="NN - b·ω (extra)")
+    ax.plot(result.ideal.t, _DEG * result.ideal.q, lw=0.8, ls="-.", color="0.4",
+            label="ideal estimate (extra)")
+    ax.plot(result.ideal_no_viscous.t, _DEG * result.ideal_no_viscous.q, lw=0.8, ls=":", color="C2",
+            label="ideal - b·ω (extra)")
     ax.set_title(f"Fig. 12: max |q - q_lin| = {_DEG * result.max_deviation:.1f} deg", fontsize="small")
     ax.legend(loc="best", fontsize="small")
     return ax
