@@ -44,7 +44,8 @@ one sample of computation delay; see :func:`sampled_loop`).  A
 differs from the continuous design by more than 10 %, or when a P design misses
 its non-priority specification by more than 10 %.
 
-Dependencies: :mod:`fricctl.params`, numpy, scipy, python-control.
+Dependencies: :mod:`fricctl.params`, numpy, scipy, python-control (which imports
+matplotlib on import: this module is the one non-plotting module that loads it).
 """
 
 from __future__ import annotations
