@@ -61,6 +61,9 @@ class NoCompensation(Compensator):
     scale: float = 1.0
     name: str = "none"
 
+    def __post_init__(self):
+        _nonneg("scale", self.scale)
+
     def __call__(self, tm, omega_hat):
         return np.zeros(np.broadcast(np.asarray(tm), np.asarray(omega_hat)).shape)
 

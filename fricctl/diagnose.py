@@ -1070,11 +1070,6 @@ class Diagnosis:
 
 
 # ============================================================================ evidence
-def _binned(x, r, edges):
-    idx = np.digitize(x, edges) - 1
-    return np.array([np.mean(r[idx == i]) if np.any(idx == i) else np.nan for i in range(len(edges) - 1)])
-
-
 def _evidence(cause, cands: _Candidates, h, theta, model: JointModel, base: JointModel, ranking,
               gain, sig: _Signals) -> str:
     tu, qu = ("N*m", "rad") if sig.units == "rotary" else ("N", "m")

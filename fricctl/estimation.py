@@ -137,7 +137,13 @@ def zero_phase_filter(b, a, x) -> np.ndarray:
     first and last few dozen samples slightly.
     """
     x = np.asarray(x, dtype=float)
-    return signal.filtfilt(b, a, x, padtype="odd", padlen=3 * (max(len(a), len(b)) - 1))
+    if x.ndim != 1 or not np.all(np.isfinite(x)):
+        raise ValueError("the signal to filter must be a finite 1-D array")
+    padlen = 3 * (max(len(a), len(b)) - 1)
+    if x.size <= padlen:
+        raise ValueError(f"the record has {x.size} samples; this zero-phase filter needs more than "
+                         f"{padlen} (3 x its order): record longer")
+    return signal.filtfilt(b, a, x, padtype="odd", padlen=padlen)
 
 
 def decimate(x, factor: int) -> np.ndarray:

@@ -299,13 +299,21 @@ def to_load_side(*, gear_ratio: float, inertia: float | None = None,
     for name, value, factor in (("inertia", inertia, n * n), ("viscous", viscous, n * n),
                                 ("torque", torque, n), ("angle", angle, 1.0 / n),
                                 ("velocity", velocity, 1.0 / n)):
-        if value is not None:
-            out[name] = value * factor
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+        if name in ("inertia", "viscous") and value < 0:
+            raise ValueError(f"{name} must be >= 0, got {value!r}")
+        out[name] = value * factor
     return out
 
 
 def to_rotor_side(*, gear_ratio: float, **quantities) -> dict:
     """Inverse of :func:`to_load_side` (same keyword names)."""
+    unknown = sorted(set(quantities) - {"inertia", "viscous", "torque", "angle", "velocity"})
+    if unknown:
+        raise ValueError(f"unknown quantity(ies): {', '.join(unknown)}")
     if not (isinstance(gear_ratio, (int, float)) and math.isfinite(gear_ratio) and gear_ratio > 0):
         raise ValueError(f"gear_ratio must be a finite number > 0, got {gear_ratio!r}")
     return to_load_side(gear_ratio=1.0 / gear_ratio, **quantities)

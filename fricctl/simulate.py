@@ -267,7 +267,7 @@ def _loop_parallel(kind, nsamp, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, 
 
 def _python_loop(kind, nsamp, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd,
                  comps, delay, noise, out):
-    """Same loop as :func:`_loop`, for compensators that only exist in Python."""
+    """Same loop as :func:`_run_one`, for compensators that only exist in Python."""
     o_q, o_y, o_ql, o_w, o_wh, o_tc, o_tm, o_f, o_fh, o_a, o_st = out
     n_runs = fps.shape[0]
     states = np.zeros((n_runs, 5))
@@ -317,6 +317,19 @@ def _python_loop(kind, nsamp, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, re
 # --------------------------------------------------------------------------
 # public API
 # --------------------------------------------------------------------------
+#: Largest number of samples (runs x samples) one call simulates (11 arrays of 8 bytes each).
+_MAX_SAMPLES = 2e8
+
+
+def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
+    """Friction whose drifting scale would turn negative drives the joint: refuse it."""
+    for t in (t0, t1):
+        if 1.0 + friction.drift * t <= 0.0:
+            raise ValueError(f"friction drift {friction.drift:g} 1/s makes the friction scale "
+                             f"1 + drift*t <= 0 at t = {t:g} s: friction would drive the joint")
+
+
+
 def _as_list(x, n, name, types):
     if isinstance(x, (list, tuple)):
         if len(x) not in (1, n):
@@ -416,12 +429,21 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
         raise ValueError(f"noise_std must be finite and >= 0 N*m, got {noise_std!r}")
     if noise_std > 0 and not isinstance(rng, np.random.Generator):
         raise ValueError("noise_std > 0 needs rng=numpy.random.default_rng(seed)")
-    q0a = np.broadcast_to(np.asarray(q0, dtype=float), (n,)).copy()
+    try:
+        q0a = np.broadcast_to(np.asarray(q0, dtype=float), (n,)).copy()
+    except ValueError:
+        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
+                         f"{np.shape(q0)}") from None
     if not np.all(np.isfinite(q0a)):
         raise ValueError("q0 must be finite")
     if kind == FLEXIBLE and any(p.link_inertia <= 0 for p in plist):
         raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
 
+    if n * nsamp > _MAX_SAMPLES:
+        raise ValueError(f"duration {duration} s x {n} runs is {n * nsamp} samples, more than "
+                         f"{_MAX_SAMPLES:.0e}: shorten the duration or split the batch")
+    for f in frs:
+        _check_drift(f, 0.0, nsamp * ts)
     t = np.arange(nsamp) * ts
     jm = np.array([p.inertia if kind == FLEXIBLE else p.total_inertia for p in plist])
     jl = np.array([p.link_inertia if kind == FLEXIBLE else p.total_inertia for p in plist])
@@ -439,6 +461,9 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     out = [np.empty((n, nsamp)) for _ in range(10)] + [np.empty((n, nsamp), dtype=np.bool_)]
 
     compiled = [c.compiled() for c in comps]
+    for c in compiled:
+        if c is not None and not np.all(np.isfinite(c[1])):
+            raise ValueError("the compensator's parameters contain NaN or inf")
     if all(c is not None for c in compiled) and len({c[0] for c in compiled}) == 1:
         width = max(c[1].size for c in compiled)
         cpar = np.zeros((n, width))
@@ -543,8 +568,13 @@ def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float 
     st = joint.initial_state(q0, omega0) if state is None else np.array(state, dtype=float)
     if st.shape != (5,) or not np.all(np.isfinite(st)):
         raise ValueError("state must be 5 finite numbers [q, omega, q_load, omega_load, z]")
+    if not math.isfinite(t0):
+        raise ValueError(f"t0 must be finite, got {t0!r}")
+    _check_drift(joint.friction, t0, t0 + tq.size * sample_time)
     if substeps is None:
         substeps = DEFAULT_SUBSTEPS[kind]
+    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or substeps < 1:
+        raise ValueError(f"substeps must be a positive integer, got {substeps!r}")
     o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
     _replay(kind, st, joint.friction.vector(), tq, float(t0), float(sample_time), int(substeps),
             jm, jl, k, d, o_q, o_w, o_f)

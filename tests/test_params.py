@@ -50,3 +50,10 @@ def test_gear_conversion_round_trip():
     assert back == pytest.approx({"inertia": 2e-6, "viscous": 1e-5, "torque": 0.02, "angle": 1.0})
     with pytest.raises(ValueError, match="gear_ratio"):
         to_load_side(gear_ratio=0, inertia=1.0)
+    with pytest.raises(ValueError, match="inertia"):
+        to_load_side(gear_ratio=100, inertia=-1.0)
+    with pytest.raises(ValueError, match="torque"):
+        to_load_side(gear_ratio=100, torque=float("nan"))
+    with pytest.raises(ValueError, match="unknown"):
+        to_rotor_side(gear_ratio=100, coulomb=0.1)
+    assert to_load_side(gear_ratio=10, torque=-0.5) == {"torque": -5.0}  # a torque may be negative

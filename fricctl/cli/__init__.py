@@ -2,8 +2,9 @@
 
 Each sub-command lives in its own module of this package and exposes
 ``register(subparsers)``, which adds its parser and sets ``func`` to a callable
-``func(args) -> int``.  Errors in the user's input (:class:`ValueError`,
-:class:`FileNotFoundError`) print one line on stderr and exit with code 2.
+``func(args) -> int``.  Errors in the user's input (:class:`ValueError`, and
+:class:`OSError` such as a missing file or an output path that is a directory)
+print one line on stderr and exit with code 2; warnings print one line each.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import warnings
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
 SUBCOMMANDS = ("simulate", "design", "identify", "train", "reproduce", "diagnose")
@@ -42,11 +44,21 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help(sys.stderr)
         return 2
+    def one_line_warning(message, category, filename, lineno, file=None, line=None):
+        text = str(message).splitlines()[0] if str(message) else category.__name__
+        print(f"fricctl {args.command}: warning: {text}", file=sys.stderr)
+
     try:
-        return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as exc:
+        with warnings.catch_warnings():
+            warnings.showwarning = one_line_warning
+            return int(args.func(args) or 0)
+    except ValueError as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"fricctl {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # missing input, output path that is a directory, no permission, ...
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"fricctl {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
 
 

@@ -46,19 +46,52 @@ def register(sub):
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")
     p.add_argument("--kp", type=float, help="proportional gain [N*m/rad] instead of a design")
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
-    p.add_argument("--reference", default="step:0.5236", help="position reference [rad] (default step:0.5236)")
+    p.add_argument("--reference", default=None, help="position reference [rad] (P/PD; default step:0.5236)")
     p.add_argument("--torque", default=None, help="open-loop torque [N*m], e.g. sinusoid:0.2,1")
     p.add_argument("--link", action="store_true", help="attach the SCARA link (0.0046 kg*m^2)")
     p.add_argument("--plant", choices=("rigid", "flexible"), default="rigid")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
     p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
-    p.add_argument("--scale", type=float, default=1.0, help="compensation scale s")
+    p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
     p.add_argument("--csv", help="write the measured record t,torque,position,reference")
     p.add_argument("--figure", help="write a PNG of position and torques")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=run)
+
+
+def _check_combination(args) -> None:
+    """Refuse options that would have no effect in this combination (nothing silently ignored)."""
+    given = {name for name in ("kp", "kd", "rise_time", "damping", "reference", "torque", "net", "scale")
+             if getattr(args, name) is not None}
+
+    def refuse(names, why):
+        bad = sorted(given & set(names))
+        if bad:
+            opts = ", ".join("--" + b.replace("_", "-") for b in bad)
+            raise ValueError(f"{opts} has no effect {why}")
+
+    if args.controller == "open":
+        if args.torque is None:
+            raise ValueError("--controller open needs --torque, e.g. --torque sinusoid:0.2,1")
+        refuse(("kp", "kd", "rise_time", "damping", "reference"), "with --controller open")
+    else:
+        refuse(("torque",), "with a P/PD controller (it is the open-loop torque)")
+        if args.kp is not None:
+            refuse(("rise_time", "damping"), "when the gains are given with --kp")
+            if args.controller == "p":
+                refuse(("kd",), "with --controller p")
+            elif args.kd is None:
+                raise ValueError("--controller pd with --kp needs --kd too")
+        else:
+            refuse(("kd",), "without --kp (the design gives Kd)")
+    if args.compensation != "nn":
+        refuse(("net",), f"with --compensation {args.compensation}")
+    elif args.net is None:
+        raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
+    if args.compensation == "none":
+        refuse(("scale",), "with --compensation none")
 
 
 def run(args) -> int:
@@ -70,18 +103,17 @@ def run(args) -> int:
     params = paper_actuator()
     if args.link:
         params = params.with_link()
-    for name in ("duration", "friction_scale", "scale"):
-        v = getattr(args, name)
+    _check_combination(args)
+    scale = 1.0 if args.scale is None else args.scale
+    for name, v in (("duration", args.duration), ("friction_scale", args.friction_scale), ("scale", scale)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"--{name.replace('_', '-')} must be a finite number > 0, got {v}")
     if args.controller == "open":
-        if args.torque is None:
-            raise ValueError("--controller open needs --torque, e.g. --torque sinusoid:0.2,1")
         ctrl = open_loop(parse_signal(args.torque))
     else:
-        ref = parse_signal(args.reference)
+        ref = parse_signal(args.reference or "step:0.5236")
         if args.kp is not None:
-            kp, kd = args.kp, args.kd or 0.0
+            kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
         else:
             if args.rise_time is None or args.damping is None:
                 raise ValueError(f"--controller {args.controller} needs --rise-time and --damping (or --kp)")
@@ -94,18 +126,16 @@ def run(args) -> int:
     if args.compensation == "none":
         comp = NoCompensation()
     elif args.compensation == "coulomb":
-        comp = CoulombCompensator.symmetric(params.coulomb, scale=args.scale)
+        comp = CoulombCompensator.symmetric(params.coulomb, scale=scale)
     else:
-        if not args.net:
-            raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
         from ..nn import load_net
 
-        comp = NNCompensator(load_net(args.net), scale=args.scale)
+        comp = NNCompensator(load_net(args.net), scale=scale)
     res = simulate(params, ctrl, comp, duration=args.duration, plant=args.plant,
                    friction=params.friction_model().scaled(args.friction_scale))
     summary = {
         "controller": res.info["controller"], "kp": res.info["kp"], "kd": res.info["kd"],
-        "compensator": res.info["compensator"], "compensation_scale": args.scale,
+        "compensator": res.info["compensator"], "compensation_scale": res.info["compensation_scale"],
         "final_error_rad": float(res.reference[-1] - res.q[-1]),
         "steady_state_error_deg": math.degrees(res.steady_state_error(min(0.5, args.duration / 2))),
         "max_abs_position_rad": float(np.max(np.abs(res.q))),
