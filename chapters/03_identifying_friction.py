@@ -93,6 +93,8 @@ for name in ("inertia", "viscous", "coulomb"):
     est = cv_fit.parameters[name]
     print(f"{name:8s} true {truth[name]:.5f}, estimated {est:.5f} "
           f"({100 * (est - truth[name]) / truth[name]:+.1f} %)")
+# the fitted Coulomb level lands below the true one, the viscous slope above (prose below)
+assert cv_fit.parameters["coulomb"] < truth["coulomb"] and cv_fit.parameters["viscous"] > truth["viscous"]
 
 # %%
 ax = figures.plot_identification(cv_fit)
@@ -100,9 +102,12 @@ ax.set_xlim(0, min(400, cv_fit.n_samples))
 plt.show()
 
 # %% [markdown]
-# The Coulomb + viscous model has no Stribeck term, so the fitted `Fc` is an average
-# of the friction levels the data visit.  Can the Stribeck model do better on the
-# same data?
+# The Coulomb + viscous model has no Stribeck term.  One might expect the fitted
+# `Fc` to average the friction levels the data visit, and so to land above the true
+# Coulomb level; the run above says otherwise (its sign is printed): least squares
+# trades `Fc` against the viscous slope, and the line `b*w + Fc` that fits the
+# visited speeds best need not pass through the true intercept.  Can the Stribeck
+# model do better on the same data?
 
 # %%
 st_fit = identify_run(run, model="stribeck", estimator="polynomial_segments")

@@ -129,13 +129,18 @@ for window in WINDOWS:
         dz = dead_zone(p, comp)
         pred = max(predicted_dead_zone(run.net, p.static))
         factor = r10.dead_zone_without.dead_zone / dz.dead_zone
-        rows.append((window, seed, run.net.gain_at_rest(), factor))
+        rows.append((window, seed, run.net.gain_at_rest(), factor, dz.at_grid_floor))
+        # at the grid floor even the smallest amplitude moved: the factor is only a lower bound
+        shown = (">=" if dz.at_grid_floor else "  ") + f"{factor:.1f}"
         print(f"{window:6d} {seed:5d} {run.net.gain_at_rest():6.3f} {run.fit_held_out.fit_percent:8.1f} "
-              f"{factor:12.1f} {p.static / pred if pred > 0 else np.inf:18.1f}")
+              f"{shown:>12s} {p.static / pred if pred > 0 else np.inf:18.1f}")
 gains = np.array([r[2] for r in rows])
 factors = np.array([r[3] for r in rows])
+bounded = np.array([r[4] for r in rows])
 print(f"g ranges over [{gains.min():.2f}, {gains.max():.2f}], the factor over "
-      f"[{factors.min():.1f}, {factors.max():.1f}]")
+      f"[{factors.min():.1f}, {factors.max():.1f}]"
+      + (f" ({int(bounded.sum())} of them lower bounds: the grid's smallest amplitude already moved)"
+         if bounded.any() else ""))
 assert np.all(factors > 1)  # compensation always shrinks the dead zone here
 
 # %% [markdown]

@@ -40,6 +40,7 @@ rec = hidden_effect_record(rng, cause="position_ripple", duration=DURATION)
 d = diagnose(rec.run)
 print(f"named cause: {d.cause}")
 print(d.evidence)
+assert d.cause == rec.cause  # checked against the hidden truth only now, after the diagnosis
 
 # %% [markdown]
 # ## 2. What the simulation gets wrong
@@ -96,6 +97,9 @@ d2 = diagnose(run, d1.extended)
 print("second:", d2.evidence)
 print(f"inertia {d1.extended.inertia:.5f} kg m^2 (true {p.inertia + PAPER_LINK_INERTIA:.5f}), "
       f"friction scale {d2.extended.friction.scale:.3f} (true 0.95)")
+assert d1.cause == "inertia" and d2.cause == "friction_scale"
+assert abs(d1.extended.inertia / (p.inertia + PAPER_LINK_INERTIA) - 1) < 0.02  # within 2 %
+assert abs(d2.extended.friction.scale - 0.95) < 0.01
 
 # %% [markdown]
 # ## 6. A real machine: EMPS

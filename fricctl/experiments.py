@@ -319,6 +319,12 @@ class DeadZone:
         """Dead zone as a fraction of the maximum torque [-]."""
         return self.dead_zone / self.max_torque
 
+    @property
+    def at_grid_floor(self) -> bool:
+        """Even the smallest amplitude tried moved the joint: :attr:`dead_zone` is an upper
+        bound (the true dead zone is at most that), and a reduction factor a lower bound."""
+        return bool(self.counts[0] > self.threshold_counts)
+
 
 def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
               friction: FrictionModel | None = None, amplitudes=None, frequency: float = 1.0,

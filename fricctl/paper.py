@@ -508,7 +508,9 @@ class Fig12Result:
     ideal, ideal_no_viscous : runs with :class:`IdealEstimate`, full and without the
         viscous term (extras, not in the paper)
     ideal_growth : growth of the ``ideal`` run [-]
+    ideal_max_deviation : max |q - q_linear| of ``ideal`` [rad]
     ideal_no_viscous_max_deviation : max |q - q_linear| of ``ideal_no_viscous`` [rad]
+    variant_growth : growth of the ``variant`` run [-]
     """
 
     run: SimResult
@@ -522,6 +524,8 @@ class Fig12Result:
     ideal_no_viscous: SimResult
     ideal_growth: float
     ideal_no_viscous_max_deviation: float
+    ideal_max_deviation: float
+    variant_growth: float
 
 
 def _growth(r: SimResult) -> float:
@@ -544,7 +548,8 @@ def fig12(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.
                             duration)
     return Fig12Result(r, lin, d, float(np.abs(r.q - lin).max()), _growth(r), v,
                        float(np.abs(v.q - lin).max()), ideal, ideal_nv, _growth(ideal),
-                       float(np.abs(ideal_nv.q - lin).max()))
+                       float(np.abs(ideal_nv.q - lin).max()), float(np.abs(ideal.q - lin).max()),
+                       _growth(v))
 
 
 @dataclass(frozen=True, eq=False)
@@ -937,7 +942,7 @@ def claim_fit(r: Fig8Result) -> Claim:
         "the estimator's error where the acceleration jumps (torque steps, stick/slip transitions): "
         f"trained on exact patterns the same network reaches a fit of {r.fit_exact.fit_percent:.1f} % "
         "(claim nn-fit-exact): most of the gap to 98 % is the measuring chain, not the 2-4-1 network. "
-        "R^2 is the kinder measure (R^2 = 0.98 is a fit of 85.9 %).")
+        f"R^2 is the kinder measure (R^2 = 0.98 is a fit of {100 * (1 - math.sqrt(1 - 0.98)):.1f} %).")
 
 
 def claim_fit_exact(r: Fig8Result) -> Claim:
@@ -948,8 +953,10 @@ def claim_fit_exact(r: Fig8Result) -> Claim:
         "velocity and friction at the same samples, same split and seed -- the same 2-4-1 network "
         "reaches 98 % (normalised fit on held-out patterns)", "not in the paper",
         f"fit {f.fit_percent:.1f} %, R^2 {f.r_squared:.4f}", ok, "Fig. 8",
-        "" if ok else "even exact patterns do not reach 98 %: a static (Tm, omega) map with four tanh "
-        "units cannot follow the friction's jump at omega = 0 sharply enough")
+        "" if ok else "close to 98 % but below it in this run: the exact-pattern fit varies between runs "
+        "(the fast run's shorter experiments reach 98.4 % with the same architecture, split rule and "
+        "seed), so this is the training data and the optimiser's local minimum, not a limit of the "
+        "2-4-1 map; either way the measured-pattern fit (claim nn-fit) is far below it.")
 
 
 def claim_fig4(r: Fig4Result) -> Claim:
@@ -989,9 +996,11 @@ def claim_dead_zone(r: Fig10Result) -> Claim:
         f"{100 * f0:.2f} % -> {100 * r.dead_zone_with.fraction:.2f} % of Tmax, factor {r.factor:.1f} "
         f"(g = {r.gain_at_rest:.2f}; predicted from the net alone: factor {r.predicted_factor:.1f})",
         ok, "Fig. 10",
-        "The factor is set by the net's gain at rest g: the stuck loop settles at Tm = Tc/(1 - g) "
-        "while g < 1, and the fixed point Tm = Tc + T^at(Tm, 0) below Fs otherwise; g depends on the "
-        "training seed and the estimator window (Chapter 5), so the factor does too."
+        "The 12.7 % half holds by construction (Tmax is defined as Fs/0.127); the measured part is the "
+        "factor, judged by the issue's >= 4 (the paper's ~6 is one run of one net). It is set by the net's "
+        "gain at rest g: the stuck loop settles at Tm = Tc/(1 - g) while g < 1, and at the fixed point "
+        "Tm = Tc + T^at(Tm, 0) below Fs otherwise; g depends on the training seed and the estimator "
+        "window (Chapter 5), so the factor does too."
         + ("" if ok else " Here it is below 4."))
 
 
@@ -1030,12 +1039,15 @@ def claim_fig12(r: Fig12Result) -> Claim:
     return Claim(
         "fig12-linear", "P step of 25 deg with NN compensation: close to the linear viscous simulation "
         f"(here: max |q - q_linear| <= 10 % of the step = {_deg(tol):.1f} deg over 3 s)",
-        "close to linear", f"max deviation {_deg(r.max_deviation):.1f} deg; error growth last/first "
-        f"second x{r.growth:.2f}", ok, "Fig. 12",
-        "" if ok else "Full compensation also cancels the viscous friction b, which is all the damping a "
-        "P loop has (the design counts on it); with the one-sample delay of the sampled loop the "
-        "effective damping becomes negative and the step response oscillates"
-        + (" and grows." if r.growth > 1 else "."))
+        "close to linear", f"max deviation {_deg(r.max_deviation):.1f} deg; peak error in the last "
+        f"second x{r.growth:.2f} that of the first", ok, "Fig. 12",
+        "" if ok else "Two causes, measured apart. (1) The scheme: full compensation also cancels the "
+        "viscous friction b, which is all the damping a P loop has (the design counts on it); with the "
+        "one-sample delay the effective damping turns negative -- an ideal estimate (exact friction) "
+        f"oscillates too, up to {_deg(r.ideal_max_deviation):.1f} deg from the linear response "
+        "(claim fig12-ideal). (2) The network: its errors (g > 1 near rest, its slope in Tm while "
+        f"sliding) wind the torque up and make the swing {r.max_deviation / r.ideal_max_deviation:.1f}x "
+        "larger than the ideal estimate's.")
 
 
 def claim_fig12_variant(r: Fig12Result) -> Claim:
@@ -1048,10 +1060,12 @@ def claim_fig12_variant(r: Fig12Result) -> Claim:
         f"(what the linear design left out): max |q - q_linear| <= {_deg(tol):.1f} deg",
         "not in the paper", f"max deviation {_deg(r.variant_max_deviation):.1f} deg; peak |r - q| in the "
         f"last second {_deg(last):.1f} deg", ok, "Fig. 12",
-        "" if ok else "Leaving b in the loop stops the growth, but the loop keeps a sustained oscillation "
-        "around the reference: the net's own error (its slope in Tm while sliding, g != 1 near rest) "
-        "still feeds torque back through the one-sample delay; the ideal estimate minus b*w does follow "
-        "the linear response (claim fig12-ideal), so here the net's error is the cause.")
+        "" if ok else "Leaving b in the loop tames the oscillation, but it "
+        + ("decays only slowly" if r.variant_growth < 1 else "persists")
+        + f" (peak error in the last second x{r.variant_growth:.2f} that of the first): the net's own "
+        "error (its slope in Tm while sliding, g != 1 near rest) still feeds torque back through the "
+        "one-sample delay; the ideal estimate minus b*w does follow the linear response (claim "
+        "fig12-ideal), so here the net's error is the cause.")
 
 
 def claim_fig12_ideal(r: Fig12Result) -> Claim:
@@ -1072,15 +1086,14 @@ def claim_fig12_ideal(r: Fig12Result) -> Claim:
 
 def claim_fig13(r: Fig13Result) -> Claim:
     diff = abs(r.torque_at_rest - r.nn_at_rest)
-    ok = diff <= r.nn_rmse
+    ok = diff <= 0.2 * abs(r.torque_at_rest)
     return Claim(
         "fig13-residual", "PD step of 30 deg without compensation: the residual steady motor torque is "
-        "close to the NN friction estimate (here: |Tm - net(Tm, 0)| at rest <= the net's held-out RMSE)",
+        "close to the NN friction estimate (here: |Tm - net(Tm, 0)| at rest <= 20 % of Tm)",
         "Tm ~ NN estimate", f"Tm {r.torque_at_rest:.4f} N*m, net {r.nn_at_rest:.4f} N*m (difference "
         f"{diff:.4f} N*m, {100 * diff / abs(r.torque_at_rest):.0f} %; RMSE {r.nn_rmse:.4f} N*m); "
         f"e_ss {_deg(r.steady_state_error):.2f} deg", ok, "Fig. 13",
-        "" if ok else "the net's estimate at rest differs from the held torque by more than its own "
-        "average error")
+        "" if ok else "the net's estimate at rest differs from the held torque by more than 20 %")
 
 
 def claim_fig14(r: Fig14Result) -> Claim:
@@ -1127,7 +1140,9 @@ def claim_fig16_coulomb(r: Fig16Result) -> Claim:
         "" if ok else "Fc*sign(omega_hat) is zero while the encoder reads no motion, so once the joint "
         "sticks the compensation vanishes and nothing drives a limit cycle: the joint overshoots (the "
         "braking Coulomb term is cancelled while moving) and stays stuck. Chatter needs a velocity "
-        "estimate that is noisy at rest (noise, a finer encoder, a different estimator).")
+        "estimate that is noisy at rest (noise, a finer encoder, a different estimator). Against the "
+        f"paper, Coulomb compensation here also ends closer to the reference ({_deg(abs(r.steady_state_error[k])):.3f} "
+        f"deg) than NN x 0.95 ({_deg(abs(r.steady_state_error['NN x 0.95'])):.3f} deg).")
 
 
 def claim_fig16_none(r: Fig16Result) -> Claim:
