@@ -231,8 +231,12 @@ class Run:
             raise FileNotFoundError(f"{path}: no such file")
         meta: dict[str, str] = {}
         try:
-            with path.open(newline="") as fh:
-                lines = fh.read().splitlines()
+            try:
+                with path.open(newline="", encoding="utf-8") as fh:
+                    lines = fh.read().splitlines()
+            except UnicodeDecodeError:
+                raise ValueError("not a UTF-8 text file (expected a CSV with a header "
+                                 "t,torque,position[,reference])") from None
             body_start = 0
             for body_start, line in enumerate(lines):
                 if line.startswith("#"):

@@ -61,3 +61,18 @@ def test_bad_input_one_line_exit_2(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert words in err and err.count("\n") == 1
+
+
+def test_binary_file_and_negative_seed_are_one_line(tmp_path, capsys):
+    binary = tmp_path / "bin.csv"
+    binary.write_bytes(bytes(range(128, 256)))
+    for argv, words in ((["identify", str(binary)], "not a UTF-8 text file"),
+                        (["train", str(binary), "--out", str(tmp_path / "n.json")], "not a UTF-8 text file"),
+                        (["diagnose", str(binary)], "not a UTF-8 text file")):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1
+    pats = tmp_path / "p.csv"
+    pats.write_text("tm,omega,friction\n0.1,0.5,0.2\n0.2,1,0.3\n")
+    assert main(["train", str(pats), "--out", str(tmp_path / "n.json"), "--seed", "-1"]) == 2
+    assert "--seed must be >= 0" in capsys.readouterr().err

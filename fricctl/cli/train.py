@@ -60,34 +60,39 @@ def read_patterns(path: Path):
         Missing, duplicate or unknown columns, a non-numeric or non-finite
         entry (the message names the line), a ragged row, or fewer than 2 rows.
     """
-    with open(path, newline="", encoding="utf-8") as fh:
-        reader = csv.reader(fh)
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            lines = list(csv.reader(fh))
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a UTF-8 text file (expected a CSV with a header "
+                         f"{','.join(COLUMNS)})") from None
+    reader = iter(lines)
+    try:
+        header = [h.strip() for h in next(reader)]
+    except StopIteration:
+        raise ValueError(f"{path}: empty file, expected a header {','.join(COLUMNS)}") from None
+    unknown = [h for h in header if h not in COLUMNS]
+    if unknown:
+        raise ValueError(f"{path}: unknown column(s) {', '.join(map(repr, unknown))}; "
+                         f"expected exactly {','.join(COLUMNS)}")
+    missing = [c for c in COLUMNS if c not in header]
+    if missing or len(header) != len(COLUMNS):
+        raise ValueError(f"{path}: header must name each of {','.join(COLUMNS)} once, "
+                         f"got {','.join(header)}")
+    rows = []
+    for line_no, row in enumerate(reader, start=2):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if len(row) != len(header):
+            raise ValueError(f"{path}, line {line_no}: {len(row)} fields, expected "
+                             f"{len(header)}")
         try:
-            header = [h.strip() for h in next(reader)]
-        except StopIteration:
-            raise ValueError(f"{path}: empty file, expected a header {','.join(COLUMNS)}") from None
-        unknown = [h for h in header if h not in COLUMNS]
-        if unknown:
-            raise ValueError(f"{path}: unknown column(s) {', '.join(map(repr, unknown))}; "
-                             f"expected exactly {','.join(COLUMNS)}")
-        missing = [c for c in COLUMNS if c not in header]
-        if missing or len(header) != len(COLUMNS):
-            raise ValueError(f"{path}: header must name each of {','.join(COLUMNS)} once, "
-                             f"got {','.join(header)}")
-        rows = []
-        for line_no, row in enumerate(reader, start=2):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if len(row) != len(header):
-                raise ValueError(f"{path}, line {line_no}: {len(row)} fields, expected "
-                                 f"{len(header)}")
-            try:
-                vals = [float(c) for c in row]
-            except ValueError:
-                raise ValueError(f"{path}, line {line_no}: not a number in {row!r}") from None
-            if not all(math.isfinite(v) for v in vals):
-                raise ValueError(f"{path}, line {line_no}: NaN or inf in {row!r}")
-            rows.append(vals)
+            vals = [float(c) for c in row]
+        except ValueError:
+            raise ValueError(f"{path}, line {line_no}: not a number in {row!r}") from None
+        if not all(math.isfinite(v) for v in vals):
+            raise ValueError(f"{path}, line {line_no}: NaN or inf in {row!r}")
+        rows.append(vals)
     if len(rows) < 2:
         raise ValueError(f"{path}: need at least 2 patterns, got {len(rows)}")
     data = np.array(rows)
@@ -98,6 +103,8 @@ def run(args) -> int:
     from .. import nn
 
     tm, omega, friction = read_patterns(args.patterns)
+    if args.seed < 0:
+        raise ValueError(f"--seed must be >= 0, got {args.seed}")
     rng = np.random.default_rng(args.seed)
     extra = {"seed": args.seed, "patterns_file": args.patterns.name}
     if args.trainer == "casadi":
