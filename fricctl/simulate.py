@@ -68,6 +68,15 @@ class _Trajectories:
     stuck: np.ndarray
 
 
+    def _final_mean_error(self, window: float, measured: bool = False):
+        """Mean of r - q over the last ``window`` seconds along the sample axis [rad]."""
+        if not window > 0:
+            raise ValueError(f"window must be > 0 s, got {window!r}")
+        sel = self.t >= self.t[-1] - window + 1e-12
+        q = self.q_meas if measured else self.q
+        return np.mean(self.reference[..., sel] - q[..., sel], axis=-1)
+
+
 #: Names of the per-sample arrays of a run (all but the time vector).
 _ARRAYS = tuple(f.name for f in fields(_Trajectories) if f.name != "t")
 
@@ -107,11 +116,7 @@ class SimResult(_Trajectories):
 
     def steady_state_error(self, window: float = 0.5, *, measured: bool = False) -> float:
         """Mean error r - q over the last ``window`` seconds [rad]."""
-        if not window > 0:
-            raise ValueError(f"window must be > 0 s, got {window!r}")
-        sel = self.t >= self.t[-1] - window + 1e-12
-        q = self.q_meas if measured else self.q
-        return float(np.mean(self.reference[sel] - q[sel]))
+        return float(self._final_mean_error(window, measured))
 
     def stuck_intervals(self, min_duration: float = 0.0) -> list[tuple[float, float]]:
         """``(t_start, t_end)`` of the intervals with the joint at rest [s].
@@ -157,10 +162,7 @@ class BatchResult(_Trajectories):
 
     def steady_state_error(self, window: float = 0.5) -> np.ndarray:
         """Mean error r - q over the last ``window`` seconds, per run [rad]."""
-        if not window > 0:
-            raise ValueError(f"window must be > 0 s, got {window!r}")
-        sel = self.t >= self.t[-1] - window + 1e-12
-        return np.mean(self.reference[:, sel] - self.q[:, sel], axis=1)
+        return self._final_mean_error(window)
 
 
 # --------------------------------------------------------------------------
