@@ -81,12 +81,12 @@ from scipy import signal
 
 from .datasets import Run
 from .estimation import butterworth_central, zero_phase_filter
-from .friction import FrictionModel, _FIELDS as _FRICTION_FIELDS
-from .plant import FlexibleJoint, RigidJoint
+from .friction import FrictionModel
+from .plant import JointModel
 from .simulate import replay
 
 __all__ = [
-    "CAUSES", "NOMINAL_ONLY", "MIN_SCORE", "MODEL_FORMAT", "MODEL_VERSION",
+    "CAUSES", "NOMINAL_ONLY", "MIN_SCORE",
     "JointModel", "WindowedSimulation", "Diagnosis", "diagnose", "windowed_simulation",
     "prediction_errors", "torque_residual",
 ]
@@ -105,8 +105,6 @@ NOMINAL_ONLY = ("inertia", "friction_scale")
 #: only noise remove nothing held out; terms built on the measured acceleration
 #: (compliance) can remove a few % of pure process noise, which this margin covers.
 MIN_SCORE = 1.0 - 0.9 ** 2
-MODEL_FORMAT = "fricctl.joint_model"
-MODEL_VERSION = 1
 
 _PHYSICAL = {  # a short description per cause, for reports
     "none": "the baseline explains the data within noise",
@@ -136,161 +134,6 @@ def _finite(name, v, *, positive=False, nonneg=False):
     return v
 
 
-@dataclass(frozen=True, kw_only=True)
-class JointModel:
-    """A joint model the diagnosis simulates: inertia, friction, offset, delay, elasticity.
-
-    Parameters
-    ----------
-    inertia : float
-        Total inertia I (motor side + load) [kg*m^2] ([kg] for a linear axis).
-    friction : FrictionModel
-        Resistive torque law (motor side).
-    offset : float
-        Constant resistive torque [N*m]: the joint receives ``Tm - offset``.
-    delay : float
-        The joint receives the recorded torque this much later [s]; applied as
-        the nearest whole number of samples.
-    load_inertia : float
-        0 for a rigid joint; else the part of ``inertia`` behind the spring [kg*m^2].
-    stiffness : float
-        Joint stiffness K of the elastic joint [N*m/rad] (> 0 when load_inertia > 0).
-    damping : float
-        Structural damping across the spring [N*m*s/rad].
-    units : {"rotary", "linear"}
-        Labels only.
-    source : str
-        Where the model comes from.
-
-    Examples
-    --------
-    >>> from fricctl.friction import Viscous, Coulomb
-    >>> m = JointModel(inertia=0.00745, friction=(Viscous(0.0169) + Coulomb(0.144)).model())
-    >>> JointModel.from_json(m.to_json()) == m
-    True
-    """
-
-    inertia: float
-    friction: FrictionModel
-    offset: float = 0.0
-    delay: float = 0.0
-    load_inertia: float = 0.0
-    stiffness: float = 0.0
-    damping: float = 0.0
-    units: str = "rotary"
-    source: str = ""
-
-    def __post_init__(self):
-        _finite("inertia", self.inertia, positive=True)
-        _finite("offset", self.offset)
-        _finite("delay", self.delay, nonneg=True)
-        _finite("load_inertia", self.load_inertia, nonneg=True)
-        _finite("stiffness", self.stiffness, nonneg=True)
-        _finite("damping", self.damping, nonneg=True)
-        if not isinstance(self.friction, FrictionModel):
-            raise ValueError("friction must be a fricctl.friction.FrictionModel")
-        if self.load_inertia > 0:
-            if not self.load_inertia < self.inertia:
-                raise ValueError("load_inertia must be < inertia (the motor side needs inertia too)")
-            if not self.stiffness > 0:
-                raise ValueError("an elastic joint (load_inertia > 0) needs stiffness > 0")
-            if self.friction.is_lugre:
-                raise ValueError("LuGre friction is supported on the rigid joint only")
-        if self.units not in ("rotary", "linear"):
-            raise ValueError(f"units must be 'rotary' or 'linear', got {self.units!r}")
-        if not isinstance(self.source, str):
-            raise ValueError("source must be a string")
-
-    @property
-    def elastic(self) -> bool:
-        """True for the elastic joint of paper Eq. 1."""
-        return self.load_inertia > 0
-
-    def delay_samples(self, sample_time: float) -> int:
-        """The delay as a whole number of samples of ``sample_time`` [s]."""
-        return int(round(self.delay / sample_time))
-
-    def joint(self):
-        """The :class:`~fricctl.plant.RigidJoint` or :class:`~fricctl.plant.FlexibleJoint`."""
-        if self.elastic:
-            return FlexibleJoint(motor_inertia=self.inertia - self.load_inertia,
-                                 load_inertia=self.load_inertia, stiffness=self.stiffness,
-                                 damping=self.damping, friction=self.friction)
-        return RigidJoint(inertia=self.inertia, friction=self.friction)
-
-    def parameters(self) -> dict:
-        """Flat parameter dict (JSON-ready): the non-default values only."""
-        out = {"inertia": self.inertia}
-        out.update({k: v for k, v in self.friction.as_dict().items()
-                    if v != _FRICTION_DEFAULTS[k]})
-        for name in ("offset", "delay", "load_inertia", "stiffness", "damping"):
-            if getattr(self, name) != 0.0:
-                out[name] = getattr(self, name)
-        return {k: float(v) for k, v in out.items()}
-
-    def as_dict(self) -> dict:
-        """The JSON file content (format ``fricctl.joint_model``, version 1)."""
-        return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "units": self.units,
-                "inertia": self.inertia, "friction": self.friction.as_dict(),
-                "offset": self.offset, "delay": self.delay, "load_inertia": self.load_inertia,
-                "stiffness": self.stiffness, "damping": self.damping, "source": self.source}
-
-    def to_json(self) -> str:
-        return json.dumps(self.as_dict(), indent=2)
-
-    def save(self, path) -> Path:
-        """Write the JSON file; returns the path."""
-        path = Path(path)
-        path.write_text(self.to_json() + "\n")
-        return path
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "JointModel":
-        if not isinstance(d, dict):
-            raise ValueError("model file: expected a JSON object")
-        if d.get("format") != MODEL_FORMAT:
-            raise ValueError(f"model file: 'format' must be {MODEL_FORMAT!r}, got {d.get('format')!r}")
-        if d.get("version") != MODEL_VERSION:
-            raise ValueError(f"model file: unsupported version {d.get('version')!r} "
-                             f"(this fricctl reads version {MODEL_VERSION})")
-        keys = {f.name for f in fields(cls)} | {"format", "version"}
-        unknown = sorted(set(d) - keys)
-        if unknown:
-            raise ValueError(f"model file: unknown key(s) {', '.join(unknown)}")
-        for req in ("inertia", "friction"):
-            if req not in d:
-                raise ValueError(f"model file: missing key {req!r}")
-        fr = d["friction"]
-        if not isinstance(fr, dict):
-            raise ValueError("model file: 'friction' must be an object of FrictionModel fields")
-        for k, v in fr.items():
-            if k in _FRICTION_DEFAULTS:
-                _finite(f"friction.{k}", v)
-        kw = {k: v for k, v in d.items() if k not in ("format", "version")}
-        kw["friction"] = FrictionModel.from_dict(fr)
-        return cls(**kw)
-
-    @classmethod
-    def from_json(cls, text: str) -> "JointModel":
-        try:
-            d = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"model file: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-        return cls.from_dict(d)
-
-    @classmethod
-    def load(cls, path) -> "JointModel":
-        """Read a model file (raises FileNotFoundError / ValueError naming the problem)."""
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"{path}: no such model file")
-        try:
-            return cls.from_json(path.read_text())
-        except ValueError as exc:
-            raise ValueError(f"{path.name}: {exc}") from None
-
-
-_FRICTION_DEFAULTS = {f.name: f.default for f in fields(FrictionModel)}
 
 
 # ============================================================================ signals
@@ -480,7 +323,7 @@ def _friction_raw(sig: _Signals, fr: FrictionModel, tm_joint, w) -> np.ndarray:
         level = np.where(z >= 0, fr.coulomb_pos, fr.coulomb_neg) + fr.load_coefficient * np.abs(tm_joint)
         visc = np.where(w > 0, fr.viscous_pos, fr.viscous_neg) * w
         damp = fr.lugre_sigma1 * w * (1 - s * z)
-        return fr._scale(sig.t) * (level * z + visc) + fr.ripple(sig.qf) + damp
+        return fr.scale_at(sig.t) * (level * z + visc) + fr.ripple(sig.qf) + damp
     return fr.torque(w, sig.qf, tm_joint, sig.t)
 
 

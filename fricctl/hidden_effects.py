@@ -78,8 +78,10 @@ import numpy as np
 from numba import njit
 
 from .datasets import Run
+from .plant import JointModel
 from .friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
-from .plant import FLEXIBLE, LUGRE, RIGID, advance
+from .plant import FLEXIBLE, LUGRE, RIGID
+from .plant.kernels import advance
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION"]
@@ -272,8 +274,6 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     >>> rec.run.n_samples, rec.nominal is None
     (5000, True)
     """
-    from .diagnose import JointModel
-
     if not isinstance(rng, np.random.Generator):
         raise ValueError("rng must be a numpy.random.Generator")
     if not (isinstance(duration, (int, float)) and 10.0 <= duration <= 120.0):

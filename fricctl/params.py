@@ -13,14 +13,16 @@ The paper's facts used here (load side):
 * sample time 0.002 s (500 Hz, zero-order hold);
 * SCARA link inertia 0.0046 kg*m^2 (the "actuator + link" designs of Figs. 16-18).
 
-Rotor-side quantities are converted with :func:`to_load_side` /
-:func:`to_rotor_side` (inertia and viscous scale with n^2, torques with n).
+Rotor-side quantities are converted with :func:`fricctl.units.to_load_side` /
+:func:`fricctl.units.to_rotor_side` (inertia and viscous scale with n^2, torques with n).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields, replace
+
+from . import _validate as v
 
 __all__ = [
     "ActuatorParams",
@@ -31,8 +33,6 @@ __all__ = [
     "PAPER_SAMPLE_TIME",
     "paper_actuator",
     "derive_inertia_from_p_design",
-    "to_load_side",
-    "to_rotor_side",
 ]
 
 #: Static (breakaway) friction, load side [N*m]; paper, Sec. 4.
@@ -153,20 +153,16 @@ class ActuatorParams:
     """Structural damping across the elastic joint (Eq. 1), load side."""
 
     def __post_init__(self):
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ValueError(f"{f.name} must be a real number, got {v!r}")
-            if not math.isfinite(v):
-                raise ValueError(f"{f.name} must be finite, got {v!r}")
         positive = ("inertia", "max_torque", "sample_time", "gear_ratio", "stiffness",
                     "stribeck_velocity")
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be > 0 [{self.unit(name)}], got {getattr(self, name)!r}")
-        for name in ("link_inertia", "viscous", "coulomb", "static", "joint_damping"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} must be >= 0 [{self.unit(name)}], got {getattr(self, name)!r}")
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "encoder_counts":
+                checked = v.integer(f.name, value, low=1)
+            else:
+                checked = v.real(f.name, value, positive=f.name in positive, nonneg=True,
+                                 unit=f.metadata["unit"])
+            object.__setattr__(self, f.name, checked)
         if self.static < self.coulomb:
             raise ValueError(
                 f"static ({self.static} N*m) must be >= coulomb ({self.coulomb} N*m): "
@@ -175,8 +171,6 @@ class ActuatorParams:
             raise ValueError(
                 f"static ({self.static} N*m) must be < max_torque ({self.max_torque} N*m), "
                 "or the joint can never break loose")
-        if not isinstance(self.encoder_counts, int) or self.encoder_counts < 1:
-            raise ValueError(f"encoder_counts must be a positive integer, got {self.encoder_counts!r}")
 
     # -- derived quantities ------------------------------------------------
     @property
@@ -272,48 +266,3 @@ def paper_actuator(**changes) -> ActuatorParams:
         joint_damping=0.05,
     )
     return base.replace(**changes) if changes else base
-
-
-def to_load_side(*, gear_ratio: float, inertia: float | None = None,
-                 viscous: float | None = None, torque: float | None = None,
-                 angle: float | None = None, velocity: float | None = None) -> dict:
-    """Convert rotor-side quantities to the load side of a gear of ratio n.
-
-    Inertia and viscous coefficients scale with n^2, torques (Coulomb, static,
-    motor torque) with n, angles and velocities with 1/n.
-
-    Returns
-    -------
-    dict
-        Only the quantities given, converted.
-
-    Examples
-    --------
-    >>> to_load_side(gear_ratio=100, inertia=1e-7, torque=0.01)
-    {'inertia': 0.001, 'torque': 1.0}
-    """
-    if not (isinstance(gear_ratio, (int, float)) and math.isfinite(gear_ratio) and gear_ratio > 0):
-        raise ValueError(f"gear_ratio must be a finite number > 0, got {gear_ratio!r}")
-    n = float(gear_ratio)
-    out = {}
-    for name, value, factor in (("inertia", inertia, n * n), ("viscous", viscous, n * n),
-                                ("torque", torque, n), ("angle", angle, 1.0 / n),
-                                ("velocity", velocity, 1.0 / n)):
-        if value is None:
-            continue
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise ValueError(f"{name} must be a finite number, got {value!r}")
-        if name in ("inertia", "viscous") and value < 0:
-            raise ValueError(f"{name} must be >= 0, got {value!r}")
-        out[name] = value * factor
-    return out
-
-
-def to_rotor_side(*, gear_ratio: float, **quantities) -> dict:
-    """Inverse of :func:`to_load_side` (same keyword names)."""
-    unknown = sorted(set(quantities) - {"inertia", "viscous", "torque", "angle", "velocity"})
-    if unknown:
-        raise ValueError(f"unknown quantity(ies): {', '.join(unknown)}")
-    if not (isinstance(gear_ratio, (int, float)) and math.isfinite(gear_ratio) and gear_ratio > 0):
-        raise ValueError(f"gear_ratio must be a finite number > 0, got {gear_ratio!r}")
-    return to_load_side(gear_ratio=1.0 / gear_ratio, **quantities)

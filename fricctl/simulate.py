@@ -35,9 +35,10 @@ from numba import njit, prange
 
 from .compensators import COMP_COULOMB, COMP_NN, Compensator, NoCompensation
 from .controllers import Controller
-from .friction import NPARAM, FrictionModel, _Law
+from .friction import NPARAM, FrictionLaw, FrictionModel
 from .params import ActuatorParams
-from .plant import FLEXIBLE, LUGRE, RIGID, advance, advance_many, state_torque
+from .plant import FLEXIBLE, LUGRE, RIGID
+from .plant.kernels import advance, advance_many, state_torque
 
 __all__ = ["SimResult", "BatchResult", "simulate", "simulate_batch", "replay", "DEFAULT_SUBSTEPS"]
 
@@ -396,10 +397,10 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", (Controller,))
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      (Compensator,))
-    if isinstance(friction, _Law):
+    if isinstance(friction, FrictionLaw):
         friction = friction.model()
     elif isinstance(friction, (list, tuple)):
-        friction = [f.model() if isinstance(f, _Law) else f for f in friction]
+        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
     frs = [p.friction_model() for p in plist] if friction is None else _as_list(
         friction, n, "friction", (FrictionModel,))
     if plant not in _PLANTS:
@@ -566,7 +567,8 @@ def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float 
         raise ValueError("torque contains NaN or inf")
     if not (math.isfinite(sample_time) and sample_time > 0):
         raise ValueError(f"sample_time must be > 0 s, got {sample_time!r}")
-    kind, jm, jl, k, d = joint.kernel_args()
+    ka = joint.kernel_args()
+    kind, jm, jl, k, d = ka.kind, ka.motor_inertia, ka.load_inertia, ka.stiffness, ka.damping
     st = joint.initial_state(q0, omega0) if state is None else np.array(state, dtype=float)
     if st.shape != (5,) or not np.all(np.isfinite(st)):
         raise ValueError("state must be 5 finite numbers [q, omega, q_load, omega_load, z]")

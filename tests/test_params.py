@@ -3,7 +3,7 @@ import math
 import pytest
 
 from fricctl.params import (PAPER_LINK_INERTIA, ActuatorParams, derive_inertia_from_p_design,
-                            paper_actuator, to_load_side, to_rotor_side)
+                            paper_actuator)
 
 
 def test_paper_values():
@@ -42,18 +42,14 @@ def test_unknown_field_raises():
         paper_actuator(inertai=1.0)
 
 
-def test_gear_conversion_round_trip():
-    # inertia and viscous scale with n^2, torque with n, angle with 1/n
-    out = to_load_side(gear_ratio=50, inertia=2e-6, viscous=1e-5, torque=0.02, angle=1.0)
-    assert out == pytest.approx({"inertia": 5e-3, "viscous": 2.5e-2, "torque": 1.0, "angle": 0.02})
-    back = to_rotor_side(gear_ratio=50, **out)
-    assert back == pytest.approx({"inertia": 2e-6, "viscous": 1e-5, "torque": 0.02, "angle": 1.0})
-    with pytest.raises(ValueError, match="gear_ratio"):
-        to_load_side(gear_ratio=0, inertia=1.0)
-    with pytest.raises(ValueError, match="inertia"):
-        to_load_side(gear_ratio=100, inertia=-1.0)
-    with pytest.raises(ValueError, match="torque"):
-        to_load_side(gear_ratio=100, torque=float("nan"))
-    with pytest.raises(ValueError, match="unknown"):
-        to_rotor_side(gear_ratio=100, coulomb=0.1)
-    assert to_load_side(gear_ratio=10, torque=-0.5) == {"torque": -5.0}  # a torque may be negative
+def test_numpy_scalars_are_numbers_and_bools_are_not():
+    import numpy as np
+
+    p = paper_actuator(inertia=np.float32(0.003), encoder_counts=np.int64(4000))
+    assert isinstance(p.inertia, float) and isinstance(p.encoder_counts, int)
+    assert p.encoder_counts == 4000
+    for bad in (True, "0.003", 1j, None):
+        with pytest.raises(ValueError, match="inertia must be a real number"):
+            paper_actuator(inertia=bad)
+    with pytest.raises(ValueError, match="encoder_counts must be an integer"):
+        paper_actuator(encoder_counts=2000.0)

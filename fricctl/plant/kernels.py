@@ -1,116 +1,27 @@
-"""The drive joint: rigid (paper Eq. 2) and flexible (paper Eq. 1), exact stick-slip.
+"""Compiled plant kernels: one held-torque interval of the rigid, flexible or LuGre joint.
 
-Rigid joint (Eq. 2)::
-
-    I * q'' = Tm - Tat(q, q', Tm, t)
-
-Flexible joint (Eq. 1, friction on the motor side, encoder on the rotor)::
-
-    Jm * qm'' = Tm - Tat(qm, qm', Tm, t) - K*(qm - ql) - d*(qm' - ql')
-    Jl * ql'' =      K*(qm - ql) + d*(qm' - ql')
-
-All quantities are load side (the rotor is reflected through the gear).
-
-Stick-slip is handled exactly, not smoothed:
-
-* at zero velocity the joint is *stuck* while the net drive torque lies within
-  the breakaway band ``[-breakaway(-1), +breakaway(+1)]``; its position is then
-  exactly constant (for the flexible joint, the load still moves on the spring);
-* while sliding, the smooth sliding dynamics of the current direction are
-  integrated with classical RK4 on ``substeps`` sub-intervals of each sample;
-* a velocity that reaches zero inside a sub-interval is located by bisection on
-  the RK4 map to machine precision; there the stick condition decides between
-  stopping and reversing; the flexible joint's release from stick (the spring
-  torque crossing the breakaway band) is located the same way.
-
-No chattering arises because the friction of a stuck joint is not a function of
-velocity (it is the reaction that keeps it at rest).
-
-With :class:`fricctl.friction.LuGre` the joint has no exact stick (presliding
-bristles); the state (q, omega, z) is integrated by RK4 with no events, so use
-more substeps (the bristle dynamics are stiff at high speed).
-
-Notes
------
-Not modelled: backlash, motor electrical dynamics, the kinematic error of the
-harmonic drive (use a :class:`~fricctl.friction.PositionRipple`).  A stuck
-flexible joint is tested for release once per sub-interval and at its end: an
-excursion outside the breakaway band shorter than one sub-interval is missed.
+The state is ``[q (motor), omega (motor), q_load, omega_load, z]``; see
+:mod:`fricctl.plant` for the equations and the event handling.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import numpy as np
 from numba import njit
 
-from .friction import IDX, FrictionModel, _Law
-from .params import ActuatorParams
+from ..friction.kernels import breakaway as _breakaway
+from ..friction.kernels import level as _level
+from ..friction.kernels import ripple as _ripple
+from ..friction.kernels import sliding as _sliding
+from ..friction.kernels import viscous as _viscous
+from ..friction.layout import IDX
 
-__all__ = ["RigidJoint", "FlexibleJoint", "RIGID", "FLEXIBLE", "LUGRE"]
+__all__ = ["RIGID", "FLEXIBLE", "LUGRE", "advance", "state_torque", "advance_many"]
 
 #: Plant kinds understood by the compiled kernel.
 RIGID, FLEXIBLE, LUGRE = 0, 1, 2
 
-_VP, _VN, _CP, _CN = IDX["viscous_pos"], IDX["viscous_neg"], IDX["coulomb_pos"], IDX["coulomb_neg"]
-_SP, _SN = IDX["static_pos"], IDX["static_neg"]
-_STP, _STN, _VS, _DEL = IDX["stribeck_pos"], IDX["stribeck_neg"], IDX["stribeck_velocity"], IDX["stribeck_exponent"]
-_RA, _RP, _RPH = IDX["ripple_amplitude"], IDX["ripple_period"], IDX["ripple_phase"]
-_MU, _SC, _DR = IDX["load_coefficient"], IDX["scale"], IDX["drift"]
 _L0, _L1 = IDX["lugre_sigma0"], IDX["lugre_sigma1"]
-_TWO_PI = 2.0 * math.pi
-
-
-# --------------------------------------------------------------------------
-# friction primitives (compiled)
-# --------------------------------------------------------------------------
-@njit(cache=True)
-def _ripple(fp, q):
-    if fp[_RA] == 0.0:
-        return 0.0
-    return fp[_RA] * math.sin(_TWO_PI * q / fp[_RP] + fp[_RPH])
-
-
-@njit(cache=True)
-def _level(fp, w, s, tm, t):
-    """Coulomb + load + Stribeck level (scaled) in direction s at speed |w|."""
-    if s > 0:
-        fc = fp[_CP]
-        fs = fp[_STP]
-    else:
-        fc = fp[_CN]
-        fs = fp[_STN]
-    lev = fc + fp[_MU] * abs(tm)
-    if fs != 0.0:
-        x = abs(w) / fp[_VS]
-        if fp[_DEL] == 2.0:
-            lev += fs * math.exp(-x * x)
-        else:
-            lev += fs * math.exp(-(x ** fp[_DEL]))
-    return fp[_SC] * (1.0 + fp[_DR] * t) * lev
-
-
-@njit(cache=True)
-def _viscous(fp, w, s, t):
-    b = fp[_VP] if s > 0 else fp[_VN]
-    return fp[_SC] * (1.0 + fp[_DR] * t) * b * w
-
-
-@njit(cache=True)
-def _sliding(fp, w, s, tm, t):
-    """Friction torque (no ripple) while sliding in direction s; smooth in w."""
-    return _viscous(fp, w, s, t) + s * _level(fp, w, s, tm, t)
-
-
-@njit(cache=True)
-def _breakaway(fp, s, tm, t):
-    if s > 0:
-        base = fp[_CP] + fp[_SP] + fp[_STP]
-    else:
-        base = fp[_CN] + fp[_SN] + fp[_STN]
-    return fp[_SC] * (1.0 + fp[_DR] * t) * (base + fp[_MU] * abs(tm))
 
 
 # --------------------------------------------------------------------------
@@ -419,155 +330,3 @@ def advance_many(kind, states, fps, tms, t0, dt, nsub, jm, jl, k, d):
     """Advance N states (rows of ``states``) over one interval; arrays of length N."""
     for n in range(states.shape[0]):
         advance(kind, states[n], fps[n], tms[n], t0, dt, nsub, jm[n], jl[n], k[n], d[n])
-
-
-# --------------------------------------------------------------------------
-# public plant objects
-# --------------------------------------------------------------------------
-@dataclass(frozen=True, kw_only=True)
-class RigidJoint:
-    """Rigid joint ``I*q'' = Tm - Tat`` (paper Eq. 2).
-
-    Parameters
-    ----------
-    inertia : float
-        Total inertia I (actuator + link), load side [kg*m^2].
-    friction : FrictionModel
-        Resistive torque law.  A :class:`~fricctl.friction.LuGre` model is
-        integrated without stick events.
-
-    Examples
-    --------
-    >>> from fricctl.params import paper_actuator
-    >>> p = paper_actuator()
-    >>> joint = RigidJoint.from_params(p)
-    >>> st = joint.initial_state()
-    >>> float(joint.advance(st, torque=0.9 * p.static, t0=0.0, dt=0.002)[0])   # below breakaway
-    0.0
-    """
-
-    inertia: float
-    friction: FrictionModel
-
-    def __post_init__(self):
-        if not (isinstance(self.inertia, (int, float)) and math.isfinite(self.inertia) and self.inertia > 0):
-            raise ValueError(f"inertia must be a finite number > 0 [kg*m^2], got {self.inertia!r}")
-        if isinstance(self.friction, _Law):
-            object.__setattr__(self, "friction", self.friction.model())
-        if not isinstance(self.friction, FrictionModel):
-            raise ValueError("friction must be a fricctl.friction.FrictionModel")
-
-    @classmethod
-    def from_params(cls, params: ActuatorParams, friction: FrictionModel | None = None):
-        return cls(inertia=params.total_inertia,
-                   friction=params.friction_model() if friction is None else friction)
-
-    @property
-    def kind(self) -> int:
-        return LUGRE if self.friction.is_lugre else RIGID
-
-    def kernel_args(self):
-        """(kind, motor inertia, load inertia, stiffness, damping) for the compiled kernel."""
-        return self.kind, self.inertia, self.inertia, 0.0, 0.0
-
-    def initial_state(self, q0: float = 0.0, omega0: float = 0.0) -> np.ndarray:
-        """State vector ``[q, omega, q_load, omega_load, z]``."""
-        return np.array([q0, omega0, q0, omega0, 0.0], dtype=float)
-
-    def advance(self, state, torque: float, t0: float, dt: float, substeps: int = 4) -> np.ndarray:
-        """State after holding ``torque`` [N*m] for ``dt`` [s] from time ``t0`` [s]."""
-        st = _checked_state(state)
-        if not (math.isfinite(torque) and math.isfinite(t0) and dt > 0):
-            raise ValueError("torque and t0 must be finite and dt > 0")
-        kind, jm, jl, k, d = self.kernel_args()
-        advance(kind, st, self.friction.vector(), float(torque), float(t0), float(dt),
-                _checked_substeps(substeps), jm, jl, k, d)
-        return st
-
-    def resistive_torque(self, state, torque: float, t: float = 0.0):
-        """(Tat [N*m], acceleration [rad/s^2]) right after ``t`` with ``torque`` applied."""
-        st = _checked_state(state)
-        kind, jm, jl, k, d = self.kernel_args()
-        return state_torque(kind, st, self.friction.vector(), float(torque), float(t), jm, k, d)
-
-
-@dataclass(frozen=True, kw_only=True)
-class FlexibleJoint:
-    """Elastic joint of paper Eq. 1: motor and load inertias joined by K and d.
-
-    Friction acts on the motor side; the encoder is on the rotor (motor side).
-
-    Parameters
-    ----------
-    motor_inertia : float
-        Jm, rotor and flange reflected to the load side [kg*m^2].
-    load_inertia : float
-        Jl, link (and output flange) [kg*m^2].
-    stiffness : float
-        K [N*m/rad].
-    damping : float
-        d [N*m*s/rad].
-    friction : FrictionModel
-        Motor-side resistive torque law (LuGre not supported here).
-    """
-
-    motor_inertia: float
-    load_inertia: float
-    stiffness: float
-    damping: float
-    friction: FrictionModel
-
-    def __post_init__(self):
-        for name in ("motor_inertia", "load_inertia", "stiffness"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-        if not (math.isfinite(self.damping) and self.damping >= 0):
-            raise ValueError(f"damping must be finite and >= 0, got {self.damping!r}")
-        if isinstance(self.friction, _Law):
-            object.__setattr__(self, "friction", self.friction.model())
-        if not isinstance(self.friction, FrictionModel):
-            raise ValueError("friction must be a fricctl.friction.FrictionModel")
-        if self.friction.is_lugre:
-            raise ValueError("LuGre friction is supported on the rigid joint only")
-
-    @classmethod
-    def from_params(cls, params: ActuatorParams, friction: FrictionModel | None = None):
-        if params.link_inertia <= 0:
-            raise ValueError("link_inertia must be > 0 for a flexible joint (the load side needs inertia)")
-        return cls(motor_inertia=params.inertia, load_inertia=params.link_inertia,
-                   stiffness=params.stiffness, damping=params.joint_damping,
-                   friction=params.friction_model() if friction is None else friction)
-
-    @property
-    def kind(self) -> int:
-        return FLEXIBLE
-
-    @property
-    def resonance(self) -> float:
-        """Locked-rotor-free resonance sqrt(K (1/Jm + 1/Jl)) [rad/s]."""
-        return math.sqrt(self.stiffness * (1.0 / self.motor_inertia + 1.0 / self.load_inertia))
-
-    def kernel_args(self):
-        return FLEXIBLE, self.motor_inertia, self.load_inertia, self.stiffness, self.damping
-
-    def initial_state(self, q0: float = 0.0, omega0: float = 0.0) -> np.ndarray:
-        return np.array([q0, omega0, q0, omega0, 0.0], dtype=float)
-
-    advance = RigidJoint.advance
-    resistive_torque = RigidJoint.resistive_torque
-
-
-def _checked_state(state) -> np.ndarray:
-    st = np.array(state, dtype=float)
-    if st.shape != (5,):
-        raise ValueError(f"state must have shape (5,) [q, omega, q_load, omega_load, z], got {st.shape}")
-    if not np.all(np.isfinite(st)):
-        raise ValueError("state contains NaN or inf")
-    return st
-
-
-def _checked_substeps(substeps) -> int:
-    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or substeps < 1:
-        raise ValueError(f"substeps must be a positive integer, got {substeps!r}")
-    return int(substeps)
