@@ -105,7 +105,7 @@ print(f"gain at rest g = {r10.gain_at_rest:.3f}")
 print(f"dead zone without: {100 * r10.dead_zone_without.fraction:.2f} % of Tmax (paper: 12.7 %)")
 print(f"dead zone with:    {100 * r10.dead_zone_with.fraction:.2f} % of Tmax, factor {r10.factor:.1f} "
       f"(paper: about 6)")
-print(f"predicted from the net: {max(r10.predicted):.4f} N*m, factor {r10.predicted_factor:.1f}")
+print(f"predicted from the net: {r10.predicted.largest:.4f} N*m, factor {r10.predicted_factor:.1f}")
 assert r10.dead_zone_with.dead_zone < r10.dead_zone_without.dead_zone
 figures.plot_fig10(r10)
 plt.show()
@@ -127,7 +127,7 @@ for window in WINDOWS:
         run = paper.train_paper_network(p, fast=FAST, seed=seed, window=window, overlap=window // 2)
         comp = NNCompensator(run.net)
         dz = dead_zone(p, comp)
-        pred = max(predicted_dead_zone(run.net, p.static))
+        pred = predicted_dead_zone(run.net, p.static).largest
         factor = r10.dead_zone_without.dead_zone / dz.dead_zone
         rows.append((window, seed, run.net.gain_at_rest(), factor, dz.at_grid_floor))
         # at the grid floor even the smallest amplitude moved: the factor is only a lower bound

@@ -422,8 +422,9 @@ def _simulate_windows(model: JointModel, sig: _Signals, starts, length) -> Windo
         state = None
         if zlug is not None:  # bristle deflection from the Dahl state along the measured motion
             state = [sig.qf[k0], w0, sig.qf[k0], w0, zlug[k0]]
-        q, w, _ = replay(joint, torque, sig.ts, q0=float(sig.qf[k0]), omega0=w0, t0=float(sig.t[k0]),
-                         substeps=nsub, state=state)
+        rep = replay(joint, torque, sig.ts, q0=float(sig.qf[k0]), omega0=w0, t0=float(sig.t[k0]),
+                     substeps=nsub, state=state)
+        q, w = rep.q, rep.omega
         qs[idx] = q
         ws[idx] = w
         pe[i] = np.sqrt(np.mean((q - sig.q[idx]) ** 2))

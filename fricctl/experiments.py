@@ -36,7 +36,7 @@ from .simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
     "Experiment", "training_experiments", "Patterns", "friction_patterns", "true_patterns", "train_network",
-    "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "predicted_dead_zone", "paper_gains",
+    "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "DeadZonePrediction", "predicted_dead_zone", "paper_gains",
 ]
 
 
@@ -362,7 +362,23 @@ def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
     return DeadZone(amps, counts, int(threshold_counts), params.max_torque, comp.name, results)
 
 
-def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0, n: int = 2001) -> tuple[float, float]:
+@dataclass(frozen=True, kw_only=True)
+class DeadZonePrediction:
+    """Dead zone of the compensated loop predicted from the estimator alone [N*m]."""
+
+    positive: float
+    """Control torque the loop needs to break loose forward (a magnitude) [N*m]."""
+    negative: float
+    """The same backward (a magnitude) [N*m]."""
+
+    @property
+    def largest(self) -> float:
+        """The larger of the two directions [N*m]."""
+        return max(self.positive, self.negative)
+
+
+def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0,
+                        n: int = 2001) -> DeadZonePrediction:
     """Dead zone the compensated loop should show, from the estimator alone [N*m].
 
     At rest the encoder does not move, so ``omega_hat = 0`` and the loop iterates
@@ -379,7 +395,7 @@ def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0, n: i
 
     Returns
     -------
-    (positive, negative) : tuple of float
+    DeadZonePrediction
         Predicted dead zones for the two directions, positive magnitudes [N*m].
     """
     if not (math.isfinite(breakaway) and breakaway > 0):
@@ -387,4 +403,4 @@ def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0, n: i
     tm = np.linspace(0.0, breakaway, n)
     pos = float(np.max(tm - scale * np.asarray(estimator(tm, np.zeros(n)))))
     neg = float(np.max(tm + scale * np.asarray(estimator(-tm, np.zeros(n)))))
-    return max(pos, 0.0), max(neg, 0.0)
+    return DeadZonePrediction(positive=max(pos, 0.0), negative=max(neg, 0.0))

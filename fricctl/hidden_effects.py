@@ -75,13 +75,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from .datasets import Run
 from .plant import JointModel
 from .friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
-from .plant import FLEXIBLE, LUGRE, RIGID
-from .plant.kernels import advance
+from .plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
+from .simulate import Schedule, simulate_schedule
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION"]
@@ -123,34 +122,6 @@ class HiddenEffectRecord:
     magnitude: dict = field(default_factory=dict)
     truth: object = None
     excitation: tuple = ()
-
-
-# ----------------------------------------------------------------------------- loop
-@njit(cache=True)
-def _bench_loop(kind, fp, jm, jl, kst, dmp, ts, nsub, res, tmax, kp, kd, ref, ff, seg_start,
-                delay, noise, o_tm, o_y, o_r):
-    st = np.zeros(5)
-    tm_next = 0.0
-    y_prev = 0.0
-    offset = 0.0
-    n = kp.size
-    for k in range(n):
-        t = k * ts
-        y = res * math.floor(st[0] / res)
-        wh = (y - y_prev) / ts if k > 0 else 0.0
-        if seg_start[k]:
-            offset = y
-        tm_k = tm_next
-        r = offset + ref[k]
-        tc = ff[k] + kp[k] * (r - y) - kd[k] * wh
-        tm_next = min(max(tc, -tmax), tmax)
-        o_tm[k] = tm_k
-        o_y[k] = y
-        o_r[k] = r
-        applied = o_tm[k - delay] if k >= delay else 0.0
-        applied = min(max(applied + noise[k], -tmax), tmax)
-        advance(kind, st, fp, applied, t, ts, nsub, jm, jl, kst, dmp)
-        y_prev = y
 
 
 # ----------------------------------------------------------------------------- excitation
@@ -378,13 +349,16 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     kinds, kp, kd, ref, ff, start = _excitation(rng, n, ts, max(jm_sim, inertia) if kind != FLEXIBLE
                                                 else inertia, breakaway, b, tmax)
     noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
-    o_tm, o_y, o_r = np.empty(n), np.empty(n), np.empty(n)
-    _bench_loop(kind, friction.vector(), float(jm_sim), float(jl_sim), float(kst), float(dmp), ts,
-                int(nsub), ENCODER_RESOLUTION, float(tmax), kp, kd, ref, ff, start, int(delay),
-                noise, o_tm, o_y, o_r)
-    if not (np.all(np.isfinite(o_y)) and np.all(np.isfinite(o_tm))):
+    joint = (FlexibleJoint(motor_inertia=jm_sim, load_inertia=jl_sim, stiffness=kst, damping=dmp,
+                           friction=friction) if kind == FLEXIBLE
+             else RigidJoint(inertia=jm_sim, friction=friction))
+    sim = simulate_schedule(joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
+                                            segment_start=start),
+                            sample_time=ts, max_torque=tmax, encoder_resolution=ENCODER_RESOLUTION,
+                            substeps=int(nsub), delay=int(delay), noise=noise)
+    if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
-    run = Run(t=np.arange(n) * ts, torque=o_tm, position=o_y, reference=o_r,
+    run = Run(t=sim.t, torque=sim.torque_motor, position=sim.q_meas, reference=sim.reference,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
     base_model = JointModel(inertia=jm + jl, friction=base)
     if cause == "inertia":

@@ -51,7 +51,7 @@ from .compensators import CoulombCompensator, NNCompensator, NoCompensation
 from .design import Design, DesignWarning, linear_response, paper_designs
 from .estimation import DerivativeEstimate, backward_difference, estimate
 from .friction import FrictionModel
-from .experiments import (DeadZone, Experiment, Patterns, dead_zone, friction_patterns,
+from .experiments import (DeadZone, DeadZonePrediction, Experiment, Patterns, dead_zone, friction_patterns,
                           predicted_dead_zone, train_network, training_experiments, true_patterns)
 from .nn import FitReport, FrictionNet, TrainingResult, fit_report
 from .params import ActuatorParams, paper_actuator
@@ -384,7 +384,7 @@ class Fig10Result:
     ----------
     without, with_nn : open-loop runs at 10 % of Tmax
     dead_zone_without, dead_zone_with : measured dead zones (sinusoid batches)
-    predicted : dead zone predicted from the net alone, (positive, negative) [N*m]
+    predicted : dead zone predicted from the net alone (DeadZonePrediction) [N*m]
     gain_at_rest : g of the net [-]
     """
 
@@ -392,7 +392,7 @@ class Fig10Result:
     with_nn: SimResult
     dead_zone_without: DeadZone
     dead_zone_with: DeadZone
-    predicted: tuple
+    predicted: DeadZonePrediction
     gain_at_rest: float
 
     @property
@@ -403,8 +403,8 @@ class Fig10Result:
     @property
     def predicted_factor(self) -> float:
         """Breakaway level over the larger predicted dead zone [-]."""
-        dz = max(self.predicted)
-        fs = float(self.without.info["params"].static)
+        dz = self.predicted.largest
+        fs = float(self.without.info.params.static)
         return fs / dz if dz > 0 else math.inf
 
 
@@ -609,7 +609,7 @@ def fig14(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.
     p = net.params
     d = _designs(p)["fig13-14"]
     r, lin = _step_run(p, d, np.deg2rad(step_deg), NNCompensator(net.net), duration)
-    band = max(predicted_dead_zone(net.net, p.static)) / d.kp
+    band = predicted_dead_zone(net.net, p.static).largest / d.kp
     return Fig14Result(r, lin, d, r.steady_state_error(_SS_WINDOW), band)
 
 
@@ -1106,7 +1106,7 @@ def claim_fig14(r: Fig14Result) -> Claim:
         "" if ok else "The compensated loop keeps a residual dead zone DZ, so the joint can stop anywhere "
         f"within +-DZ/Kp of the reference (here +-{_deg(r.predicted_band):.2f} deg); < 0.3 deg for every "
         f"approach needs DZ < 0.3 deg*Kp = {r.design.kp * np.deg2rad(0.3):.4f} N*m, a dead-zone "
-        f"reduction of {r.run.info['params'].static / (r.design.kp * np.deg2rad(0.3)):.0f}x, far more "
+        f"reduction of {r.run.info.params.static / (r.design.kp * np.deg2rad(0.3)):.0f}x, far more "
         "than the paper's own ~6x.")
 
 

@@ -66,7 +66,8 @@ def test_dead_zone_without_compensation_is_the_static_friction():
 def test_predicted_dead_zone_closed_form():
     # linear estimate g*Tm at rest: predicted dead zone Fs*(1 - s*g)
     for g, s in ((0.5, 1.0), (0.8, 0.95), (1.2, 1.0)):
-        pos, neg = predicted_dead_zone(lambda tm, w: g * tm, 0.18, scale=s)
+        pred = predicted_dead_zone(lambda tm, w: g * tm, 0.18, scale=s)
+        pos, neg = pred.positive, pred.negative
         assert pos == pytest.approx(max(0.18 * (1 - s * g), 0.0), abs=1e-12)
         assert neg == pytest.approx(pos, abs=1e-12)
 
@@ -79,7 +80,7 @@ def test_linear_estimator_reduces_the_dead_zone_by_one_over_one_minus_g():
     dz0 = dead_zone(P)
     dz1 = dead_zone(P, est, amplitudes=np.linspace(0.001, 0.1, 400) * P.max_torque)
     assert dz0.dead_zone / dz1.dead_zone == pytest.approx(1 / (1 - g), rel=0.05)
-    pos, _ = predicted_dead_zone(est, P.static)
+    pos = predicted_dead_zone(est, P.static).positive
     assert dz1.dead_zone == pytest.approx(pos, rel=0.03)
 
 
@@ -88,7 +89,8 @@ def test_trained_network_reduces_the_dead_zone(experiments):
     net = train_network(pats, rng=np.random.default_rng(0), max_patterns=1500).net
     dz0 = dead_zone(P)
     dz1 = dead_zone(P, NNCompensator(net))
-    pos, neg = predicted_dead_zone(net, P.static)
+    pred = predicted_dead_zone(net, P.static)
+    pos, neg = pred.positive, pred.negative
     assert dz0.dead_zone / dz1.dead_zone > 2
     # the fixed-point prediction from the net alone matches the measured dead zone within 25 %
     assert dz1.dead_zone == pytest.approx(min(pos, neg), rel=0.25)

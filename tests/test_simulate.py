@@ -121,7 +121,7 @@ def test_compiled_and_python_loops_agree(comp):
     fast = simulate(P, ctrl, comp, duration=2.0)
     slow_comp = NNCompensator(lambda tm, w: comp(tm, w), scale=comp.scale)
     slow = simulate(P, ctrl, slow_comp, duration=2.0)
-    assert fast.info["loop"] == "compiled" and slow.info["loop"] == "python"
+    assert fast.info.loop == "compiled" and slow.info.loop == "python"
     np.testing.assert_allclose(slow.q, fast.q, rtol=0, atol=1e-12)
     np.testing.assert_allclose(slow.friction_est, fast.friction_est, rtol=0, atol=1e-12)
 
@@ -193,7 +193,8 @@ def test_replay_reproduces_the_closed_loop_from_its_record():
     from fricctl.simulate import replay
 
     res = simulate(P, pd_control(1.23, 0.0906, sawtooth(1.0, 2.0)), duration=2.0)
-    q, w, f = replay(RigidJoint.from_params(P), res.torque_motor, P.sample_time)
+    rep = replay(RigidJoint.from_params(P), res.torque_motor, P.sample_time)
+    q, w, f = rep.q, rep.omega, rep.friction
     np.testing.assert_array_equal(q, res.q)
     np.testing.assert_array_equal(f, res.friction)
     with pytest.raises(ValueError, match="NaN"):
@@ -211,7 +212,7 @@ def test_friction_net_runs_compiled_exactly_as_in_python():
         comp = NNCompensator(net, scale=0.95, clip=clip)
         fast = simulate(P, ctrl, comp, duration=1.0)
         slow = simulate(P, ctrl, NNCompensator(lambda a, b, c=comp: c(a, b), scale=0.95), duration=1.0)
-        assert fast.info["loop"] == "compiled" and slow.info["loop"] == "python"
+        assert fast.info.loop == "compiled" and slow.info.loop == "python"
         np.testing.assert_allclose(fast.friction_est, slow.friction_est, rtol=0, atol=1e-12)
         np.testing.assert_allclose(fast.q, slow.q, rtol=0, atol=1e-12)
 
@@ -236,3 +237,42 @@ def test_guards_against_silent_nonsense():
     res = simulate(P, open_loop(sinusoid(0.3, 1.0)), friction=P.friction_model().with_drift(-0.2),
                    duration=2.0)
     assert np.all(res.omega * res.friction >= 0)
+
+
+def test_schedule_with_constant_gains_is_the_pd_loop():
+    # simulate_schedule (per-sample gains, the bench's entry) and simulate (a Controller)
+    # run the same compiled steps: a PD step must agree to the last bit
+    from fricctl.controllers import pd_control, step
+    from fricctl.plant import RigidJoint
+    from fricctl.simulate import Schedule, simulate_schedule
+
+    res = simulate(P, pd_control(1.2, 0.09, step(0.5)), duration=1.0)
+    k = res.t.size
+    sched = Schedule(kp=np.full(k, 1.2), kd=np.full(k, 0.09), reference=np.full(k, 0.5),
+                     feedforward=np.zeros(k), segment_start=np.zeros(k, dtype=bool))
+    alt = simulate_schedule(RigidJoint.from_params(P), sched, sample_time=P.sample_time,
+                            max_torque=P.max_torque, encoder_resolution=P.encoder_resolution)
+    for name in ("q", "q_meas", "torque_motor", "friction", "reference"):
+        np.testing.assert_array_equal(getattr(alt, name), getattr(res, name), err_msg=name)
+    assert alt.info.params is None and alt.info.kp == 1.2
+
+
+def test_schedule_segments_restart_the_reference_where_the_joint_is():
+    # two PD segments each asking for +0.3 rad: the second's reference is 0.3 rad above
+    # where the first left the encoder, and the joint stops within the dead band Fs/Kp of it
+    from fricctl.plant import RigidJoint
+    from fricctl.simulate import Schedule, simulate_schedule
+
+    k = int(round(2.0 / P.sample_time))
+    seg = np.zeros(k, dtype=bool)
+    seg[0] = seg[k // 2] = True
+    sched = Schedule(kp=np.full(k, 1.2), kd=np.full(k, 0.09), reference=np.full(k, 0.3),
+                     feedforward=np.zeros(k), segment_start=seg)
+    r = simulate_schedule(RigidJoint.from_params(P), sched, sample_time=P.sample_time,
+                          max_torque=P.max_torque, encoder_resolution=P.encoder_resolution)
+    assert r.reference[k // 2] == pytest.approx(r.q_meas[k // 2] + 0.3)
+    assert r.reference[-1] == r.reference[k // 2] > 0.3 + 0.1
+    assert abs(r.reference[-1] - r.q[-1]) <= P.static / 1.2
+    with pytest.raises(ValueError, match="segment_start"):
+        Schedule(kp=np.ones(k), kd=np.ones(k), reference=np.zeros(k), feedforward=np.zeros(k),
+                 segment_start=np.zeros(k))

@@ -134,8 +134,8 @@ def run(args) -> int:
     res = simulate(params, ctrl, comp, duration=args.duration, plant=args.plant,
                    friction=params.friction_model().scaled(args.friction_scale))
     summary = {
-        "controller": res.info["controller"], "kp": res.info["kp"], "kd": res.info["kd"],
-        "compensator": res.info["compensator"], "compensation_scale": res.info["compensation_scale"],
+        "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
+        "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
         "final_error_rad": float(res.reference[-1] - res.q[-1]),
         "steady_state_error_deg": math.degrees(res.steady_state_error(min(0.5, args.duration / 2))),
         "max_abs_position_rad": float(np.max(np.abs(res.q))),

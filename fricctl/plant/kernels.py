@@ -16,7 +16,7 @@ from ..friction.kernels import sliding as _sliding
 from ..friction.kernels import viscous as _viscous
 from ..friction.layout import IDX
 
-__all__ = ["RIGID", "FLEXIBLE", "LUGRE", "advance", "state_torque", "advance_many"]
+__all__ = ["RIGID", "FLEXIBLE", "LUGRE", "advance", "state_torque"]
 
 #: Plant kinds understood by the compiled kernel.
 RIGID, FLEXIBLE, LUGRE = 0, 1, 2
@@ -323,10 +323,3 @@ def state_torque(kind, st, fp, tm, t, jm, k, d):
         return _flex_state_torque(fp, st[0], st[1], st[2], st[3], tm, t, jm, k, d)
     acc, zd, f = _lugre_deriv(fp, st[0], st[1], st[4], tm, t, 1.0 / jm)
     return f, acc
-
-
-@njit(cache=True)
-def advance_many(kind, states, fps, tms, t0, dt, nsub, jm, jl, k, d):
-    """Advance N states (rows of ``states``) over one interval; arrays of length N."""
-    for n in range(states.shape[0]):
-        advance(kind, states[n], fps[n], tms[n], t0, dt, nsub, jm[n], jl[n], k[n], d[n])

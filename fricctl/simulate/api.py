@@ -1,0 +1,386 @@
+"""Public entry points of the sampled loop: :func:`simulate`, :func:`simulate_batch`,
+:func:`simulate_schedule` and :func:`replay` (see :mod:`fricctl.simulate` for the timing)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .. import _validate as v
+from ..compensators import Compensator, NoCompensation
+from ..controllers import Controller
+from ..friction import NPARAM, FrictionLaw, FrictionModel
+from ..params import ActuatorParams
+from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
+from ..plant.joints import checked_state, checked_substeps
+from ..plant.kernels import advance, state_torque
+from .loop import OUTPUTS, run_compiled, run_python
+from .results import BatchResult, ReplayResult, SimInfo, SimResult
+
+__all__ = ["simulate", "simulate_batch", "simulate_schedule", "replay", "Schedule",
+           "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
+
+#: Internal RK4 sub-intervals per sample, by plant kind.
+DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, LUGRE: 40}
+#: Largest number of samples (runs x samples) one call simulates (12 arrays of 8 bytes each).
+MAX_SAMPLES = 2e8
+_PLANTS = {"rigid": RIGID, "flexible": FLEXIBLE}
+
+
+def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
+    """Friction whose drifting scale would turn negative drives the joint: refuse it."""
+    for t in (t0, t1):
+        if 1.0 + friction.drift * t <= 0.0:
+            raise ValueError(f"friction drift {friction.drift:g} 1/s makes the friction scale "
+                             f"1 + drift*t <= 0 at t = {t:g} s: friction would drive the joint")
+
+
+def _as_list(x, n, name, types):
+    if isinstance(x, (list, tuple)):
+        if len(x) not in (1, n):
+            raise ValueError(f"{name}: got {len(x)} items for {n} runs")
+        items = list(x) * (n if len(x) == 1 else 1)
+    else:
+        items = [x] * n
+    for it in items:
+        v.instance(name, it, types)
+    return items
+
+
+def _batch_size(*args):
+    sizes = {len(a) for a in args if isinstance(a, (list, tuple)) and len(a) != 1}
+    if len(sizes) > 1:
+        raise ValueError(f"batch arguments disagree on the number of runs: {sorted(sizes)}")
+    return sizes.pop() if sizes else 1
+
+
+def _samples(duration, ts, n_runs) -> int:
+    duration = v.real("duration", duration, positive=True, unit="s")
+    nsamp = int(round(duration / ts))
+    if nsamp < 2:
+        raise ValueError(f"duration {duration} s is shorter than two samples of {ts} s")
+    if n_runs * nsamp > MAX_SAMPLES:
+        raise ValueError(f"duration {duration} s x {n_runs} runs is {n_runs * nsamp} samples, more "
+                         f"than {MAX_SAMPLES:.0e}: shorten the duration or split the batch")
+    return nsamp
+
+
+def _noise(noise_std, rng, shape):
+    noise_std = v.real("noise_std", noise_std, nonneg=True, unit="N*m")
+    if noise_std > 0:
+        if not isinstance(rng, np.random.Generator):
+            raise ValueError("noise_std > 0 needs rng=numpy.random.default_rng(seed)")
+        return noise_std, rng.normal(0.0, noise_std, size=shape)
+    return noise_std, np.zeros((1, 1))
+
+
+def _outputs(n, nsamp):
+    return np.empty((len(OUTPUTS), n, nsamp)), np.empty((n, nsamp), dtype=np.bool_)
+
+
+def _arrays(out, stuck) -> dict:
+    return dict(zip(OUTPUTS, out), stuck=stuck)
+
+
+def simulate_batch(params, controller, compensator=None, *, duration: float,
+                   friction=None, plant: str = "rigid", substeps: int | None = None,
+                   q0=0.0, noise_std: float = 0.0, rng: np.random.Generator | None = None,
+                   delay: int = 0, quantize: bool = True) -> BatchResult:
+    """Simulate N variants of the closed (or open) loop in one call.
+
+    Any of ``params``, ``controller``, ``compensator`` and ``friction`` may be a
+    list of N items (the others are shared); ``q0`` may be an array of N.
+
+    Parameters
+    ----------
+    params : ActuatorParams or list
+        Actuator(s); inertia = ``total_inertia`` for the rigid joint.
+    controller : Controller or list
+    compensator : Compensator or list, optional
+        Default :class:`NoCompensation`.
+    duration : float
+        Simulated time [s]; K = round(duration/Ts) samples.
+    friction : FrictionModel or list, optional
+        Default ``params.friction_model()``.
+    plant : {"rigid", "flexible"}
+        Rigid joint (Eq. 2) or elastic joint (Eq. 1, needs ``link_inertia > 0``).
+    substeps : int, optional
+        RK4 sub-intervals per sample (default 4 rigid, 10 flexible, 40 LuGre).
+    q0 : float or array
+        Initial position [rad] (at rest).
+    noise_std : float
+        Standard deviation of white torque noise added at the joint [N*m];
+        needs ``rng``.
+    rng : numpy.random.Generator, optional
+    delay : int
+        Extra samples by which the joint receives the recorded torque late.
+    quantize : bool
+        Encoder quantisation on (default) or off.
+
+    Returns
+    -------
+    BatchResult
+    """
+    n = _batch_size(params, controller, compensator, friction)
+    plist = _as_list(params, n, "params", ActuatorParams)
+    clist = _as_list(controller, n, "controller", Controller)
+    comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
+                     Compensator)
+    if isinstance(friction, FrictionLaw):
+        friction = friction.model()
+    elif isinstance(friction, (list, tuple)):
+        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
+    frs = [p.friction_model() for p in plist] if friction is None else _as_list(
+        friction, n, "friction", FrictionModel)
+    kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
+    lugre = {f.is_lugre for f in frs}
+    if len(lugre) > 1:
+        raise ValueError("a batch cannot mix LuGre and stick-slip friction models")
+    if lugre.pop():
+        if kind == FLEXIBLE:
+            raise ValueError("LuGre friction is supported on the rigid joint only")
+        kind = LUGRE
+    ts = plist[0].sample_time
+    if any(p.sample_time != ts for p in plist):
+        raise ValueError("all runs of a batch must share one sample_time")
+    nsamp = _samples(duration, ts, n)
+    substeps = DEFAULT_SUBSTEPS[kind] if substeps is None else checked_substeps(substeps)
+    delay = v.integer("delay", delay, low=0)
+    quantize = v.flag("quantize", quantize)
+    noise_std, noise = _noise(noise_std, rng, (n, nsamp))
+    try:
+        q0a = np.broadcast_to(v.array("q0", q0, ndim=None), (n,)).copy()
+    except ValueError as exc:
+        if "q0" in str(exc):
+            raise
+        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
+                         f"{np.shape(q0)}") from None
+    if kind == FLEXIBLE and any(p.link_inertia <= 0 for p in plist):
+        raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
+    for f in frs:
+        _check_drift(f, 0.0, nsamp * ts)
+
+    t = np.arange(nsamp) * ts
+    flex = kind == FLEXIBLE
+    plant_args = dict(
+        kind=kind, fps=np.array([f.vector() for f in frs]).reshape(n, NPARAM),
+        jm=np.array([p.inertia if flex else p.total_inertia for p in plist]),
+        jl=np.array([p.link_inertia if flex else p.total_inertia for p in plist]),
+        kst=np.array([p.stiffness if flex else 0.0 for p in plist]),
+        dmp=np.array([p.joint_damping if flex else 0.0 for p in plist]))
+    res = np.array([p.encoder_resolution if quantize else 0.0 for p in plist])
+    loop_args = dict(ts=ts, substeps=substeps, tmax=np.array([p.max_torque for p in plist]),
+                     res=res, q0=q0a, delay=delay, noise=noise)
+    shared_ctrl = len({id(c) for c in clist}) == 1
+    signals = clist[:1] if shared_ctrl else clist
+    control = dict(ref=np.array([c.reference(t) for c in signals]),
+                   ff=np.array([c.feedforward(t) for c in signals]),
+                   kp=np.array([[c.kp] for c in clist], dtype=float),
+                   kd=np.array([[c.kd] for c in clist], dtype=float),
+                   segments=np.zeros((1, 1), dtype=np.bool_))
+    out, stuck = _outputs(n, nsamp)
+    compiled = [c.compiled() for c in comps]
+    for c in compiled:
+        if c is not None and not np.all(np.isfinite(c[1])):
+            raise ValueError("the compensator's parameters contain NaN or inf")
+    scales = np.array([c.scale for c in comps], dtype=float)
+    if all(c is not None for c in compiled) and len({c[0] for c in compiled}) == 1:
+        width = max(c[1].size for c in compiled)
+        cpar = np.zeros((n, width))
+        for i, (_, p) in enumerate(compiled):
+            cpar[i, :p.size] = p
+        run_compiled(plant_args, loop_args, control,
+                     dict(kind=compiled[0][0], params=cpar, scale=scales), out, stuck)
+        path = "compiled"
+    else:
+        run_python(plant_args, loop_args, control, comps, scales, out, stuck)
+        path = "python"
+    infos = tuple(SimInfo(
+        params=plist[i], friction_model=frs[i], controller=clist[i].name, kp=clist[i].kp,
+        kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
+        plant=plant if kind != LUGRE else "rigid (LuGre)", substeps=int(substeps),
+        delay=int(delay), noise_std=float(noise_std), encoder_resolution=float(res[i]), loop=path)
+        for i in range(n))
+    return BatchResult(t=t, infos=infos, **_arrays(out, stuck))
+
+
+def simulate(params: ActuatorParams, controller: Controller, compensator: Compensator | None = None, *,
+             duration: float, friction: FrictionModel | None = None, plant: str = "rigid",
+             substeps: int | None = None, q0: float = 0.0, noise_std: float = 0.0,
+             rng: np.random.Generator | None = None, delay: int = 0,
+             quantize: bool = True) -> SimResult:
+    """Simulate one run of the sampled loop; see :func:`simulate_batch` for the arguments.
+
+    Examples
+    --------
+    >>> from fricctl.params import paper_actuator
+    >>> from fricctl.controllers import open_loop, constant
+    >>> p = paper_actuator()
+    >>> r = simulate(p, open_loop(constant(0.99 * p.static)), duration=0.5)
+    >>> float(abs(r.q).max())          # 1 % below breakaway: no motion at all
+    0.0
+    """
+    v.instance("params", params, ActuatorParams)
+    v.instance("controller", controller, Controller)
+    return simulate_batch(params, controller, compensator, duration=duration, friction=friction,
+                          plant=plant, substeps=substeps, q0=q0, noise_std=noise_std, rng=rng,
+                          delay=delay, quantize=quantize)[0]
+
+
+class Schedule:
+    """Per-sample settings of one run: gains, reference, feed-forward, reference segments.
+
+    Parameters
+    ----------
+    kp, kd : array_like, shape (K,)
+        Gains at each sample [N*m/rad], [N*m*s/rad] (0 for open-loop segments).
+    reference : array_like, shape (K,)
+        Position reference of each segment, relative to the encoder reading at the
+        segment's first sample [rad].
+    feedforward : array_like, shape (K,)
+        Open-loop torque [N*m].
+    segment_start : array_like of bool, shape (K,)
+        True at the first sample of each segment (the reference is re-zeroed there).
+    """
+
+    def __init__(self, *, kp, kd, reference, feedforward, segment_start):
+        self.kp = v.array("kp", kp, min_size=2)
+        k = self.kp.size
+        self.kd = v.array("kd", kd, size=k)
+        self.reference = v.array("reference", reference, size=k)
+        self.feedforward = v.array("feedforward", feedforward, size=k)
+        seg = np.asarray(segment_start)
+        if seg.dtype != np.bool_ or seg.shape != (k,):
+            raise ValueError(f"segment_start must be a boolean array of {k} samples")
+        self.segment_start = seg
+        if np.any(self.kp < 0) or np.any(self.kd < 0):
+            raise ValueError("kp and kd must be >= 0")
+
+    def __len__(self):
+        return self.kp.size
+
+
+def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torque: float,
+                      encoder_resolution: float, substeps: int | None = None, delay: int = 0,
+                      noise=None) -> SimResult:
+    """Run the sampled loop on a joint with per-sample gains and references (no compensation).
+
+    The experiments of a record are chained as segments: each segment's reference is
+    relative to where its first sample finds the joint (the hidden-effect bench,
+    :mod:`fricctl.bench.hidden_effects`, builds records this way).
+
+    Parameters
+    ----------
+    joint : RigidJoint or FlexibleJoint
+    schedule : Schedule
+    sample_time : float
+        Ts [s].
+    max_torque : float
+        Saturation of the commanded and the received torque [N*m].
+    encoder_resolution : float
+        One encoder count [rad] (0: no quantisation).
+    substeps : int, optional
+        RK4 sub-intervals per sample (default by plant kind).
+    delay : int
+        Samples by which the joint receives the recorded torque late.
+    noise : array_like, shape (K,), optional
+        Torque noise added to what the joint receives [N*m].
+
+    Returns
+    -------
+    SimResult
+        ``info.params`` is None (no :class:`~fricctl.params.ActuatorParams`); ``info.kp``
+        and ``info.kd`` are the largest gains of the schedule.
+    """
+    v.instance("joint", joint, (RigidJoint, FlexibleJoint))
+    v.instance("schedule", schedule, Schedule)
+    ts = v.real("sample_time", sample_time, positive=True, unit="s")
+    tmax = v.real("max_torque", max_torque, positive=True, unit="N*m")
+    res = v.real("encoder_resolution", encoder_resolution, nonneg=True, unit="rad")
+    nsamp = len(schedule)
+    _samples(nsamp * ts, ts, 1)
+    a = joint.kernel_args()
+    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    delay = v.integer("delay", delay, low=0)
+    noise = (np.zeros((1, 1)) if noise is None
+             else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
+    _check_drift(joint.friction, 0.0, nsamp * ts)
+    plant_args = dict(kind=a.kind, fps=joint.friction.vector().reshape(1, NPARAM),
+                      jm=np.array([a.motor_inertia]), jl=np.array([a.load_inertia]),
+                      kst=np.array([a.stiffness]), dmp=np.array([a.damping]))
+    loop_args = dict(ts=ts, substeps=substeps, tmax=np.array([tmax]), res=np.array([res]),
+                     q0=np.zeros(1), delay=delay, noise=noise)
+    control = dict(ref=schedule.reference[None, :], ff=schedule.feedforward[None, :],
+                   kp=schedule.kp[None, :], kd=schedule.kd[None, :],
+                   segments=schedule.segment_start[None, :])
+    out, stuck = _outputs(1, nsamp)
+    run_compiled(plant_args, loop_args, control,
+                 dict(kind=NoCompensation().compiled()[0], params=np.zeros((1, 1)),
+                      scale=np.ones(1)), out, stuck)
+    info = SimInfo(params=None, friction_model=joint.friction, controller="schedule",
+                   kp=float(schedule.kp.max()), kd=float(schedule.kd.max()), compensator="none",
+                   compensation_scale=1.0,
+                   plant={RIGID: "rigid", FLEXIBLE: "flexible", LUGRE: "rigid (LuGre)"}[a.kind],
+                   substeps=int(substeps), delay=int(delay),
+                   noise_std=float(np.std(noise)) if noise.size > 1 else 0.0,
+                   encoder_resolution=res, loop="compiled")
+    return SimResult(t=np.arange(nsamp) * ts, info=info,
+                     **{k: x[0] for k, x in _arrays(out, stuck).items()})
+
+
+@njit(cache=True)
+def _replay(kind, st, fp, torque, t0, ts, nsub, jm, jl, k, d, o_q, o_w, o_f):
+    for i in range(torque.size):
+        t = t0 + i * ts
+        o_q[i] = st[0]
+        o_w[i] = st[1]
+        f, a = state_torque(kind, st, fp, torque[i], t, jm, k, d)
+        o_f[i] = f
+        advance(kind, st, fp, torque[i], t, ts, nsub, jm, jl, k, d)
+
+
+def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float = 0.0,
+           t0: float = 0.0, substeps: int | None = None, state=None) -> ReplayResult:
+    """Drive a joint open loop with a recorded torque sequence (held per sample).
+
+    This is "what the model predicts" for a measured record: the joint starts at
+    ``(q0, omega0)`` (or a full ``state``) and receives ``torque[i]`` over
+    ``[t0 + i*Ts, t0 + (i+1)*Ts)``.  No control loop: not the sampled loop of
+    :func:`simulate`, only the plant.
+
+    Parameters
+    ----------
+    joint : RigidJoint or FlexibleJoint
+    torque : array_like, shape (K,)
+        Torque held over each sample [N*m].
+    sample_time : float
+        Ts [s].
+    q0, omega0 : float
+        Initial position [rad] and velocity [rad/s].
+    t0 : float
+        Time of the first sample [s] (matters for a drifting friction model).
+    substeps : int, optional
+        RK4 sub-intervals per sample.
+    state : array_like, optional
+        Full initial state ``[q, omega, q_load, omega_load, z]``; overrides q0/omega0.
+
+    Returns
+    -------
+    ReplayResult
+        Position [rad], velocity [rad/s] and resistive torque [N*m] at each sample
+        instant (before that sample's torque acts).
+    """
+    v.instance("joint", joint, (RigidJoint, FlexibleJoint))
+    tq = v.array("torque", torque, min_size=1)
+    ts = v.real("sample_time", sample_time, positive=True, unit="s")
+    a = joint.kernel_args()
+    st = joint.initial_state(q0, omega0) if state is None else checked_state(state)
+    t0 = v.real("t0", t0)
+    _check_drift(joint.friction, t0, t0 + tq.size * ts)
+    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
+    _replay(a.kind, st, joint.friction.vector(), tq, t0, ts, substeps, a.motor_inertia,
+            a.load_inertia, a.stiffness, a.damping, o_q, o_w, o_f)
+    return ReplayResult(q=o_q, omega=o_w, friction=o_f)

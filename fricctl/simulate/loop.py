@@ -1,0 +1,221 @@
+"""The ONE sampled-data loop (compiled), used by every simulation of fricctl.
+
+One sample of the loop is three compiled steps, each written once:
+
+1. :func:`observe` -- encoder reading ``y_k`` and backward-difference velocity;
+2. :func:`control_torque` -- ``Tc_k = ff_k + Kp_k*(r_k - y_k) - Kd_k*omega_hat_k``;
+3. :func:`act` -- ``Tm_{k+1} = clip(Tc_k + s*T^at_k)``, what the joint receives
+   (delay, noise, saturation), the records, and one held-torque interval of the plant.
+
+Between 2 and 3 the compensator gives ``T^at_k`` from ``(Tm_k, omega_hat_k)``.
+:func:`run_compiled` chains the steps for compensators the kernel evaluates itself
+(none, Coulomb, a :class:`fricctl.nn.FrictionNet`); :func:`run_python` chains the
+same steps for any other estimator callable (evaluated in Python between 2 and 3).
+The timing is stated in :mod:`fricctl.simulate`.
+
+Per-sample settings are 2-D arrays indexed ``[run, sample]``; a single row (or a
+single column) is shared by every run (or every sample): gains constant over a run
+are an ``(N, 1)`` array, a shared reference a ``(1, K)`` one.  ``segment_start``
+marks samples where the reference is re-zeroed at the current encoder reading
+(the hidden-effect bench chains experiments that way).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..compensators import COMP_COULOMB, COMP_NN
+from ..plant.kernels import advance, state_torque
+
+__all__ = ["OUTPUTS", "observe", "control_torque",
+           "compensate", "act", "run_compiled", "run_python"]
+
+#: Rows of the float output array, in order.
+OUTPUTS = ("q", "q_meas", "q_load", "omega", "omega_hat", "torque_cmd", "torque_motor",
+           "friction", "friction_est", "accel", "reference")
+_Q, _Y, _QL, _W, _WH, _TC, _TM, _F, _FH, _A, _R = range(len(OUTPUTS))
+
+
+@njit(cache=True)
+def _at(a, n, k):
+    """``a[n, k]`` with a single row or column shared by every run or sample."""
+    return a[min(n, a.shape[0] - 1), min(k, a.shape[1] - 1)]
+
+
+@njit(cache=True)
+def quantize(q, res):
+    """Encoder reading of position q with a count of ``res`` (0: no quantisation)."""
+    if res > 0.0:
+        return res * math.floor(q / res)
+    return q
+
+
+@njit(cache=True)
+def observe(q, y_prev, k, ts, res):
+    """(y_k, omega_hat_k): encoder reading and backward difference (0 at k = 0)."""
+    y = quantize(q, res)
+    wh = (y - y_prev) / ts if k > 0 else 0.0
+    return y, wh
+
+
+@njit(cache=True)
+def control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd):
+    """(r_k, Tc_k) of run n at sample k; ``offset`` is added to the reference of a segment."""
+    r = _at(ref, n, k)
+    if has_segments:
+        r = offset + r
+    tc = _at(ff, n, k) + _at(kp, n, k) * (r - y) - _at(kd, n, k) * wh
+    return r, tc
+
+
+@njit(cache=True)
+def compensate(kind, p, tm, wh):
+    """Friction estimate T^at of a compiled compensator (kind, parameter vector)."""
+    if kind == COMP_COULOMB:
+        if wh > p[2]:
+            return p[0]
+        if wh < -p[2]:
+            return -p[1]
+        return 0.0
+    if kind == COMP_NN:
+        h = int(p[0])
+        x0 = tm
+        x1 = wh
+        if p[7] != 0.0:
+            x0 = min(max(x0, p[8]), p[10])
+            x1 = min(max(x1, p[9]), p[11])
+        x0 = (x0 - p[1]) / p[3]
+        x1 = (x1 - p[2]) / p[4]
+        y = p[12]
+        w1 = 13
+        b1 = 13 + 2 * h
+        w2 = b1 + h
+        for j in range(h):
+            y += p[w2 + j] * math.tanh(p[w1 + 2 * j] * x0 + p[w1 + 2 * j + 1] * x1 + p[b1 + j])
+        return y * p[6] + p[5]
+    return 0.0
+
+
+@njit(cache=True)
+def act(n, k, st, tm_k, tc, fh, y, wh, r, cscale, tmax, delay, noise, kind, fp, ts, nsub,
+        jm, jl, kst, dmp, out, stuck):
+    """Command, what the joint receives, the records of sample k, one interval; returns Tm_{k+1}."""
+    tm_next = min(max(tc + cscale * fh, -tmax), tmax)
+    if delay > 0:
+        applied = out[_TM, n, k - delay] if k >= delay else 0.0
+    else:
+        applied = tm_k
+    if noise.shape[1] == out.shape[2]:
+        applied += noise[min(n, noise.shape[0] - 1), k]
+    applied = min(max(applied, -tmax), tmax)
+    out[_Q, n, k] = st[0]
+    out[_Y, n, k] = y
+    out[_QL, n, k] = st[2]
+    out[_W, n, k] = st[1]
+    out[_WH, n, k] = wh
+    out[_TC, n, k] = tc
+    out[_TM, n, k] = tm_k
+    out[_FH, n, k] = fh
+    out[_R, n, k] = r
+    stuck[n, k] = st[1] == 0.0
+    f, a = state_torque(kind, st, fp, applied, k * ts, jm, kst, dmp)
+    out[_F, n, k] = f
+    out[_A, n, k] = a
+    advance(kind, st, fp, applied, k * ts, ts, nsub, jm, jl, kst, dmp)
+    return tm_next
+
+
+@njit(cache=True)
+def _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
+             ckind, cpar, cscale, delay, noise, out, stuck):
+    st = np.zeros(5)
+    st[0] = q0[n]
+    st[2] = q0[n]
+    tm_next = 0.0
+    y_prev = quantize(q0[n], res[n])
+    offset = 0.0
+    has_segments = segs.shape[1] == out.shape[2]
+    for k in range(out.shape[2]):
+        y, wh = observe(st[0], y_prev, k, ts, res[n])
+        if has_segments and _at(segs, n, k):
+            offset = y
+        r, tc = control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd)
+        tm_k = tm_next
+        fh = compensate(ckind, cpar[n], tm_k, wh)
+        tm_next = act(n, k, st, tm_k, tc, fh, y, wh, r, cscale[n], tmax[n], delay, noise, kind,
+                      fps[n], ts, nsub, jm[n], jl[n], kst[n], dmp[n], out, stuck)
+        y_prev = y
+
+
+@njit(cache=True)
+def _runs_serial(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
+                 ckind, cpar, cscale, delay, noise, out, stuck):
+    for n in range(fps.shape[0]):
+        _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
+                 ckind, cpar, cscale, delay, noise, out, stuck)
+
+
+@njit(cache=True, parallel=True)
+def _runs_parallel(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
+                   ckind, cpar, cscale, delay, noise, out, stuck):
+    for n in prange(fps.shape[0]):  # runs are independent: one per thread
+        _one_run(np.int64(n), kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp,
+                 kd, segs, ckind, cpar, cscale, delay, noise, out, stuck)
+
+
+def run_compiled(plant, loop, control, compensator, out, stuck):
+    """Run every run of the batch through the compiled loop (runs in parallel when N > 1).
+
+    ``plant``, ``loop``, ``control`` and ``compensator`` are the argument groups built by
+    :func:`fricctl.simulate.api.simulate_batch` (dicts of arrays); ``out`` (11, N, K) and
+    ``stuck`` (N, K) receive the records.
+    """
+    runs = _runs_parallel if plant["fps"].shape[0] > 1 else _runs_serial
+    runs(plant["kind"], loop["ts"], loop["substeps"], plant["jm"], plant["jl"], plant["kst"],
+         plant["dmp"], plant["fps"], loop["tmax"], loop["res"], loop["q0"], control["ref"],
+         control["ff"], control["kp"], control["kd"], control["segments"], compensator["kind"],
+         compensator["params"], compensator["scale"], loop["delay"], loop["noise"], out, stuck)
+
+
+def run_python(plant, loop, control, estimators, scales, out, stuck):
+    """The same steps as :func:`run_compiled`, with ``T^at`` from Python callables.
+
+    ``estimators`` holds one callable ``(tm, omega_hat) -> T^at`` per run (the same
+    object for every run is evaluated once per sample on the whole batch).
+    """
+    n_runs, nsamp = stuck.shape
+    ts, res, tmax = loop["ts"], loop["res"], loop["tmax"]
+    states = np.zeros((n_runs, 5))
+    states[:, 0] = loop["q0"]
+    states[:, 2] = loop["q0"]
+    tm_next = np.zeros(n_runs)
+    y_prev = np.array([quantize(q, r) for q, r in zip(loop["q0"], res)])
+    offset = np.zeros(n_runs)
+    segs = control["segments"]
+    has_segments = segs.shape[1] == nsamp
+    y, wh, r, tc = (np.empty(n_runs) for _ in range(4))
+    shared = len({id(e) for e in estimators}) == 1
+    for k in range(nsamp):
+        for n in range(n_runs):
+            y[n], wh[n] = observe(states[n, 0], y_prev[n], k, ts, res[n])
+            if has_segments and segs[min(n, segs.shape[0] - 1), k]:
+                offset[n] = y[n]
+            r[n], tc[n] = control_torque(n, k, y[n], wh[n], offset[n], has_segments,
+                                         control["ref"], control["ff"], control["kp"], control["kd"])
+        tm_k = tm_next.copy()
+        if shared:
+            fh = np.broadcast_to(np.asarray(estimators[0](tm_k, wh), dtype=float), (n_runs,)).copy()
+        else:
+            fh = np.array([float(np.asarray(e(tm_k[i:i + 1], wh[i:i + 1])).ravel()[0])
+                           for i, e in enumerate(estimators)])
+        if not np.all(np.isfinite(fh)):
+            raise ValueError(f"the compensator returned NaN or inf at t = {k * ts:g} s")
+        for n in range(n_runs):
+            tm_next[n] = act(n, k, states[n], tm_k[n], tc[n], fh[n], y[n], wh[n], r[n], scales[n],
+                             tmax[n], loop["delay"], loop["noise"], plant["kind"], plant["fps"][n],
+                             ts, loop["substeps"], plant["jm"][n], plant["jl"][n], plant["kst"][n],
+                             plant["dmp"][n], out, stuck)
+        y_prev = y.copy()
