@@ -1,7 +1,7 @@
 """Benchmark of the diagnosis (issue 7): confusion matrix on random hidden-effect records,
 and the time of one 40 s record end to end against a named alternative.
 
-Records: :func:`fricctl.hidden_effects.hidden_effect_record`, seeds [7000, i]; every
+Records: :func:`fricctl.bench.hidden_effects.hidden_effect_record`, seeds [7000, i]; every
 fifth record is drawn with a nominal model (causes none / inertia / friction_scale),
 the others from the nine hidden causes.  A second, stratified pass forces every cause
 k times (seeds [7200, j, i]) so that no cause escapes the draw.  Timing: one 40 s record at 500 Hz, end to
@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from fricctl.diagnose import CAUSES, NOMINAL_ONLY, diagnose
-from fricctl.hidden_effects import hidden_effect_record
+from fricctl.bench.hidden_effects import hidden_effect_record
 
 
 def confusion(n):

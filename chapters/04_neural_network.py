@@ -37,7 +37,7 @@ import numpy as np
 
 from fricctl import figures
 from fricctl import paper
-from fricctl.experiments import train_network
+from fricctl.bench.experiments import train_network
 from fricctl.nn import c_source, fit_percent, fit_report, load_net, r_squared, save_net
 from fricctl.params import paper_actuator
 

@@ -34,7 +34,7 @@ import numpy as np
 from fricctl import figures
 from fricctl import paper
 from fricctl.compensators import NNCompensator
-from fricctl.experiments import dead_zone, predicted_dead_zone
+from fricctl.bench.experiments import dead_zone, predicted_dead_zone
 from fricctl.params import paper_actuator
 
 FAST = os.environ.get("FRICCTL_FAST") == "1"

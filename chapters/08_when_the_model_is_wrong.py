@@ -20,7 +20,7 @@ from fricctl.controllers import Controller, sinusoid, step
 from fricctl.diagnose import JointModel, diagnose, prediction_errors
 from fricctl.figures import plot_residual, plot_residual_spectrum, plot_simulation
 from fricctl.friction import Coulomb, Viscous
-from fricctl.hidden_effects import hidden_effect_record
+from fricctl.bench.hidden_effects import hidden_effect_record
 from fricctl.params import PAPER_LINK_INERTIA, paper_actuator
 from fricctl.simulate import simulate
 

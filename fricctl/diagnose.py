@@ -1052,7 +1052,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     Examples
     --------
     >>> import numpy as np
-    >>> from fricctl.hidden_effects import hidden_effect_record
+    >>> from fricctl.bench.hidden_effects import hidden_effect_record
     >>> rec = hidden_effect_record(np.random.default_rng(3), cause="time_delay", duration=20.0)
     >>> diagnose(rec.run).cause
     'time_delay'

@@ -51,7 +51,7 @@ from .compensators import CoulombCompensator, NNCompensator, NoCompensation
 from .design import Design, DesignWarning, linear_response, paper_designs
 from .estimation import DerivativeEstimate, backward_difference, estimate
 from .friction import FrictionModel
-from .experiments import (DeadZone, DeadZonePrediction, Experiment, Patterns, dead_zone, friction_patterns,
+from .bench.experiments import (DeadZone, DeadZonePrediction, Experiment, Patterns, dead_zone, friction_patterns,
                           predicted_dead_zone, train_network, training_experiments, true_patterns)
 from .nn import FitReport, FrictionNet, TrainingResult, fit_report
 from .params import ActuatorParams, paper_actuator

@@ -7,7 +7,7 @@ import pytest
 
 from fricctl.cli import main
 from fricctl.diagnose import CAUSES, JointModel
-from fricctl.hidden_effects import hidden_effect_record
+from fricctl.bench.hidden_effects import hidden_effect_record
 
 
 @pytest.fixture(scope="module")

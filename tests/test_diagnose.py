@@ -1,4 +1,4 @@
-"""Tests of fricctl.diagnose and fricctl.hidden_effects.
+"""Tests of fricctl.diagnose and fricctl.bench.hidden_effects.
 
 The hidden-effect tests hand ``diagnose`` only the record (and, for the
 nominal-model causes, the nominal model an engineer would hold); the generator's
@@ -15,7 +15,7 @@ import pytest
 from fricctl.diagnose import (CAUSES, MIN_SCORE, JointModel, diagnose, prediction_errors,
                               torque_residual, windowed_simulation)
 from fricctl.friction import Coulomb, Viscous
-from fricctl.hidden_effects import (ENCODER_RESOLUTION, HIDDEN_CAUSES, NOMINAL_CAUSES,
+from fricctl.bench.hidden_effects import (ENCODER_RESOLUTION, HIDDEN_CAUSES, NOMINAL_CAUSES,
                                     hidden_effect_record)
 
 ALL = HIDDEN_CAUSES + NOMINAL_CAUSES

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from fricctl.compensators import NNCompensator
-from fricctl.experiments import (compare_estimators, dead_zone, friction_patterns, paper_gains,
+from fricctl.bench.experiments import (compare_estimators, dead_zone, friction_patterns, paper_gains,
                                  predicted_dead_zone, train_network, training_experiments)
 from fricctl.friction import Coulomb, Viscous
 from fricctl.params import paper_actuator

@@ -6,7 +6,7 @@ import pytest
 from fricctl import figures
 from fricctl.compensators import NNCompensator
 from fricctl.controllers import p_control, step
-from fricctl.experiments import dead_zone
+from fricctl.bench.experiments import dead_zone
 from fricctl.params import paper_actuator
 from fricctl.simulate import simulate
 

@@ -6,7 +6,7 @@ import sys
 def test_core_modules_do_not_import_matplotlib():
     # only fricctl.figures and the CLI plot; python-control (fricctl.design) imports matplotlib
     # itself on import, so it is not in this list
-    code = ("import sys, fricctl, fricctl.simulate, fricctl.experiments, fricctl.nn, fricctl.identify, "
+    code = ("import sys, fricctl, fricctl.simulate, fricctl.bench.experiments, fricctl.nn, fricctl.identify, "
             "fricctl.diagnose, fricctl.datasets, fricctl.estimation; "
             "print('matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

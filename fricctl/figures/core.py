@@ -97,7 +97,7 @@ def plot_dead_zone(dead_zones, *, ax=None):
     Parameters
     ----------
     dead_zones : DeadZone or list of DeadZone
-        From :func:`fricctl.experiments.dead_zone`.
+        From :func:`fricctl.bench.experiments.dead_zone`.
     """
     ax = get_ax(ax)
     if not isinstance(dead_zones, (list, tuple)):

@@ -26,13 +26,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .compensators import Compensator, NoCompensation
-from .controllers import open_loop, p_control, pd_control, sequence, sinusoid
-from .datasets import Run
-from .estimation import ESTIMATORS, estimate
-from .friction import FrictionModel
-from .params import ActuatorParams, paper_actuator
-from .simulate import SimResult, simulate, simulate_batch
+from ..compensators import Compensator, NoCompensation
+from ..controllers import open_loop, p_control, pd_control, sequence, sinusoid
+from ..datasets import Run
+from ..estimation import ESTIMATORS, estimate
+from ..friction import FrictionModel
+from ..params import ActuatorParams, paper_actuator
+from ..simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
     "Experiment", "training_experiments", "Patterns", "friction_patterns", "true_patterns", "train_network",
@@ -57,7 +57,7 @@ def paper_gains(params: ActuatorParams):
     """
     import warnings
 
-    from .design import DesignWarning, design_p, design_pd
+    from ..design import DesignWarning, design_p, design_pd
 
     p = design_p(params, rise_time=0.2, damping=0.3)
     with warnings.catch_warnings():
@@ -218,7 +218,7 @@ def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 
     fricctl.nn.TrainingResult
         ``.net`` and ``.history``.
     """
-    from .nn import train_backprop, train_casadi
+    from ..nn import train_backprop, train_casadi
 
     rng = np.random.default_rng(0) if rng is None else rng
     if trainer not in ("casadi", "backprop"):

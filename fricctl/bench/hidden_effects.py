@@ -76,11 +76,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .datasets import Run
-from .plant import JointModel
-from .friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
-from .plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
-from .simulate import Schedule, simulate_schedule
+from ..datasets import Run
+from ..plant import JointModel
+from ..friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
+from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
+from ..simulate import Schedule, simulate_schedule
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION"]
