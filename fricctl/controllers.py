@@ -16,11 +16,12 @@ callables of time (vectorised), built with :func:`step`, :func:`sawtooth`,
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+
+from . import _validate as v
 
 __all__ = [
     "Controller", "open_loop", "p_control", "pd_control",
@@ -28,13 +29,7 @@ __all__ = [
 ]
 
 
-def _finite(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number, got {v!r}")
-    return float(v)
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Signal:
     """A time signal: ``signal(t)`` evaluates it on an array of times [s].
 
@@ -54,7 +49,8 @@ class Signal:
     def __add__(self, other: "Signal") -> "Signal":
         if not isinstance(other, Signal):
             return NotImplemented
-        return Signal(lambda t: self.func(t) + other.func(t), f"{self.description} + {other.description}")
+        return Signal(func=lambda t: self.func(t) + other.func(t),
+                      description=f"{self.description} + {other.description}")
 
     def __repr__(self):
         return f"Signal({self.description})"
@@ -62,48 +58,43 @@ class Signal:
 
 def constant(value: float) -> Signal:
     """Constant signal."""
-    v = _finite("value", value)
-    return Signal(lambda t: np.full_like(t, v), f"constant {v:g}")
+    c = v.real("value", value)
+    return Signal(func=lambda t: np.full_like(t, c), description=f"constant {c:g}")
 
 
 def step(amplitude: float, t0: float = 0.0) -> Signal:
     """Step of ``amplitude`` at ``t0`` [s] (value ``amplitude`` for t >= t0)."""
-    a = _finite("amplitude", amplitude)
-    t0 = _finite("t0", t0)
-    return Signal(lambda t: np.where(t >= t0, a, 0.0), f"step {a:g} at {t0:g} s")
+    a = v.real("amplitude", amplitude)
+    t0 = v.real("t0", t0)
+    return Signal(func=lambda t: np.where(t >= t0, a, 0.0), description=f"step {a:g} at {t0:g} s")
 
 
 def sawtooth(amplitude: float, period: float) -> Signal:
     """Rising ramp from 0 to ``amplitude`` over each ``period`` [s], then reset."""
-    a = _finite("amplitude", amplitude)
-    p = _finite("period", period)
-    if p <= 0:
-        raise ValueError(f"period must be > 0 s, got {period!r}")
-    return Signal(lambda t: a * np.mod(t, p) / p, f"sawtooth {a:g}, period {p:g} s")
+    a = v.real("amplitude", amplitude)
+    p = v.real("period", period, positive=True, unit="s")
+    return Signal(func=lambda t: a * np.mod(t, p) / p, description=f"sawtooth {a:g}, period {p:g} s")
 
 
 def sinusoid(amplitude: float, frequency: float, phase: float = 0.0, offset: float = 0.0) -> Signal:
     """``offset + amplitude*sin(2*pi*frequency*t + phase)``; frequency [Hz]."""
-    a = _finite("amplitude", amplitude)
-    f = _finite("frequency", frequency)
-    ph = _finite("phase", phase)
-    off = _finite("offset", offset)
-    if f <= 0:
-        raise ValueError(f"frequency must be > 0 Hz, got {frequency!r}")
-    return Signal(lambda t: off + a * np.sin(2 * np.pi * f * t + ph), f"sinusoid {a:g} at {f:g} Hz")
+    a = v.real("amplitude", amplitude)
+    f = v.real("frequency", frequency, positive=True, unit="Hz")
+    ph = v.real("phase", phase)
+    off = v.real("offset", offset)
+    return Signal(func=lambda t: off + a * np.sin(2 * np.pi * f * t + ph),
+                  description=f"sinusoid {a:g} at {f:g} Hz")
 
 
 def ramp_sinusoid(amplitude_start: float, amplitude_end: float, frequency: float,
                   duration: float) -> Signal:
     """Sinusoid whose amplitude grows linearly from start to end over ``duration`` [s]."""
-    a0 = _finite("amplitude_start", amplitude_start)
-    a1 = _finite("amplitude_end", amplitude_end)
-    f = _finite("frequency", frequency)
-    d = _finite("duration", duration)
-    if f <= 0 or d <= 0:
-        raise ValueError("frequency and duration must be > 0")
-    return Signal(lambda t: (a0 + (a1 - a0) * np.clip(t / d, 0, 1)) * np.sin(2 * np.pi * f * t),
-                  f"sinusoid {a0:g}->{a1:g} at {f:g} Hz")
+    a0 = v.real("amplitude_start", amplitude_start)
+    a1 = v.real("amplitude_end", amplitude_end)
+    f = v.real("frequency", frequency, positive=True, unit="Hz")
+    d = v.real("duration", duration, positive=True, unit="s")
+    return Signal(func=lambda t: (a0 + (a1 - a0) * np.clip(t / d, 0, 1)) * np.sin(2 * np.pi * f * t),
+                  description=f"sinusoid {a0:g}->{a1:g} at {f:g} Hz")
 
 
 def sequence(levels, durations) -> Signal:
@@ -111,12 +102,8 @@ def sequence(levels, durations) -> Signal:
 
     After the last interval the signal holds the last level.
     """
-    lv = np.asarray(levels, dtype=float)
-    du = np.asarray(durations, dtype=float)
-    if lv.ndim != 1 or du.shape != lv.shape or lv.size == 0:
-        raise ValueError("levels and durations must be 1-D arrays of equal, non-zero length")
-    if not (np.all(np.isfinite(lv)) and np.all(np.isfinite(du))):
-        raise ValueError("levels and durations must be finite")
+    lv = v.array("levels", levels, min_size=1)
+    du = v.array("durations", durations, size=lv.size)
     if np.any(du <= 0):
         raise ValueError("durations must be > 0 s")
     edges = np.concatenate([[0.0], np.cumsum(du)])
@@ -125,28 +112,24 @@ def sequence(levels, durations) -> Signal:
         i = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, lv.size - 1)
         return lv[i]
 
-    return Signal(f, f"sequence of {lv.size} levels")
+    return Signal(func=f, description=f"sequence of {lv.size} levels")
 
 
 def from_array(t_samples, values) -> Signal:
     """Zero-order hold of ``values`` given at increasing times ``t_samples`` [s]."""
-    ts = np.asarray(t_samples, dtype=float)
-    v = np.asarray(values, dtype=float)
-    if ts.ndim != 1 or v.shape != ts.shape or ts.size == 0:
-        raise ValueError("t_samples and values must be 1-D arrays of equal, non-zero length")
-    if not (np.all(np.isfinite(ts)) and np.all(np.isfinite(v))):
-        raise ValueError("t_samples and values must be finite")
+    ts = v.array("t_samples", t_samples, min_size=1)
+    vals = v.array("values", values, size=ts.size)
     if np.any(np.diff(ts) <= 0):
         raise ValueError("t_samples must be strictly increasing")
 
     def f(t):
         i = np.clip(np.searchsorted(ts, t + 1e-12 * max(1.0, abs(ts[-1])), side="right") - 1, 0, ts.size - 1)
-        return v[i]
+        return vals[i]
 
-    return Signal(f, f"array of {v.size} samples")
+    return Signal(func=f, description=f"array of {vals.size} samples")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Controller:
     """``Tc = feedforward(t) + kp*(reference(t) - y) - kd*omega_hat``.
 
@@ -171,12 +154,11 @@ class Controller:
     name: str = "open loop"
 
     def __post_init__(self):
-        _finite("kp", self.kp)
-        _finite("kd", self.kd)
-        if self.kp < 0 or self.kd < 0:
-            raise ValueError(f"gains must be >= 0, got kp={self.kp!r}, kd={self.kd!r}")
-        if not isinstance(self.reference, Signal) or not isinstance(self.feedforward, Signal):
-            raise ValueError("reference and feedforward must be fricctl.controllers.Signal objects")
+        object.__setattr__(self, "kp", v.real("kp", self.kp, nonneg=True, unit="N*m/rad"))
+        object.__setattr__(self, "kd", v.real("kd", self.kd, nonneg=True, unit="N*m*s/rad"))
+        v.instance("reference", self.reference, Signal, "a fricctl.controllers.Signal")
+        v.instance("feedforward", self.feedforward, Signal, "a fricctl.controllers.Signal")
+        v.text("name", self.name)
 
     def __call__(self, t, y, omega_hat):
         """Control torque Tc at times ``t`` for readings ``y`` and ``omega_hat``."""

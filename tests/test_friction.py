@@ -65,3 +65,55 @@ def test_model_validation():
         Coulomb(0.1).model().scaled(-1.0)
     m = paper_actuator().friction_model()
     assert FrictionModel.from_dict(m.as_dict()) == m
+
+
+def _random_model(rng):
+    """A random mix of laws (each present with probability 1/2), per-direction magnitudes."""
+    m = FrictionModel()
+    if rng.random() < 0.5:
+        m = m + Viscous(pos=rng.uniform(0, 0.05), neg=rng.uniform(0, 0.05))
+    m = m + Coulomb(pos=rng.uniform(0.01, 0.3), neg=rng.uniform(0.01, 0.3))
+    if rng.random() < 0.5:
+        m = m + Stribeck(pos=rng.uniform(0, 0.2), neg=rng.uniform(0, 0.2),
+                         velocity=rng.uniform(0.005, 0.5), exponent=rng.choice([2.0, rng.uniform(0.5, 3)]))
+    if rng.random() < 0.5:
+        m = m + Static(pos=rng.uniform(0, 0.1), neg=rng.uniform(0, 0.1))
+    if rng.random() < 0.5:
+        m = m + LoadDependent(rng.uniform(0, 0.3))
+    if rng.random() < 0.5:
+        m = m + PositionRipple(rng.uniform(0, 0.1), rng.uniform(0.01, 1.0), rng.uniform(-3, 3))
+    if rng.random() < 0.5:
+        m = m.scaled(rng.uniform(0.5, 1.5)).with_drift(rng.uniform(-0.01, 0.01))
+    return m
+
+
+def test_compiled_kernel_equals_friction_model():
+    # the numba primitives the plant integrates and FrictionModel's numpy evaluation are two
+    # implementations of one law: pinned together on random law mixes (1e-12 relative)
+    from fricctl.friction import kernels
+
+    rng = np.random.default_rng(2024)
+    for _ in range(200):
+        m = _random_model(rng)
+        fp = m.vector()
+        for _ in range(5):
+            w = rng.choice([-1, 1]) * 10 ** rng.uniform(-4, 1.5)
+            q, tm, t = rng.uniform(-10, 10), rng.uniform(-1.5, 1.5), rng.uniform(0, 30)
+            s = 1.0 if w > 0 else -1.0
+            numpy_t = m.torque(w, q, tm, t)
+            kernel_t = kernels.sliding(fp, w, s, tm, t) + kernels.ripple(fp, q)
+            assert kernel_t == pytest.approx(numpy_t, rel=1e-12, abs=1e-15)
+            for d in (1, -1):
+                assert kernels.breakaway(fp, float(d), tm, t) == pytest.approx(
+                    m.breakaway(d, q, tm, t), rel=1e-12, abs=1e-15)
+            assert kernels.scale_at(fp, t) == pytest.approx(float(m.scale_at(t)), rel=1e-15)
+
+
+def test_layout_matches_the_model_fields():
+    from dataclasses import fields
+
+    from fricctl.friction import FIELDS, IDX, NPARAM
+
+    assert tuple(f.name for f in fields(FrictionModel)) == FIELDS
+    v = (Viscous(0.1) + Coulomb(0.2)).vector()
+    assert v.size == NPARAM and v[IDX["viscous_pos"]] == 0.1 and v[IDX["coulomb_neg"]] == 0.2

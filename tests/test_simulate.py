@@ -172,7 +172,7 @@ def test_bad_objects_raise():
         simulate_batch([P, P], open_loop(constant(0.1)), friction=[Coulomb(0.1).model()] * 3, duration=1.0)
     with pytest.raises(ValueError, match="strictly increasing"):
         from_array([0.0, 0.0], [1.0, 2.0])
-    with pytest.raises(ValueError, match="gains"):
+    with pytest.raises(ValueError, match="kp must be >= 0"):
         p_control(-1.0, step(1.0))
     with pytest.raises(ValueError, match="NaN"):  # a Python estimator returning NaN is caught
         simulate(P, open_loop(constant(0.0)), NNCompensator(lambda a, b: np.full(np.shape(a), np.nan)),
