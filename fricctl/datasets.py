@@ -1,4 +1,4 @@
-"""Measured records (:class:`Run`), their CSV form, and the EMPS benchmark loader.
+"""Measured records (:class:`Run`), their CSV form, the one CSV reader, and the EMPS loader.
 
 A :class:`Run` is what a test bench hands over: a uniform time vector, the applied
 torque (or force, for a linear axis), the measured position and, optionally, the
@@ -18,6 +18,11 @@ the header must name ``t``, ``torque`` and ``position`` and may name ``reference
 any other column is an error.  For a linear axis (``units="linear"``) the
 ``torque`` column holds a force [N] and ``position`` a displacement [m].
 
+Every CSV file fricctl reads goes through :func:`read_columns` (columns named by
+a header, in any order): records (:meth:`Run.from_csv`) and the network's
+training patterns (:func:`read_patterns`, header ``tm,omega,friction``).  Its
+errors name the file, the line and the column.
+
 The EMPS data (Janot, Gautier & Brunot 2019) are *not* shipped: :func:`emps`
 loads them from a folder given as argument or by the ``FRICCTL_DATA``
 environment variable (the folder that holds ``emps/DATA_EMPS.mat``).
@@ -26,16 +31,26 @@ environment variable (the folder that holds ``emps/DATA_EMPS.mat``).
 from __future__ import annotations
 
 import csv
+import math
 import os
+import types
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Mapping
 
 import numpy as np
+
+from . import _validate as v
+from .units import KINDS, units as units_of
 
 __all__ = [
     "Run",
     "EmpsData",
     "emps",
+    "Table",
+    "read_columns",
+    "read_patterns",
+    "PATTERN_COLUMNS",
     "MIN_SAMPLES",
     "EMPS_SOURCE_HINT",
 ]
@@ -49,9 +64,12 @@ MIN_SAMPLES = 10
 #: rounding in the acquisition).
 TIME_STEP_RTOL = 1e-3
 
-_UNITS = {"rotary": ("N*m", "rad"), "linear": ("N", "m")}
 _REQUIRED = ("t", "torque", "position")
 _OPTIONAL = ("reference",)
+
+#: Columns of a training-patterns file (``fricctl train``): motor torque [N*m],
+#: velocity [rad/s] and friction torque [N*m], load side.
+PATTERN_COLUMNS = ("tm", "omega", "friction")
 
 #: Where to get the EMPS data when they are missing.
 EMPS_SOURCE_HINT = (
@@ -64,11 +82,156 @@ EMPS_SOURCE_HINT = (
 )
 
 
-def _check_finite(name: str, x: np.ndarray) -> None:
-    bad = np.flatnonzero(~np.isfinite(x))
-    if bad.size:
-        kind = "NaN" if np.isnan(x[bad[0]]) else "inf"
-        raise ValueError(f"{name}: {kind} at row {int(bad[0])}")
+# ---------------------------------------------------------------------- CSV reader
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Table:
+    """The columns of a CSV file, by header name (what :func:`read_columns` returns)."""
+
+    path: Path
+    """The file read."""
+    columns: Mapping[str, np.ndarray]
+    """Each column of the header, as a read-only float array (read-only mapping)."""
+    meta: Mapping[str, str]
+    """``# key: value`` lines before the header (read-only mapping)."""
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[v.choice("column", name, tuple(self.columns))]
+
+    @property
+    def n_rows(self) -> int:
+        """Number of data rows."""
+        return int(next(iter(self.columns.values())).size)
+
+
+def _expected(required, optional) -> str:
+    return ", ".join(required) + "".join(f"[, {o}]" for o in optional)
+
+
+def _header(path, cells, required, optional) -> list[str]:
+    header = [h.strip() for h in cells]
+    want = _expected(required, optional)
+    unknown = [h for h in header if h not in required + optional]
+    if unknown:
+        s = "" if len(unknown) == 1 else "s"
+        raise ValueError(f"{path}: unknown column{s} {', '.join(map(repr, unknown))} in the "
+                         f"header; expected {want}")
+    for name in header:
+        if header.count(name) > 1:
+            raise ValueError(f"{path}: duplicate column {name!r} in the header")
+    for name in required:
+        if name not in header:
+            raise ValueError(f"{path}: missing column {name!r} in the header; expected {want}")
+    return header
+
+
+def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
+                 min_rows: int = 0) -> Table:
+    r"""Read a CSV file whose header names its columns (in any order).
+
+    Layout: optional ``# key: value`` lines, a header line, then one row of numbers
+    per line (blank lines are skipped).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    required : tuple of str
+        Columns the header must name.
+    optional : tuple of str
+        Columns the header may name; any other column is an error.
+    min_rows : int
+        Fewest data rows accepted.
+
+    Returns
+    -------
+    Table
+        The columns by name and the ``#`` metadata.
+
+    Raises
+    ------
+    FileNotFoundError
+        The file does not exist.
+    ValueError
+        Not UTF-8 text, no header, an unknown, missing or duplicate column, a row
+        with another number of fields, a cell that is not a finite number (the
+        message names the file, the line and the column), or fewer than
+        ``min_rows`` rows.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "p.csv"
+    ...     _ = p.write_text("# source: by hand\nb,a\n1,2\n3,4\n")
+    ...     tab = read_columns(p, required=("a", "b"))
+    >>> tab["a"].tolist(), tab.meta["source"]
+    ([2.0, 4.0], 'by hand')
+    """
+    path = Path(path)
+    required, optional = tuple(required), tuple(optional)
+    min_rows = v.integer("min_rows", min_rows, low=0)
+    want = _expected(required, optional)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    try:
+        with path.open(newline="", encoding="utf-8") as fh:
+            lines = fh.read().splitlines()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a UTF-8 text file (expected a CSV with a header "
+                         f"{want})") from None
+    meta: dict[str, str] = {}
+    header = None
+    rows = []
+    for line_no, line in enumerate(lines, start=1):
+        if header is None and line.startswith("#"):
+            key, sep, value = line[1:].partition(":")
+            if sep:
+                meta[key.strip()] = value.strip()
+            continue
+        cells = next(csv.reader([line]), [])
+        if not cells or all(not c.strip() for c in cells):
+            continue
+        if header is None:
+            header = _header(path, cells, required, optional)
+            continue
+        if len(cells) != len(header):
+            raise ValueError(f"{path}, line {line_no}: {len(cells)} fields, the header has "
+                             f"{len(header)}")
+        row = []
+        for name, cell in zip(header, cells):
+            try:
+                x = float(cell)
+            except ValueError:
+                raise ValueError(f"{path}, line {line_no}, column {name!r}: not a number: "
+                                 f"{cell.strip()!r}") from None
+            if not math.isfinite(x):
+                raise ValueError(f"{path}, line {line_no}, column {name!r}: "
+                                 f"{'NaN' if math.isnan(x) else 'inf'} (not a finite number)")
+            row.append(x)
+        rows.append(row)
+    if header is None:
+        what = "no header line after the '#' lines" if meta or lines else "empty file"
+        raise ValueError(f"{path}: {what}, expected a header {want}")
+    if len(rows) < min_rows:
+        raise ValueError(f"{path}: need at least {min_rows} data rows, got {len(rows)}")
+    data = np.array(rows, dtype=float).reshape(-1, len(header))
+    columns = {}
+    for j, name in enumerate(header):
+        col = data[:, j].copy()
+        col.setflags(write=False)
+        columns[name] = col
+    return Table(path=path, columns=types.MappingProxyType(columns),
+                 meta=types.MappingProxyType(meta))
+
+
+def read_patterns(path) -> Table:
+    """Training patterns of the friction network from a CSV file (``fricctl train``).
+
+    The header names exactly :data:`PATTERN_COLUMNS` (``tm,omega,friction``, any
+    order): motor torque [N*m], velocity [rad/s], friction torque [N*m], load
+    side; at least 2 rows.  Errors as :func:`read_columns`.
+    """
+    return read_columns(path, required=PATTERN_COLUMNS, min_rows=2)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -120,17 +283,12 @@ class Run:
     """``"rotary"`` (N*m, rad) or ``"linear"`` (N, m)."""
 
     def __post_init__(self):
-        if self.units not in _UNITS:
-            raise ValueError(f"units: expected 'rotary' or 'linear', got {self.units!r}")
-        if not isinstance(self.source, str):
-            raise ValueError("source: expected a string")
+        v.choice("units", self.units, KINDS)
+        v.text("source", self.source)
         names = ["t", "torque", "position"] + (["reference"] if self.reference is not None else [])
         arrays = {}
         for name in names:
-            x = np.array(getattr(self, name), dtype=float)  # copy
-            if x.ndim != 1:
-                raise ValueError(f"{name}: expected a 1-D array, got shape {x.shape}")
-            arrays[name] = x
+            arrays[name] = np.array(v.array(name, getattr(self, name), ndim=1, finite=False))
         n = arrays["t"].size
         for name, x in arrays.items():
             if x.size != n:
@@ -138,7 +296,7 @@ class Run:
         if n < MIN_SAMPLES:
             raise ValueError(f"fewer than {MIN_SAMPLES} samples ({n})")
         for name, x in arrays.items():
-            _check_finite(name, x)
+            v.array(name, x)  # NaN or inf: the message names the first bad sample
         dt = np.diff(arrays["t"])
         bad = np.flatnonzero(dt <= 0)
         if bad.size:
@@ -170,12 +328,12 @@ class Run:
     @property
     def torque_unit(self) -> str:
         """Unit of :attr:`torque`: ``"N*m"`` or ``"N"``."""
-        return _UNITS[self.units][0]
+        return units_of(self.units).torque
 
     @property
     def position_unit(self) -> str:
         """Unit of :attr:`position`: ``"rad"`` or ``"m"``."""
-        return _UNITS[self.units][1]
+        return units_of(self.units).position
 
     @property
     def torque_label(self) -> str:
@@ -226,56 +384,16 @@ class Run:
             Missing or unknown column, non-numeric cell, or any :class:`Run`
             validation failure; the message starts with the file name.
         """
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"{path}: no such file")
-        meta: dict[str, str] = {}
+        table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL)
+        cols, meta = table.columns, table.meta
         try:
-            try:
-                with path.open(newline="", encoding="utf-8") as fh:
-                    lines = fh.read().splitlines()
-            except UnicodeDecodeError:
-                raise ValueError("not a UTF-8 text file (expected a CSV with a header "
-                                 "t,torque,position[,reference])") from None
-            body_start = 0
-            for body_start, line in enumerate(lines):
-                if line.startswith("#"):
-                    key, sep, value = line[1:].partition(":")
-                    if sep:
-                        meta[key.strip()] = value.strip()
-                    continue
-                break
-            else:
-                raise ValueError("no header line")
-            reader = csv.reader(lines[body_start:])
-            header = [h.strip() for h in next(reader)]
-            for name in header:
-                if name not in _REQUIRED + _OPTIONAL:
-                    raise ValueError(f"unknown column {name!r} (expected t, torque, position[, reference])")
-            for name in _REQUIRED:
-                if name not in header:
-                    raise ValueError(f"missing column {name!r}")
-            if len(set(header)) != len(header):
-                raise ValueError("duplicate column in header")
-            rows = []
-            for i, row in enumerate(reader):
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if len(row) != len(header):
-                    raise ValueError(f"row {i}: {len(row)} fields, header has {len(header)}")
-                try:
-                    rows.append([float(c) for c in row])
-                except ValueError:
-                    raise ValueError(f"row {i}: non-numeric value in {row!r}") from None
-            data = np.array(rows, dtype=float).reshape(-1, len(header))
-            cols = {name: data[:, j] for j, name in enumerate(header)}
             return cls(
                 t=cols["t"], torque=cols["torque"], position=cols["position"],
-                reference=cols.get("reference"),
-                source=source if source is not None else meta.get("source", path.name),
+                reference=cols["reference"] if "reference" in cols else None,
+                source=source if source is not None else meta.get("source", table.path.name),
                 units=units if units is not None else meta.get("units", "rotary"))
         except ValueError as exc:
-            raise ValueError(f"{path.name}: {exc}") from None
+            raise ValueError(f"{table.path}: {exc}") from None
 
 
 # ---------------------------------------------------------------------- EMPS
@@ -353,8 +471,7 @@ def emps(data_dir=None, *, kind: str = "estimation") -> EmpsData:
     is wrong on that).  In the validation file ``qm`` looks low-pass filtered after
     acquisition; use it for validation only.
     """
-    if kind not in _EMPS_FILES:
-        raise ValueError(f"kind: expected 'estimation' or 'validation', got {kind!r}")
+    v.choice("kind", kind, tuple(_EMPS_FILES))
     folder = _emps_folder(data_dir)
     path = folder / _EMPS_FILES[kind]
     if not path.is_file():

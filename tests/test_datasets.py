@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from fricctl.datasets import MIN_SAMPLES, Run, emps
+from fricctl.datasets import MIN_SAMPLES, PATTERN_COLUMNS, Run, emps, read_columns, read_patterns
 
 
 def _run(n=100, **kw):
@@ -55,7 +55,7 @@ def test_csv_bad_columns(tmp_path, header, message):
 def test_csv_non_numeric_and_missing_file(tmp_path):
     p = tmp_path / "bad.csv"
     p.write_text("t,torque,position\n0,1,2\n0.1,x,3\n")
-    with pytest.raises(ValueError, match="row 1: non-numeric"):
+    with pytest.raises(ValueError, match="bad.csv, line 3, column 'torque': not a number: 'x'"):
         Run.from_csv(p)
     with pytest.raises(FileNotFoundError):
         Run.from_csv(tmp_path / "nope.csv")
@@ -66,10 +66,10 @@ def test_validation_messages():
     tq = np.ones(300)
     q = t.copy()
     bad = tq.copy(); bad[17] = np.nan
-    with pytest.raises(ValueError, match="torque: NaN at row 17"):
+    with pytest.raises(ValueError, match=r"torque holds NaN or inf \(nan\) at index 17"):
         Run(t=t, torque=bad, position=q)
     bad = q.copy(); bad[5] = np.inf
-    with pytest.raises(ValueError, match="position: inf at row 5"):
+    with pytest.raises(ValueError, match=r"position holds NaN or inf \(inf\) at index 5"):
         Run(t=t, torque=tq, position=bad)
     tt = t.copy(); tt[203:] += 0.001
     with pytest.raises(ValueError, match="non-uniform time step at row 203"):
@@ -87,6 +87,40 @@ def test_validation_messages():
         Run(t=t, torque=tq, position=q, units="metric")
     with pytest.raises(ValueError, match="1-D"):
         Run(t=t, torque=np.ones((300, 1)), position=q)
+
+
+@pytest.mark.parametrize("content, message", [
+    ("", "empty file, expected a header t, torque, position"),
+    ("# source: x\n", "no header line"),
+    ("t,torque,torque,position\n", "duplicate column 'torque'"),
+    ("t,torque,position\n0,1,2\n0.1,2\n", "line 3: 2 fields, the header has 3"),
+    ("# units: rotary\nt,torque,position\n0,1,2\n\n0.1,nan,3\n", "line 5, column 'torque': NaN"),
+    ("t,position,torque\n0,1,inf\n", "line 2, column 'torque': inf"),
+])
+def test_csv_reader_names_file_line_and_column(tmp_path, content, message):
+    # the one CSV reader behind Run.from_csv and read_patterns: every message names the file
+    p = tmp_path / "bad.csv"
+    p.write_text(content)
+    with pytest.raises(ValueError, match="bad.csv") as err:
+        Run.from_csv(p)
+    assert message in str(err.value)
+
+
+def test_csv_reader_rejects_binary_and_reads_patterns_by_name(tmp_path):
+    p = tmp_path / "bin.csv"
+    p.write_bytes(b"\xff\xfe\x00t,torque")
+    with pytest.raises(ValueError, match="bin.csv: not a UTF-8 text file"):
+        read_columns(p, required=("t",))
+    p = tmp_path / "pat.csv"
+    p.write_text("friction,tm,omega\n3,1,2\n6,4,5\n")
+    pats = read_patterns(p)
+    assert pats.n_rows == 2 and tuple(pats.columns) == ("friction", "tm", "omega")
+    np.testing.assert_array_equal([pats[c] for c in PATTERN_COLUMNS], [[1, 4], [2, 5], [3, 6]])
+    with pytest.raises(ValueError):
+        pats["tm"][0] = 0.0  # read-only
+    p.write_text("tm,omega,friction\n1,2,3\n")
+    with pytest.raises(ValueError, match="need at least 2 data rows, got 1"):
+        read_patterns(p)
 
 
 def test_emps_missing_says_where(tmp_path, monkeypatch):
