@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from fricctl import nn
+from fricctl.nn.train.lm import clear_cache
 
 SEEDS = range(5)
 BP = dict(learning_rate=0.01, momentum=0.9, batch_size=1)
@@ -45,16 +46,17 @@ def bench_training():
         for epochs in EPOCHS:
             ratios, ratios_warm, t_bp_all, t_cas_all, fits_bp, fits_cas = [], [], [], [], [], []
             for seed in SEEDS:
-                bp_net, bp = nn.train_backprop(tm, om, f, epochs=epochs,
-                                               rng=np.random.default_rng(seed), **BP)
+                bp_res = nn.train_backprop(tm, om, f, epochs=epochs,
+                                           rng=np.random.default_rng(seed), **BP)
+                bp_net, bp = bp_res.net, bp_res.history
                 target = bp.loss[-1]
                 t_bp = bp.time_to_reach(target)  # first hit: SGD's loss fluctuates
-                nn._CASADI_CACHE.clear()  # cold: build the CasADi functions in the timed region
-                cas_net, cas = nn.train_casadi(tm, om, f, restarts=3,
-                                               rng=np.random.default_rng(seed))
+                clear_cache()  # cold: build the CasADi functions in the timed region
+                cas_res = nn.train_casadi(tm, om, f, restarts=3, rng=np.random.default_rng(seed))
+                cas_net, cas = cas_res.net, cas_res.history
                 t_cas = cas.time_to_reach(target)
-                _, cas_warm = nn.train_casadi(tm, om, f, restarts=3,
-                                              rng=np.random.default_rng(seed))
+                cas_warm = nn.train_casadi(tm, om, f, restarts=3,
+                                           rng=np.random.default_rng(seed)).history
                 t_warm = cas_warm.time_to_reach(target)
                 ratios.append(t_bp / t_cas)
                 ratios_warm.append(t_bp / t_warm)
@@ -85,7 +87,7 @@ def bench_c():
         return
     tm, om, f = nn.smooth_friction_patterns(np.random.default_rng(100), n_sliding=800,
                                             n_stuck=200)
-    net, _ = nn.train_casadi(tm, om, f, restarts=1, rng=np.random.default_rng(0))
+    net = nn.train_casadi(tm, om, f, restarts=1, rng=np.random.default_rng(0)).net
     n = 1_000_000
     rng = np.random.default_rng(1)
     x0 = rng.uniform(net.envelope_low[0], net.envelope_high[0], n)

@@ -1,7 +1,9 @@
 """Tests of fricctl.nn: the 2-H-1 friction network, its trainers, I/O and C export."""
 
+import concurrent.futures
 import ctypes
 import dataclasses
+import inspect
 import json
 import math
 import shutil
@@ -10,10 +12,14 @@ import subprocess
 import numpy as np
 import pytest
 
-from fricctl import nn
-from fricctl.nn import (FORMAT_VERSION, FrictionNet, c_source, fit_percent, fit_report,
-                        load_net, r_squared, save_net, smooth_friction_patterns,
-                        train_backprop, train_casadi)
+from fricctl.compensators import NNCompensator
+from fricctl.nn import (FORMAT_VERSION, TRAINERS, FrictionNet, TrainingResult, c_source,
+                        fit_percent, fit_report, load_net, r_squared, save_net,
+                        smooth_friction_patterns, train_backprop, train_casadi)
+from fricctl.nn import layout
+from fricctl.nn.train import Scaling, initial_theta, trainer
+from fricctl.nn.train.backprop import loss_gradient
+from fricctl.nn.train.lm import clear_cache, residual_functions
 
 
 def one_unit_net(**changes):
@@ -99,7 +105,7 @@ def test_net_is_immutable_and_validated():
         one_unit_net(envelope_low=[1.0, 0.0], envelope_high=[0.0, 1.0])
     with pytest.raises(ValueError, match="metadata"):
         one_unit_net(metadata={"x": object()})
-    with pytest.raises(ValueError, match="finite"):
+    with pytest.raises(ValueError, match="tm holds NaN"):
         net(np.nan, 0.0)
     with pytest.raises(ValueError, match="broadcast"):
         net(np.zeros(3), np.zeros(4))
@@ -123,15 +129,15 @@ def test_fit_and_r2_closed_forms():
         fit_percent([1.0, 1.0], [1.0, 2.0])
     with pytest.raises(ValueError, match="same length"):
         r_squared([1.0, 2.0], [1.0])
-    with pytest.raises(ValueError, match="finite"):
+    with pytest.raises(ValueError, match="y holds NaN"):
         fit_percent([1.0, np.nan], [1.0, 2.0])
 
 
 # -- back-propagation ----------------------------------------------------------
 def _scaled_loss(theta, hidden, xn, tn):
     """Loss mean(0.5*(yn - tn)^2) through FrictionNet (the numpy path, not numba)."""
-    w1, b1, w2, b2 = nn._unpack(theta, hidden)
-    net = FrictionNet(w1=w1, b1=b1, w2=w2, b2=b2, input_offset=[0, 0], input_scale=[1, 1],
+    w = layout.unpack(theta, hidden)
+    net = FrictionNet(w1=w.w1, b1=w.b1, w2=w.w2, b2=w.b2, input_offset=[0, 0], input_scale=[1, 1],
                       output_offset=0.0, output_scale=1.0, envelope_low=[-1, -1],
                       envelope_high=[1, 1])
     return float(np.mean(0.5 * (net(xn[0], xn[1]) - tn) ** 2))
@@ -142,9 +148,9 @@ def test_backprop_gradient_against_finite_differences():
     hidden = 4
     xn = rng.uniform(-1, 1, (2, 50))
     tn = rng.normal(size=50)
-    theta = nn._initial_theta(hidden, rng)
-    batch_loss_grad, _ = nn._kernels()
-    loss, grad = batch_loss_grad(theta, xn, tn, hidden)
+    theta = initial_theta(hidden, rng)
+    grad = np.empty_like(theta)
+    loss = loss_gradient(theta, xn, tn, hidden, grad)
     assert loss == pytest.approx(_scaled_loss(theta, hidden, xn, tn), rel=1e-13)
     h = 1e-6
     fd = np.empty_like(theta)
@@ -163,21 +169,22 @@ def test_full_batch_backprop_matches_plain_numpy_momentum(sliding):
     # analytic gradient; with batch_size = N the pattern order does not matter
     (tm, om, f), _ = sliding
     lr, mom, epochs, hidden = 0.1, 0.8, 20, 3
-    net, hist = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
-                               epochs=epochs, batch_size=tm.size, rng=np.random.default_rng(5))
-    scaling = nn._scaling(tm, om, f)
-    xn, tn = nn._scaled(tm, om, f, scaling)
-    theta = nn._initial_theta(hidden, np.random.default_rng(5))
+    res = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
+                         epochs=epochs, batch_size=tm.size, rng=np.random.default_rng(5))
+    net, hist = res.net, res.history
+    scaling = Scaling.of(tm, om, f)
+    xn, tn = scaling.inputs(tm, om), scaling.target(f)
+    theta = initial_theta(hidden, np.random.default_rng(5))
     v = np.zeros_like(theta)
     for _ in range(epochs):
-        w1, b1, w2, b2 = nn._unpack(theta, hidden)
-        hid = np.tanh(w1 @ xn + b1[:, None])
-        e = w2 @ hid + b2 - tn
-        d = (w2[:, None] * (1 - hid**2)) * e
-        g = nn._pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
+        w = layout.unpack(theta, hidden)
+        hid = np.tanh(w.w1 @ xn + w.b1[:, None])
+        e = w.w2 @ hid + w.b2 - tn
+        d = (w.w2[:, None] * (1 - hid**2)) * e
+        g = layout.pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
         v = mom * v - lr * g
         theta = theta + v
-    np.testing.assert_allclose(nn._pack(net.w1, net.b1, net.w2, net.b2), theta,
+    np.testing.assert_allclose(layout.pack(net.w1, net.b1, net.w2, net.b2), theta,
                                rtol=1e-10, atol=1e-12)  # summation-order rounding only
     assert hist.loss.shape == (epochs + 1,) and hist.step == "epoch"
 
@@ -185,8 +192,9 @@ def test_full_batch_backprop_matches_plain_numpy_momentum(sliding):
 def test_backprop_per_pattern_learns_and_is_seeded(sliding):
     (tm, om, f), (tm2, om2, f2) = sliding
     kw = dict(learning_rate=0.01, momentum=0.9, epochs=300)
-    net, hist = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw)
-    again, _ = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw)
+    res = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw)
+    net, hist = res.net, res.history
+    again = train_backprop(tm, om, f, rng=np.random.default_rng(2), **kw).net
     np.testing.assert_array_equal(net(tm, om), again(tm, om))  # same seed -> same net
     # the loss history is in physical units: its last entry is the MSE of the net
     assert hist.loss[-1] == pytest.approx(np.mean((net(tm, om) - f) ** 2), rel=1e-9)
@@ -205,7 +213,7 @@ def test_backprop_rejects_bad_input(sliding):
         train_backprop(tm, om, f, rng=0)
     with pytest.raises(ValueError, match="same length"):
         train_backprop(tm, om[:-1], f, rng=rng)
-    with pytest.raises(ValueError, match="finite"):
+    with pytest.raises(ValueError, match="tm holds NaN"):
         train_backprop(np.where(tm > 0, np.nan, tm), om, f, rng=rng)
     with pytest.raises(ValueError, match="learning_rate"):
         train_backprop(tm, om, f, learning_rate=0.0, rng=rng)
@@ -223,7 +231,7 @@ def test_backprop_rejects_bad_input(sliding):
 def test_casadi_fits_smooth_law_above_99_percent(casadi_net, sliding):
     # reference: noise-free patterns of b*w + Fc*tanh(w/v), representable by a
     # 2-4-1 tanh net; training and held-out fit > 99 % (measured ~99.99 %)
-    net, hist = casadi_net
+    net, hist = casadi_net.net, casadi_net.history
     (tm, om, f), (tm2, om2, f2) = sliding
     assert fit_percent(f, net(tm, om)) > 99.0
     held = fit_report(f2, net=net, tm=tm2, omega=om2)
@@ -237,9 +245,9 @@ def test_casadi_fits_smooth_law_above_99_percent(casadi_net, sliding):
 def test_casadi_beats_backprop_loss(casadi_net, sliding):
     # the second-order trainer's final loss is below the paper's trainer's
     (tm, om, f), _ = sliding
-    net, hist = casadi_net
-    _, bp = train_backprop(tm, om, f, learning_rate=0.01, epochs=100,
-                           rng=np.random.default_rng(1))
+    hist = casadi_net.history
+    bp = train_backprop(tm, om, f, learning_rate=0.01, epochs=100,
+                        rng=np.random.default_rng(1)).history
     assert hist.loss[-1] < bp.loss[-1]
     assert math.isfinite(hist.time_to_reach(bp.loss[-1]))
     assert hist.time_to_reach(-1.0) == math.inf
@@ -251,13 +259,13 @@ def test_stuck_patterns_give_a_gain_near_one_at_rest():
     # which pull the other way (their friction does not depend on Tm).
     rng = np.random.default_rng(4)
     tm, om, f = smooth_friction_patterns(rng, n_sliding=300, n_stuck=150)
-    net, _ = train_casadi(tm, om, f, restarts=2, rng=np.random.default_rng(6))
+    net = train_casadi(tm, om, f, restarts=2, rng=np.random.default_rng(6)).net
     assert net.gain_at_rest() == pytest.approx(1.0, abs=0.3)
 
 
 # -- JSON -----------------------------------------------------------------------
 def test_save_load_round_trip_is_exact(casadi_net, tmp_path, sliding):
-    net, _ = casadi_net
+    net = casadi_net.net
     (tm, om, _), _ = sliding
     path = save_net(net, tmp_path / "net.json")
     back = load_net(path)
@@ -300,7 +308,7 @@ CC = shutil.which("cc") or shutil.which("gcc")
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
 def test_c_export_matches_python(casadi_net, tmp_path):
-    net, _ = casadi_net
+    net = casadi_net.net
     src = tmp_path / "fricnet.c"
     src.write_text(c_source(net, name="fricnet"))
     lib = tmp_path / "libfricnet.so"
@@ -332,6 +340,154 @@ def test_c_export_matches_python(casadi_net, tmp_path):
     np.testing.assert_array_equal(flags, net.outside_envelope(tm, om))
 
 
+def _random_net(rng, hidden):
+    lo = rng.uniform(-1.0, 0.0, 2)
+    return FrictionNet(w1=rng.normal(size=(hidden, 2)), b1=rng.normal(size=hidden),
+                       w2=rng.normal(size=hidden), b2=float(rng.normal()),
+                       input_offset=rng.normal(size=2), input_scale=rng.uniform(0.2, 3.0, 2),
+                       output_offset=float(rng.normal()), output_scale=float(rng.uniform(0.05, 2.0)),
+                       envelope_low=lo, envelope_high=lo + rng.uniform(0.5, 2.0, 2))
+
+
+def _c_library(net, tmp_path, name):
+    src = tmp_path / f"{name}.c"
+    src.write_text(c_source(net, name=name))
+    lib = tmp_path / f"lib{name}.so"
+    subprocess.run([CC, "-O2", "-shared", "-fPIC", "-std=c99", str(src), "-o", str(lib), "-lm"],
+                   check=True, capture_output=True)
+    so = ctypes.CDLL(str(lib))
+    dp = ctypes.POINTER(ctypes.c_double)
+    fun = getattr(so, f"{name}_batch")
+    fun.argtypes = [dp, dp, dp, ctypes.c_long, ctypes.c_int]
+
+    def batch(tm, om, clip):
+        out = np.empty_like(tm)
+        fun(tm.ctypes.data_as(dp), om.ctypes.data_as(dp), out.ctypes.data_as(dp), tm.size,
+            int(clip))
+        return out
+    return batch
+
+
+def test_five_forward_passes_agree_on_random_nets(tmp_path):
+    # The network's formula is written five times: FrictionNet.__call__ (numpy), the numba
+    # training forward on theta, the compiled-loop forward on the packed vector, the CasADi
+    # graph of the LM trainer, and the exported C.  Reference: FrictionNet.__call__; the
+    # others differ only by the summation order and libm's tanh (~1e-16 relative), so
+    # 1e-12 N*m fails for any wrong index, offset or scaling.
+    rng = np.random.default_rng(11)
+    for k, hidden in enumerate((1, 4, 7)):
+        net = _random_net(rng, hidden)
+        lo, hi = net.envelope_low, net.envelope_high
+        span = hi - lo
+        n = 300  # half of the inputs outside the envelope, so that clipping matters
+        tm = rng.uniform(lo[0] - span[0], hi[0] + span[0], n)
+        om = rng.uniform(lo[1] - span[1], hi[1] + span[1], n)
+        theta = layout.pack(net.w1, net.b1, net.w2, net.b2)
+        for clip in (False, True):
+            ref = net(tm, om, clip=clip)
+            x0 = np.clip(tm, lo[0], hi[0]) if clip else tm
+            x1 = np.clip(om, lo[1], hi[1]) if clip else om
+            xn0 = (x0 - net.input_offset[0]) / net.input_scale[0]
+            xn1 = (x1 - net.input_offset[1]) / net.input_scale[1]
+            unscale = lambda yn: np.asarray(yn) * net.output_scale + net.output_offset  # noqa: E731
+            hid = np.empty(hidden)
+            numba_train = unscale([layout.forward_theta(theta, hidden, a, b, hid)
+                                   for a, b in zip(xn0, xn1)])
+            p = layout.pack_compiled(net, clip)
+            packed = np.array([layout.forward_packed(p, a, b) for a, b in zip(tm, om)])
+            fr = residual_functions(hidden, n).residuals
+            casadi_graph = unscale(np.asarray(fr(theta, np.vstack([xn0, xn1]), np.zeros((1, n))))
+                                   .ravel())
+            for name, got in (("numba training forward", numba_train),
+                              ("forward_packed", packed), ("CasADi graph", casadi_graph)):
+                np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12, err_msg=f"{name}, "
+                                           f"H={hidden}, clip={clip}")
+            if CC is not None:
+                c_batch = _c_library(net, tmp_path, f"net{k}") if not clip else c_batch
+                np.testing.assert_allclose(c_batch(tm, om, clip), ref, rtol=0, atol=1e-12,
+                                           err_msg=f"C export, H={hidden}, clip={clip}")
+    if CC is None:
+        pytest.skip("four of five forward passes agree; the C export was not compiled: "
+                    "no C compiler (cc or gcc) on PATH")
+
+
+def test_compiled_vector_has_the_named_layout():
+    # reference: the layout table of fricctl.nn.layout, entry by entry
+    net = one_unit_net(w1=[[0.8, -0.3], [-1.2, 0.7]], b1=[0.1, 0.4], w2=[1.5, -0.6])
+    p = layout.pack_compiled(net, True)
+    assert p.size == layout.compiled_size(2) == layout.P_W1 + 8
+    assert p[layout.P_HIDDEN] == 2 and p[layout.P_CLIP] == 1.0
+    assert p[layout.P_B2] == net.b2 and p[layout.P_OUTPUT_SCALE] == net.output_scale
+    assert p[layout.P_OUTPUT_OFFSET] == net.output_offset
+    np.testing.assert_array_equal(p[layout.P_INPUT_OFFSET:layout.P_INPUT_OFFSET + 2],
+                                  net.input_offset)
+    np.testing.assert_array_equal(p[layout.P_ENVELOPE_HIGH:layout.P_ENVELOPE_HIGH + 2],
+                                  net.envelope_high)
+    theta = layout.pack(net.w1, net.b1, net.w2, net.b2)
+    np.testing.assert_array_equal(p[layout.P_W1:], theta[:-1])  # the tail is theta without b2
+    kind, params = NNCompensator(net, clip=True).compiled()
+    np.testing.assert_array_equal(params, p)
+    assert layout.pack_compiled(net, False)[layout.P_CLIP] == 0.0
+    w = layout.unpack(theta, 2)
+    np.testing.assert_array_equal(w.w1, net.w1)
+    assert w.b2 == net.b2 and theta.size == layout.theta_size(2)
+    with pytest.raises(ValueError, match="theta"):
+        layout.unpack(theta[:-1], 2)
+    with pytest.raises(ValueError, match="missing"):
+        layout.pack_compiled(lambda a, b: a, False)
+
+
+# -- the trainers' seam ---------------------------------------------------------------
+def test_registry_lists_the_trainers_and_checks_options(sliding):
+    assert set(TRAINERS) == {"backprop", "casadi"}
+    for name, t in TRAINERS.items():
+        assert t.name == name and t.description and t.step in ("epoch", "iteration")
+    # the public functions' defaults are the inner loops' defaults
+    for fun, name in ((train_backprop, "backprop"), (train_casadi, "casadi")):
+        params = inspect.signature(fun).parameters
+        for option, default in trainer(name).options().items():
+            assert params[option].default == default, (name, option)
+    with pytest.raises(ValueError, match="backprop"):
+        trainer("adam")
+    (tm, om, f), _ = sliding
+    with pytest.raises(ValueError, match="unknown option.*epochs"):
+        trainer("casadi").train(tm, om, f, rng=np.random.default_rng(0), epochs=3)
+
+
+def test_training_result_is_a_frozen_record_not_a_tuple(sliding):
+    (tm, om, f), _ = sliding
+    res = trainer("backprop").train(tm[:50], om[:50], f[:50], hidden=2, epochs=3,
+                                    rng=np.random.default_rng(0), metadata={"seed": 0})
+    assert isinstance(res, TrainingResult) and res.history.loss.shape == (4,)
+    assert res.net.metadata["trainer"] == "backprop" and res.net.metadata["seed"] == 0
+    with pytest.raises(TypeError):
+        net, hist = res
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.net = None
+    with pytest.raises(TypeError):
+        TrainingResult(res.net, res.history)  # keyword-only
+
+
+def test_trainers_in_threads_give_the_serial_results(sliding):
+    # reference: the same seeds run one after the other; the CasADi cache is cleared first so
+    # that the threads race to build the functions (the lock makes one build them)
+    (tm, om, f), _ = sliding
+    tm, om, f = tm[:120], om[:120], f[:120]
+    jobs = [(train_casadi, dict(restarts=1, max_iterations=30)),
+            (train_backprop, dict(epochs=5))] * 3
+
+    def run(i):
+        fun, kw = jobs[i]
+        return fun(tm, om, f, hidden=3, rng=np.random.default_rng(i), **kw).net(tm, om)
+
+    serial = [run(i) for i in range(len(jobs))]
+    clear_cache()
+    with concurrent.futures.ThreadPoolExecutor(max_workers=4) as ex:
+        threaded = list(ex.map(run, range(len(jobs))))
+    for a, b in zip(serial, threaded):
+        np.testing.assert_array_equal(a, b)  # same seed, same arithmetic: same bits
+
+
 def test_c_source_rejects_bad_name():
     with pytest.raises(ValueError, match="identifier"):
         c_source(one_unit_net(), name="1bad name")
@@ -353,7 +509,7 @@ def test_smooth_patterns_obey_the_law():
 def test_plot_friction_map_draws_curves_and_envelope(casadi_net):
     from fricctl.figures.network import plot_friction_map
 
-    net, _ = casadi_net
+    net = casadi_net.net
     ax = plot_friction_map(net, tm_values=[0.0, 0.1])
     solid = [ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and ln.get_label()
              .startswith("Tm")]
@@ -369,7 +525,7 @@ def test_plot_friction_map_draws_curves_and_envelope(casadi_net):
 def test_plot_history_and_fit(casadi_net, sliding):
     from fricctl.figures.network import plot_fit, plot_training_history
 
-    net, hist = casadi_net
+    net, hist = casadi_net.net, casadi_net.history
     ax = plot_training_history(hist, against="time")
     np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), hist.loss)
     assert ax.get_yscale() == "log" and "[s]" in ax.get_xlabel()

@@ -12,14 +12,12 @@ train_mse, gain_at_rest, envelope{tm[lo, hi], omega[lo, hi]}, c_source``.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 
-COLUMNS = ("tm", "omega", "friction")
+from ..datasets import PATTERN_COLUMNS, read_patterns
 
 
 def register(subparsers) -> None:
@@ -29,7 +27,7 @@ def register(subparsers) -> None:
         description=__doc__.split("\n\n", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("patterns", type=Path, metavar="PATTERNS.csv",
-                   help="CSV with header tm,omega,friction [N*m, rad/s, N*m]")
+                   help=f"CSV with header {','.join(PATTERN_COLUMNS)} [N*m, rad/s, N*m]")
     p.add_argument("--out", type=Path, required=True, metavar="NET.json",
                    help="where to write the trained network")
     p.add_argument("--trainer", choices=("casadi", "backprop"), default="casadi",
@@ -49,72 +47,21 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def read_patterns(path: Path):
-    """Read ``tm, omega, friction`` arrays from a CSV file with a header.
-
-    Raises
-    ------
-    FileNotFoundError
-        If the file does not exist.
-    ValueError
-        Missing, duplicate or unknown columns, a non-numeric or non-finite
-        entry (the message names the line), a ragged row, or fewer than 2 rows.
-    """
-    try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            lines = list(csv.reader(fh))
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a UTF-8 text file (expected a CSV with a header "
-                         f"{','.join(COLUMNS)})") from None
-    reader = iter(lines)
-    try:
-        header = [h.strip() for h in next(reader)]
-    except StopIteration:
-        raise ValueError(f"{path}: empty file, expected a header {','.join(COLUMNS)}") from None
-    unknown = [h for h in header if h not in COLUMNS]
-    if unknown:
-        raise ValueError(f"{path}: unknown column(s) {', '.join(map(repr, unknown))}; "
-                         f"expected exactly {','.join(COLUMNS)}")
-    missing = [c for c in COLUMNS if c not in header]
-    if missing or len(header) != len(COLUMNS):
-        raise ValueError(f"{path}: header must name each of {','.join(COLUMNS)} once, "
-                         f"got {','.join(header)}")
-    rows = []
-    for line_no, row in enumerate(reader, start=2):
-        if not row or all(not c.strip() for c in row):
-            continue
-        if len(row) != len(header):
-            raise ValueError(f"{path}, line {line_no}: {len(row)} fields, expected "
-                             f"{len(header)}")
-        try:
-            vals = [float(c) for c in row]
-        except ValueError:
-            raise ValueError(f"{path}, line {line_no}: not a number in {row!r}") from None
-        if not all(math.isfinite(v) for v in vals):
-            raise ValueError(f"{path}, line {line_no}: NaN or inf in {row!r}")
-        rows.append(vals)
-    if len(rows) < 2:
-        raise ValueError(f"{path}: need at least 2 patterns, got {len(rows)}")
-    data = np.array(rows)
-    return tuple(data[:, header.index(c)] for c in COLUMNS)
-
-
 def run(args) -> int:
     from .. import nn
 
-    tm, omega, friction = read_patterns(args.patterns)
+    pats = read_patterns(args.patterns)
+    tm, omega, friction = pats["tm"], pats["omega"], pats["friction"]
     if args.seed < 0:
         raise ValueError(f"--seed must be >= 0, got {args.seed}")
     rng = np.random.default_rng(args.seed)
     extra = {"seed": args.seed, "patterns_file": args.patterns.name}
-    if args.trainer == "casadi":
-        net, hist = nn.train_casadi(tm, omega, friction, hidden=args.hidden,
-                                    restarts=args.restarts, rng=rng, metadata=extra)
-    else:
-        net, hist = nn.train_backprop(tm, omega, friction, hidden=args.hidden,
-                                      learning_rate=args.learning_rate,
-                                      momentum=args.momentum, epochs=args.epochs,
-                                      batch_size=args.batch_size, rng=rng, metadata=extra)
+    options = {"casadi": dict(restarts=args.restarts),
+               "backprop": dict(learning_rate=args.learning_rate, momentum=args.momentum,
+                                epochs=args.epochs, batch_size=args.batch_size)}
+    res = nn.TRAINERS[args.trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
+                                          metadata=extra, **options[args.trainer])
+    net, hist = res.net, res.history
     nn.save_net(net, args.out)
     if args.c_source is not None:
         args.c_source.write_text(nn.c_source(net), encoding="utf-8")

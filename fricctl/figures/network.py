@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..nn import FrictionNet, TrainingHistory, fit_percent, r_squared
+from .. import _validate as v
+from ..nn.metrics import fit_percent, r_squared
+from ..nn.net import FrictionNet
+from ..nn.train.core import TrainingHistory
 from ._common import get_ax
 
 __all__ = ["plot_friction_map", "plot_training_history", "plot_fit"]
@@ -37,21 +40,18 @@ def plot_friction_map(net: FrictionNet, *, ax=None, tm_values=None, omega_margin
     -------
     matplotlib.axes.Axes
     """
-    if not isinstance(net, FrictionNet):
-        raise ValueError(f"net must be a FrictionNet, got {type(net).__name__}")
-    if not (np.isfinite(omega_margin) and omega_margin >= 0):
-        raise ValueError(f"omega_margin must be a finite number >= 0, got {omega_margin!r}")
-    if isinstance(points, bool) or int(points) != points or points < 2:
-        raise ValueError(f"points must be an integer >= 2, got {points!r}")
+    v.instance("net", net, FrictionNet)
+    omega_margin = v.real("omega_margin", omega_margin, nonneg=True)
+    points = v.integer("points", points, low=2)
     lo, hi = net.envelope_low, net.envelope_high
     if tm_values is None:
         tm_values = np.linspace(lo[0], hi[0], 5)
-    tm_values = np.atleast_1d(np.asarray(tm_values, dtype=float))
-    if tm_values.ndim != 1 or not np.all(np.isfinite(tm_values)):
-        raise ValueError("tm_values must be a finite 1-D array [N*m]")
+    tm_values = np.atleast_1d(v.array("tm_values", tm_values, ndim=None))
+    if tm_values.ndim != 1:
+        raise ValueError(f"tm_values must be a 1-D array [N*m], got shape {tm_values.shape}")
     ax = get_ax(ax)
     width = hi[1] - lo[1]
-    omega = np.linspace(lo[1] - omega_margin * width, hi[1] + omega_margin * width, int(points))
+    omega = np.linspace(lo[1] - omega_margin * width, hi[1] + omega_margin * width, points)
     ax.axvspan(lo[1], hi[1], color="0.9", zorder=0, label="training envelope (omega)")
     for k, tm in enumerate(tm_values):
         y = net(tm, omega)
@@ -75,7 +75,7 @@ def plot_training_history(history: TrainingHistory, *, ax=None, against: str = "
     Parameters
     ----------
     history : TrainingHistory
-        From :func:`fricctl.nn.train_backprop` or :func:`fricctl.nn.train_casadi`.
+        From any trainer of :mod:`fricctl.nn.train` (``result.history``).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; calling again on the same axes overlays another run.
     against : {'step', 'time'}
@@ -85,10 +85,8 @@ def plot_training_history(history: TrainingHistory, *, ax=None, against: str = "
     -------
     matplotlib.axes.Axes
     """
-    if not isinstance(history, TrainingHistory):
-        raise ValueError(f"history must be a TrainingHistory, got {type(history).__name__}")
-    if against not in ("step", "time"):
-        raise ValueError(f"against must be 'step' or 'time', got {against!r}")
+    v.instance("history", history, TrainingHistory)
+    v.choice("against", against, ("step", "time"))
     ax = get_ax(ax)
     if against == "step":
         x = np.arange(history.loss.size)
@@ -121,8 +119,8 @@ def plot_fit(target, predicted, *, ax=None, time=None):
     matplotlib.axes.Axes
         The title states the fit and R^2 (definitions in :mod:`fricctl.nn`).
     """
-    y = np.asarray(target, dtype=float)
-    yhat = np.asarray(predicted, dtype=float)
+    y = v.array("target", target, ndim=None, finite=False)  # fit_percent names NaN and inf
+    yhat = v.array("predicted", predicted, ndim=None, finite=False)
     if y.ndim != 1 or yhat.shape != y.shape:
         raise ValueError(f"target and predicted must be 1-D of the same length, got "
                          f"{y.shape} and {yhat.shape}")
@@ -133,9 +131,7 @@ def plot_fit(target, predicted, *, ax=None, time=None):
         x = np.arange(y.size)
         ax.set_xlabel("pattern index [-]")
     else:
-        x = np.asarray(time, dtype=float)
-        if x.shape != y.shape or not np.all(np.isfinite(x)):
-            raise ValueError("time must be a finite 1-D array as long as target [s]")
+        x = v.array("time", time, ndim=1, size=y.size)
         ax.set_xlabel("time t [s]")
     ax.plot(x, y, color="k", lw=1.0, label=r"patterns $T_{at}$")
     ax.plot(x, yhat, color="C3", lw=1.0, ls="--", label=r"network $\hat T_{at}$")

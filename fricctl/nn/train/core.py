@@ -1,0 +1,270 @@
+"""The common seam every trainer of the friction network goes through.
+
+A trainer is an *inner loop*: a function ``loop(problem, **options) -> LoopResult``
+that improves the parameter vector ``theta`` (layout in :mod:`fricctl.nn.layout`)
+on a :class:`TrainingProblem`.  Everything else is done here, once, for all of
+them (:meth:`Trainer.train`):
+
+1. check the patterns, ``hidden`` and ``rng``;
+2. scale the patterns (:class:`Scaling`: inputs to [-1, 1] over their range,
+   target to zero mean and unit standard deviation); the inner loop sees only
+   the scaled problem;
+3. initial weights (:func:`initial_theta`, drawn from ``rng`` whenever the loop
+   asks: :meth:`TrainingProblem.initial_theta`);
+4. start the clock (after the trainer's ``prepare``, e.g. compiling kernels);
+5. after the loop: the history in physical units (:class:`TrainingHistory`),
+   the net with its scaling and metadata, the fit on the training patterns,
+   and the :class:`TrainingResult`.
+
+A new trainer is one module in this package defining its loop and a
+module-level ``TRAINER = Trainer(...)``; :mod:`fricctl.nn.train` finds it.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ... import _validate as v
+from ..layout import pack, unpack
+from ..metrics import fit_report
+from ..net import FrictionNet
+
+__all__ = ["Scaling", "initial_theta", "TrainingProblem", "LoopResult", "TrainingHistory",
+           "TrainingResult", "Trainer"]
+
+
+# -- scaling ---------------------------------------------------------------------------
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Scaling:
+    """How the patterns are scaled for training (stored in the net, undone on evaluation)."""
+
+    input_offset: np.ndarray
+    """Centre of the (Tm [N*m], omega [rad/s]) range."""
+    input_scale: np.ndarray
+    """Half-width of the (Tm [N*m], omega [rad/s]) range."""
+    output_offset: float
+    """Mean of the target [N*m]."""
+    output_scale: float
+    """Standard deviation of the target [N*m]."""
+    envelope_low: np.ndarray
+    """Smallest (Tm [N*m], omega [rad/s]) of the patterns."""
+    envelope_high: np.ndarray
+    """Largest (Tm [N*m], omega [rad/s]) of the patterns."""
+
+    @classmethod
+    def of(cls, tm: np.ndarray, omega: np.ndarray, target: np.ndarray) -> "Scaling":
+        """Inputs to [-1, 1] over their range; output to zero mean, unit std."""
+        lo = np.array([tm.min(), omega.min()])
+        hi = np.array([tm.max(), omega.max()])
+        return cls(input_offset=0.5 * (lo + hi), input_scale=0.5 * (hi - lo),
+                   output_offset=float(target.mean()), output_scale=float(target.std()),
+                   envelope_low=lo, envelope_high=hi)
+
+    def inputs(self, tm: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        """Scaled inputs ``xn``, shape (2, N) [-]."""
+        xn = np.empty((2, tm.size))
+        xn[0] = (tm - self.input_offset[0]) / self.input_scale[0]
+        xn[1] = (omega - self.input_offset[1]) / self.input_scale[1]
+        return xn
+
+    def target(self, target: np.ndarray) -> np.ndarray:
+        """Scaled target ``tn`` [-]."""
+        return (target - self.output_offset) / self.output_scale
+
+    def net_fields(self) -> dict:
+        """The scaling fields of a :class:`~fricctl.nn.net.FrictionNet`."""
+        return dict(input_offset=self.input_offset, input_scale=self.input_scale,
+                    output_offset=self.output_offset, output_scale=self.output_scale,
+                    envelope_low=self.envelope_low, envelope_high=self.envelope_high)
+
+
+def initial_theta(hidden: int, rng: np.random.Generator) -> np.ndarray:
+    """Initial weights of a 2-H-1 net on scaled inputs (``theta`` layout of :mod:`fricctl.nn.layout`).
+
+    Nguyen-Widrow-like: hidden units with unit-norm input weights scaled by
+    ``0.7*sqrt(H)`` and biases spreading the tanh centres over [-1, 1] of the
+    scaled inputs; small output weights, zero output bias.
+    """
+    hidden = v.integer("hidden", hidden, low=1)
+    v.rng("rng", rng)
+    w1 = rng.normal(size=(hidden, 2))
+    w1 *= 0.7 * math.sqrt(hidden) / np.linalg.norm(w1, axis=1, keepdims=True)
+    b1 = rng.uniform(-1.0, 1.0, size=hidden) * np.linalg.norm(w1, axis=1)
+    w2 = rng.uniform(-0.5, 0.5, size=hidden)
+    return pack(w1, b1, w2, 0.0)
+
+
+# -- what an inner loop gets and gives ---------------------------------------------------
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TrainingProblem:
+    """The scaled least-squares problem an inner loop works on."""
+
+    hidden: int
+    """Hidden units H; ``theta`` has ``4*H + 1`` entries."""
+    xn: np.ndarray
+    """Scaled inputs, shape (2, N), C-contiguous [-]."""
+    tn: np.ndarray
+    """Scaled targets, shape (N,) [-]."""
+    rng: np.random.Generator
+    """The caller's generator: initial weights, pattern order, ..."""
+    start: float
+    """``time.perf_counter()`` when training started [s]."""
+
+    @property
+    def n(self) -> int:
+        """Number of patterns N."""
+        return int(self.tn.size)
+
+    def initial_theta(self) -> np.ndarray:
+        """A fresh starting point drawn from :attr:`rng` (:func:`initial_theta`)."""
+        return initial_theta(self.hidden, self.rng)
+
+    def elapsed(self) -> float:
+        """Wall time since :attr:`start` [s]."""
+        return time.perf_counter() - self.start
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class LoopResult:
+    """What an inner loop returns."""
+
+    theta: np.ndarray
+    """The trained parameters (layout of :mod:`fricctl.nn.layout`)."""
+    loss: np.ndarray
+    """Scaled loss ``0.5*mean((yn - tn)^2)`` after each step; ``loss[0]`` is the initial one [-]."""
+    elapsed: np.ndarray
+    """Wall time of each entry of :attr:`loss` since the start [s]."""
+    metadata: dict = field(default_factory=dict)
+    """The loop's settings and outcome, JSON-serialisable (stored with the net)."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TrainingHistory:
+    """Training loss over the run.
+
+    ``loss[k]`` is the mean squared error over all training patterns in
+    physical units [(N*m)^2] after step ``k`` (an epoch for back-prop, an
+    accepted or rejected Levenberg-Marquardt iteration for CasADi; for several
+    restarts, the best loss so far over all restarts), and ``elapsed[k]`` the
+    wall time since the trainer started [s].  ``loss[0]`` is the initial loss.
+    """
+
+    trainer: str
+    """Name of the trainer (a key of :data:`fricctl.nn.train.TRAINERS`)."""
+    step: str
+    """What one entry is: 'epoch' or 'iteration'."""
+    loss: np.ndarray
+    """Training mean squared error [(N*m)^2]."""
+    elapsed: np.ndarray
+    """Wall time since the start of training [s]."""
+
+    def time_to_reach(self, loss: float) -> float:
+        """First elapsed time at which the loss is <= ``loss`` [s]; ``inf`` if never."""
+        hit = np.nonzero(self.loss <= loss)[0]
+        return float(self.elapsed[hit[0]]) if hit.size else math.inf
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TrainingResult:
+    """What every trainer returns: the trained net and its loss history."""
+
+    net: FrictionNet
+    """The trained network (its metadata say how it was trained and its fit)."""
+    history: TrainingHistory
+    """Loss and wall time per step."""
+
+
+# -- the seam ------------------------------------------------------------------------------
+def _patterns(tm, omega, target):
+    arrs = [v.array(name, a, ndim=1) for name, a in (("tm", tm), ("omega", omega),
+                                                     ("target", target))]
+    if any(a.size != arrs[0].size for a in arrs):
+        raise ValueError(f"tm, omega and target must have the same length, got "
+                         f"{[a.size for a in arrs]}")
+    if arrs[0].size < 2:
+        raise ValueError("need at least 2 training patterns")
+    for name, a in zip(("tm", "omega", "target"), arrs):
+        if np.ptp(a) == 0:
+            raise ValueError(f"{name} is constant over the patterns: nothing to learn from")
+    return arrs
+
+
+@dataclass(frozen=True, kw_only=True)
+class Trainer:
+    """A registered trainer: its name, what it does, and its inner loop."""
+
+    name: str
+    """Registry key, also the ``"trainer"`` entry of the net's metadata."""
+    description: str
+    """One line: the method."""
+    step: str
+    """What one history entry is (``"epoch"``, ``"iteration"``)."""
+    loop: Callable[..., LoopResult]
+    """``loop(problem, **options) -> LoopResult``; its keyword defaults are the options'."""
+    prepare: Callable[[], None] | None = None
+    """Run before the clock starts (e.g. compile kernels), or None."""
+
+    def __post_init__(self):
+        v.text("name", self.name, empty=False)
+        v.text("description", self.description, empty=False)
+        v.text("step", self.step, empty=False)
+        if not callable(self.loop) or not (self.prepare is None or callable(self.prepare)):
+            raise ValueError("loop (and prepare, if given) must be callable")
+
+    def options(self) -> dict:
+        """The loop's options with their defaults."""
+        params = list(inspect.signature(self.loop).parameters.values())[1:]
+        return {p.name: p.default for p in params}
+
+    def train(self, tm, omega, target, *, hidden: int = 4, rng: np.random.Generator,
+              metadata: dict | None = None, **options) -> TrainingResult:
+        """Train a 2-``hidden``-1 net on the patterns with this trainer.
+
+        Parameters
+        ----------
+        tm, omega, target : array_like
+            1-D patterns: motor torque [N*m], velocity [rad/s], friction [N*m].
+        hidden : int
+            Hidden units H (4 in the paper).
+        rng : numpy.random.Generator
+            Source of the initial weights (and whatever else the loop draws).
+        metadata : dict, optional
+            Extra JSON-serialisable entries stored with the net (e.g. the seed).
+        **options
+            The loop's options (:meth:`options`); unknown names raise ``ValueError``.
+        """
+        unknown = sorted(set(options) - set(self.options()))
+        if unknown:
+            raise ValueError(f"unknown option(s) {', '.join(unknown)} for trainer {self.name!r}; "
+                             f"it takes {', '.join(self.options()) or 'none'}")
+        tm, omega, target = _patterns(tm, omega, target)
+        hidden = v.integer("hidden", hidden, low=1)
+        v.rng("rng", rng)
+        if metadata is not None:
+            v.instance("metadata", metadata, dict)
+        rng_state = rng.bit_generator.state
+        scaling = Scaling.of(tm, omega, target)
+        xn, tn = scaling.inputs(tm, omega), scaling.target(target)
+        if self.prepare is not None:
+            self.prepare()
+        problem = TrainingProblem(hidden=hidden, xn=xn, tn=tn, rng=rng,
+                                  start=time.perf_counter())
+        out = self.loop(problem, **options)
+        mse = 2.0 * out.loss * scaling.output_scale ** 2  # scaled 0.5*e^2 -> physical e^2
+        history = TrainingHistory(trainer=self.name, step=self.step, loss=mse,
+                                  elapsed=np.asarray(out.elapsed))
+        meta = {"trainer": self.name, "hidden": hidden, **out.metadata,
+                "n_patterns": int(tm.size), "rng_state": rng_state, "train_mse": float(mse[-1])}
+        w = unpack(out.theta, hidden)
+        net = FrictionNet(w1=w.w1, b1=w.b1, w2=w.w2, b2=w.b2, metadata=meta,
+                          **scaling.net_fields())
+        rep = fit_report(target, net(tm, omega))
+        meta.update(fit_percent=rep.fit_percent, r_squared=rep.r_squared)
+        meta.update(metadata or {})
+        return TrainingResult(net=net.replace(metadata=meta), history=history)
