@@ -7,6 +7,7 @@ import math
 import control
 import numpy as np
 
+from .. import _validate as v
 from ..design import Design, RISE_TIME_DEFINITIONS, SETTLING_THRESHOLD, linear_response
 from ._common import get_ax
 
@@ -14,8 +15,7 @@ __all__ = ["plot_root_locus", "plot_step"]
 
 
 def _check(design):
-    if not isinstance(design, Design):
-        raise ValueError(f"design must be a fricctl.design.Design, got {type(design).__name__}")
+    v.instance("design", design, Design, "a fricctl.design.Design")
 
 
 def plot_root_locus(design: Design, *, ax=None, gain_range: float = 4.0, points: int = 400):
@@ -43,11 +43,13 @@ def plot_root_locus(design: Design, *, ax=None, gain_range: float = 4.0, points:
     matplotlib.axes.Axes
     """
     _check(design)
-    if not (gain_range > 1.0 and math.isfinite(gain_range)):
-        raise ValueError(f"gain_range must be a finite number > 1, got {gain_range!r}")
+    gain_range = v.real("gain_range", gain_range)
+    if not gain_range > 1.0:
+        raise ValueError(f"gain_range must be > 1, got {gain_range!r}")
+    points = v.integer("points", points, low=2)
     ax = get_ax(ax)
     loop = control.tf([1.0], [design.inertia, design.viscous + design.kd, 0.0])
-    gains = np.linspace(0.0, gain_range * design.kp, int(points))
+    gains = np.linspace(0.0, gain_range * design.kp, points)
     loci = np.asarray(control.root_locus_map(loop, gains).loci)
     for j in range(loci.shape[1]):
         ax.plot(loci[:, j].real, loci[:, j].imag, color="C0",
@@ -102,15 +104,14 @@ def plot_step(design: Design, *, ax=None, t_end: float | None = None, sampled: b
         t_end = 1.5 * max(a.settling_time, design.sampled.settling_time
                           if math.isfinite(design.sampled.settling_time) else 0.0,
                           a.rise_time)
-    if not (t_end > 0 and math.isfinite(t_end)):
-        raise ValueError(f"t_end must be a finite time > 0 s, got {t_end!r}")
+    t_end = v.real("t_end", t_end, positive=True, unit="s")
     ts = design.sample_time
     n = int(math.ceil(t_end / ts)) * 20 + 1
     t = np.arange(n) * (ts / 20)
     r = np.ones_like(t)
     ax.plot(t, r, color="0.5", lw=1, drawstyle="steps-post", label="reference r")
     ax.plot(t, linear_response(design, t, r), color="C0", label="continuous")
-    if sampled:
+    if v.flag("sampled", sampled):
         ax.plot(t, linear_response(design, t, r, sampled=True), color="C1", ls="--",
                 label=f"sampled, Ts = {ts:g} s")
     _, hi = RISE_TIME_DEFINITIONS[design.rise_time_definition]

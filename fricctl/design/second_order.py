@@ -1,0 +1,311 @@
+r"""Second-order relations and step metrics.
+
+The designed closed loop is the standard second-order system without a zero,
+
+.. math::
+
+    \frac{q(s)}{r(s)} = \frac{\omega_n^2}{s^2 + 2\zeta\omega_n s + \omega_n^2},
+
+so its rise time is ``g(zeta) / wn`` with ``g`` the normalised rise time of
+:func:`normalized_rise_time` (closed form for 0-100 %, root finding for
+10-90 %).  Any loop, designed or not, is measured the same way: the damping of
+its dominant pole pair (:func:`dominant_damping`) and the rise time, overshoot
+and settling time of :func:`control.step_info` (:func:`metrics_from_response`,
+:func:`step_metrics`), collected in :class:`StepMetrics`.
+
+Dependencies: numpy, scipy, python-control.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import control
+import numpy as np
+from scipy.optimize import brentq
+
+from .. import _validate as v
+
+__all__ = [
+    "RISE_TIME_DEFINITIONS",
+    "SETTLING_THRESHOLD",
+    "StepMetrics",
+    "normalized_rise_time",
+    "resolve_rise_time_definition",
+    "dominant_damping",
+    "metrics_from_response",
+    "step_metrics",
+]
+
+#: Allowed rise-time definitions and their ``RiseTimeLimits`` for ``step_info``.
+RISE_TIME_DEFINITIONS = {"0-100": (0.0, 1.0), "10-90": (0.1, 0.9)}
+#: Settling band used for the settling time (python-control's default) [-].
+SETTLING_THRESHOLD = 0.02
+
+
+@dataclass(frozen=True, kw_only=True)
+class StepMetrics:
+    """Step-response metrics of a closed loop (unit step of the reference).
+
+    ``rise_time``, ``overshoot_percent`` and ``settling_time`` come from
+    :func:`control.step_info`; ``damping`` is the damping ratio of the dominant
+    closed-loop pole pair (for a sampled loop, of its poles mapped by
+    ``s = ln(z)/Ts``).  NaN marks a metric that does not exist (e.g. the
+    0-100 % rise time of a step that never reaches its final value, or any
+    metric of an unstable loop).
+    """
+
+    rise_time: float
+    """Rise time under the design's definition [s]."""
+    damping: float
+    """Damping ratio of the dominant closed-loop pole pair [-]."""
+    overshoot_percent: float
+    """Peak overshoot above the final value, in percent of it [%]."""
+    settling_time: float
+    """Time after which the step stays within +-2 % of its final value [s]."""
+
+    @classmethod
+    def undefined(cls, damping: float = math.nan) -> "StepMetrics":
+        """Metrics of a response that has none (unstable or non-finite): all NaN but ``damping``."""
+        return cls(rise_time=math.nan, damping=damping, overshoot_percent=math.nan,
+                   settling_time=math.nan)
+
+    @property
+    def overshoot_damping(self) -> float:
+        """Damping ratio of the second-order system with this overshoot [-].
+
+        ``zeta = -ln(M)/sqrt(pi^2 + ln(M)^2)`` with ``M = overshoot/100``; NaN
+        without overshoot.  Equals :attr:`damping` for a loop without zeros.
+        """
+        m = self.overshoot_percent / 100.0
+        if not m > 0.0:
+            return math.nan
+        lm = math.log(m)
+        return -lm / math.sqrt(math.pi**2 + lm**2)
+
+    def as_dict(self) -> dict:
+        """Metrics as a plain dict; NaN becomes ``None`` (JSON has no NaN)."""
+        return {f.name: _json_float(getattr(self, f.name)) for f in fields(self)}
+
+
+def _json_float(x):
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def resolve_rise_time_definition(definition: str | None, zeta: float | None) -> str:
+    """The rise-time definition to use for a damping ratio.
+
+    Parameters
+    ----------
+    definition : {"0-100", "10-90"} or None
+        Requested definition; None picks ``"0-100"`` for ``zeta < 1`` (or no
+        damping given) and ``"10-90"`` otherwise.
+    zeta : float or None
+        Damping ratio [-], or None when not specified.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        An unknown definition, or ``"0-100"`` with ``zeta >= 1`` (such a step
+        never reaches its final value).
+
+    Examples
+    --------
+    >>> resolve_rise_time_definition(None, 1.2)
+    '10-90'
+    """
+    if definition is None:
+        return "0-100" if (zeta is None or zeta < 1.0) else "10-90"
+    v.choice("rise_time_definition", definition, RISE_TIME_DEFINITIONS)
+    if definition == "0-100" and zeta is not None and zeta >= 1.0:
+        raise ValueError(f"damping {zeta!r} >= 1 never reaches the final value, so the 0-100 % "
+                         "rise time does not exist; use rise_time_definition='10-90'")
+    return definition
+
+
+def _unit_step(tau: float, zeta: float) -> float:
+    """Closed-form unit step of wn^2/(s^2 + 2 zeta wn s + wn^2) at wn = 1."""
+    if zeta < 1.0:
+        wd = math.sqrt(1.0 - zeta * zeta)
+        return 1.0 - math.exp(-zeta * tau) * (math.cos(wd * tau)
+                                              + zeta / wd * math.sin(wd * tau))
+    if zeta == 1.0:
+        return 1.0 - math.exp(-tau) * (1.0 + tau)
+    r = math.sqrt(zeta * zeta - 1.0)
+    p1, p2 = -zeta + r, -zeta - r          # p1 slow, p2 fast
+    return 1.0 + (p2 * math.exp(p1 * tau) - p1 * math.exp(p2 * tau)) / (p1 - p2)
+
+
+def normalized_rise_time(zeta: float, definition: str) -> float:
+    """Rise time of the second-order step at wn = 1 rad/s, i.e. ``wn * tr`` [-].
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio, > 0 [-] (< 1 for ``"0-100"``).
+    definition : {"0-100", "10-90"}
+        Rise-time definition.
+
+    Returns
+    -------
+    float
+        ``wn * tr`` [rad].  Closed form for 0-100 % (Ogata):
+        ``(pi - acos(zeta)) / sqrt(1 - zeta^2)``; for 10-90 % the two crossing
+        times of the closed-form step are found with :func:`scipy.optimize.brentq`.
+
+    Examples
+    --------
+    >>> round(normalized_rise_time(0.5, "0-100"), 4)
+    2.4184
+    >>> round(normalized_rise_time(1.0, "10-90"), 4)
+    3.3579
+    """
+    zeta = v.real("zeta", zeta, positive=True)
+    definition = resolve_rise_time_definition(definition, zeta)
+    if definition == "0-100":
+        return (math.pi - math.acos(zeta)) / math.sqrt(1.0 - zeta * zeta)
+    lo, hi = RISE_TIME_DEFINITIONS[definition]
+    if zeta < 1.0:
+        # the step rises monotonically up to its first peak at tau = pi/wd
+        tau_max = math.pi / math.sqrt(1.0 - zeta * zeta)
+    else:
+        tau_max = 1.0
+        while _unit_step(tau_max, zeta) < hi:
+            tau_max *= 2.0
+    t_lo = brentq(lambda s: _unit_step(s, zeta) - lo, 0.0, tau_max, xtol=1e-14, rtol=1e-13)
+    t_hi = brentq(lambda s: _unit_step(s, zeta) - hi, 0.0, tau_max, xtol=1e-14, rtol=1e-13)
+    return t_hi - t_lo
+
+
+def dominant_damping(poles_s) -> float:
+    """Damping ratio of the slowest pole pair (two reals or a conjugate pair) [-].
+
+    Parameters
+    ----------
+    poles_s : array_like of complex
+        Continuous-time poles [rad/s] (non-finite ones are ignored).
+
+    Returns
+    -------
+    float
+        ``-Re p / |p|`` of a dominant complex pair; ``a1 / (2 sqrt(a0))`` of
+        ``s^2 + a1 s + a0`` for two dominant real poles; 1 for a single slow real
+        pole; NaN for an unstable dominant pole or no pole.
+
+    Examples
+    --------
+    >>> round(dominant_damping([-1.0, -4.0]), 4)     # s^2 + 5 s + 4
+    1.25
+    """
+    p = np.asarray(poles_s, complex)
+    p = p[np.isfinite(p)]
+    if p.size == 0:
+        return math.nan
+    order = np.argsort(np.abs(p), kind="stable")
+    p = p[order]
+    if p.size == 1:
+        return 1.0 if p[0].real < 0 else math.nan
+    p1 = p[0]
+    if abs(p1.imag) > 1e-9 * max(abs(p1), 1.0):
+        # the conjugate of p1 is the other half of the pair
+        wn = abs(p1)
+        return float(-p1.real / wn) if wn > 0 else math.nan
+    reals = [q for q in p if abs(q.imag) <= 1e-9 * max(abs(q), 1.0)]
+    if len(reals) >= 2 and abs(reals[1]) <= abs(p[1]) + 1e-12:
+        a1 = -(reals[0].real + reals[1].real)
+        a0 = reals[0].real * reals[1].real
+        return float(a1 / (2.0 * math.sqrt(a0))) if a0 > 0 else math.nan
+    # a single slow real pole, then a complex pair: first-order dominated
+    return 1.0 if p1.real < 0 else math.nan
+
+
+def metrics_from_response(t, y, *, final: float, definition: str, damping: float) -> StepMetrics:
+    """:class:`StepMetrics` of a sampled step response.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Times of the samples [s]; :func:`control.step_info` does not interpolate,
+        so the grid must be fine against the rise time.
+    y : array_like, shape (n,)
+        Output [rad] (NaN or inf anywhere gives :meth:`StepMetrics.undefined`).
+    final : float
+        Final value the metrics refer to [rad].
+    definition : {"0-100", "10-90"}
+        Rise-time definition.
+    damping : float
+        Damping ratio to record (the loop's poles know it, the samples do not) [-].
+
+    Returns
+    -------
+    StepMetrics
+        The rise time is NaN when ``y`` never reaches the upper rise-time limit.
+    """
+    limits = RISE_TIME_DEFINITIONS[v.choice("definition", definition, RISE_TIME_DEFINITIONS)]
+    y = np.asarray(y, float)
+    if not np.all(np.isfinite(y)):
+        return StepMetrics.undefined(damping)
+    info = control.step_info(y, timepts=t, final_output=final,
+                             SettlingTimeThreshold=SETTLING_THRESHOLD, RiseTimeLimits=limits)
+    rise = info["RiseTime"]
+    if y.max() < limits[1] * final:  # step_info would index past the end
+        rise = math.nan
+    return StepMetrics(rise_time=float(rise), damping=float(damping),
+                       overshoot_percent=float(info["Overshoot"]),
+                       settling_time=float(info["SettlingTime"]))
+
+
+def step_metrics(sys, rise_time_definition: str = "0-100", *, t_end: float | None = None,
+                 points: int = 40_000) -> StepMetrics:
+    """Step metrics of any stable continuous SISO loop (e.g. the error-PD loop).
+
+    Parameters
+    ----------
+    sys : control.TransferFunction or control.StateSpace
+        Continuous SISO closed loop with a finite DC gain.
+    rise_time_definition : {"0-100", "10-90"}
+        Rise-time limits passed to :func:`control.step_info`.
+    t_end : float, optional
+        End of the time grid [s]; default 12 time constants of the slowest pole.
+    points : int
+        Grid points (``step_info`` does not interpolate) [-].
+
+    Returns
+    -------
+    StepMetrics
+
+    Examples
+    --------
+    >>> import control
+    >>> m = step_metrics(control.tf([1.0], [1.0, 1.0, 1.0]))
+    >>> round(m.damping, 3), round(m.overshoot_percent, 2)
+    (0.5, 16.3)
+    """
+    v.instance("sys", sys, (control.TransferFunction, control.StateSpace),
+               "a SISO python-control TransferFunction or StateSpace")
+    if not sys.issiso():
+        raise ValueError("sys must be a SISO python-control TransferFunction or StateSpace")
+    if sys.isdtime(strict=True):
+        raise ValueError("sys must be continuous-time; use a Design's sampled metrics instead")
+    v.choice("rise_time_definition", rise_time_definition, RISE_TIME_DEFINITIONS)
+    points = v.integer("points", points, low=2)
+    poles = np.asarray(control.poles(sys), complex)
+    if poles.size == 0 or np.any(poles.real >= 0):
+        raise ValueError("sys must be asymptotically stable (all poles in the left half-plane)")
+    if t_end is None:
+        t_end = 12.0 / np.min(-poles.real)
+    else:
+        t_end = v.real("t_end", t_end, positive=True, unit="s")
+    t = np.linspace(0.0, float(t_end), points)
+    resp = control.step_response(sys, t)
+    return metrics_from_response(t, np.asarray(resp.outputs), final=float(np.real(sys.dcgain())),
+                                 definition=rise_time_definition,
+                                 damping=dominant_damping(poles))
