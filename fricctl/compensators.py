@@ -17,27 +17,26 @@ Fig. 16).  Three kinds:
   callable through the (slower) Python loop.
 
 Each has ``__call__(tm, omega_hat)`` (vectorised numpy) and ``compiled()``,
-which returns the kernel's ``(kind, parameter vector)`` or ``None``.
+which returns the kernel's ``(kind, parameter vector)`` or ``None``.  The
+network's parameter vector and its offsets are :mod:`fricctl.nn.layout`'s
+(:func:`~fricctl.nn.layout.pack_compiled`, evaluated by
+:func:`~fricctl.nn.layout.forward_packed`).
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 from typing import Callable
 
 import numpy as np
+
+from . import _validate as v
+from .nn.layout import NET_ATTRIBUTES, pack_compiled
 
 __all__ = ["Compensator", "NoCompensation", "CoulombCompensator", "NNCompensator",
            "COMP_NONE", "COMP_COULOMB", "COMP_NN"]
 
 COMP_NONE, COMP_COULOMB, COMP_NN = 0, 1, 2
-
-
-def _nonneg(name, v):
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v < 0:
-        raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
-    return float(v)
 
 
 class Compensator:
@@ -54,15 +53,18 @@ class Compensator:
         return None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class NoCompensation(Compensator):
     """No compensation: ``Tm(k+1) = Tc(k)``."""
 
     scale: float = 1.0
+    """Compensation scale s (no effect here) [-]."""
     name: str = "none"
+    """Label in results and plots."""
 
     def __post_init__(self):
-        _nonneg("scale", self.scale)
+        v.real("scale", self.scale, nonneg=True)
+        v.text("name", self.name)
 
     def __call__(self, tm, omega_hat):
         return np.zeros(np.broadcast(np.asarray(tm), np.asarray(omega_hat)).shape)
@@ -71,7 +73,7 @@ class NoCompensation(Compensator):
         return COMP_NONE, np.zeros(1)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CoulombCompensator(Compensator):
     """``T^at = Fc_pos`` if ``omega_hat > deadband``, ``-Fc_neg`` if below ``-deadband``, else 0.
 
@@ -86,19 +88,24 @@ class CoulombCompensator(Compensator):
     """
 
     coulomb_pos: float = 0.0
+    """Level for positive velocity [N*m]."""
     coulomb_neg: float = 0.0
+    """Magnitude of the level for negative velocity [N*m]."""
     deadband: float = 0.0
+    """Velocity dead band [rad/s]."""
     scale: float = 1.0
+    """Compensation scale s [-]."""
     name: str = "Coulomb"
+    """Label in results and plots."""
 
     def __post_init__(self):
-        _nonneg("coulomb_pos", self.coulomb_pos)
-        _nonneg("coulomb_neg", self.coulomb_neg)
-        _nonneg("deadband", self.deadband)
-        _nonneg("scale", self.scale)
+        for name in ("coulomb_pos", "coulomb_neg", "deadband", "scale"):
+            v.real(name, getattr(self, name), nonneg=True)
+        v.text("name", self.name)
 
     @classmethod
     def symmetric(cls, level: float, *, deadband: float = 0.0, scale: float = 1.0):
+        """The same level ``level`` [N*m] in both directions."""
         return cls(coulomb_pos=level, coulomb_neg=level, deadband=deadband, scale=scale)
 
     def __call__(self, tm, omega_hat):
@@ -110,10 +117,6 @@ class CoulombCompensator(Compensator):
         return COMP_COULOMB, np.array([self.coulomb_pos, self.coulomb_neg, self.deadband])
 
 
-_NET_ATTRS = ("w1", "b1", "w2", "b2", "input_offset", "input_scale", "output_offset",
-              "output_scale", "envelope_low", "envelope_high")
-
-
 @dataclass(frozen=True)
 class NNCompensator(Compensator):
     """Neural (or any learned) friction compensation ``s * T^at(Tm, omega_hat)``.
@@ -122,7 +125,9 @@ class NNCompensator(Compensator):
     ----------
     estimator : callable
         ``estimator(tm, omega) -> T^at`` [N*m], vectorised.  A
-        :class:`fricctl.nn.FrictionNet` is evaluated inside the compiled loop.
+        :class:`fricctl.nn.FrictionNet` (or any object with its weight and
+        scaling attributes, :data:`fricctl.nn.layout.NET_ATTRIBUTES`) is evaluated
+        inside the compiled loop.  The only positional argument.
     scale : float
         s [-]: 1 for the trained actuator, 0.95 for the aged one (Fig. 16,
         without retraining).
@@ -131,30 +136,31 @@ class NNCompensator(Compensator):
     """
 
     estimator: Callable
+    """``(tm [N*m], omega [rad/s]) -> T^at [N*m]``, vectorised."""
+    _: KW_ONLY
     scale: float = 1.0
+    """Compensation scale s [-]."""
     clip: bool = False
+    """Clip the inputs to the net's training envelope (nets only)."""
     name: str = "NN"
+    """Label in results and plots."""
 
     def __post_init__(self):
         if not callable(self.estimator):
             raise ValueError("estimator must be callable (tm, omega) -> friction estimate")
-        _nonneg("scale", self.scale)
+        v.real("scale", self.scale, nonneg=True)
+        v.flag("clip", self.clip)
+        v.text("name", self.name)
+
+    def _is_net(self) -> bool:
+        return all(hasattr(self.estimator, a) for a in NET_ATTRIBUTES)
 
     def __call__(self, tm, omega_hat):
-        if self.clip and hasattr(self.estimator, "envelope_low"):
+        if self.clip and self._is_net():
             return np.asarray(self.estimator(tm, omega_hat, clip=True), dtype=float)
         return np.asarray(self.estimator(tm, omega_hat), dtype=float)
 
     def compiled(self):
-        net = self.estimator
-        if not all(hasattr(net, a) for a in _NET_ATTRS):
+        if not self._is_net():
             return None
-        w1 = np.asarray(net.w1, dtype=float)
-        h = w1.shape[0]
-        head = np.concatenate([
-            [h], np.asarray(net.input_offset, float), np.asarray(net.input_scale, float),
-            [float(net.output_offset), float(net.output_scale), 1.0 if self.clip else 0.0],
-            np.asarray(net.envelope_low, float), np.asarray(net.envelope_high, float),
-            [float(net.b2)]])
-        return COMP_NN, np.concatenate([head, w1.ravel(), np.asarray(net.b1, float),
-                                        np.asarray(net.w2, float)])
+        return COMP_NN, pack_compiled(self.estimator, self.clip)
