@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..compensators import COMP_COULOMB, COMP_NN
+from ..nn.layout import forward_packed
 from ..plant.kernels import advance, state_torque
 
 __all__ = ["OUTPUTS", "observe", "control_torque",
@@ -81,21 +82,7 @@ def compensate(kind, p, tm, wh):
             return -p[1]
         return 0.0
     if kind == COMP_NN:
-        h = int(p[0])
-        x0 = tm
-        x1 = wh
-        if p[7] != 0.0:
-            x0 = min(max(x0, p[8]), p[10])
-            x1 = min(max(x1, p[9]), p[11])
-        x0 = (x0 - p[1]) / p[3]
-        x1 = (x1 - p[2]) / p[4]
-        y = p[12]
-        w1 = 13
-        b1 = 13 + 2 * h
-        w2 = b1 + h
-        for j in range(h):
-            y += p[w2 + j] * math.tanh(p[w1 + 2 * j] * x0 + p[w1 + 2 * j + 1] * x1 + p[b1 + j])
-        return y * p[6] + p[5]
+        return forward_packed(p, tm, wh)
     return 0.0
 
 
