@@ -182,7 +182,11 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
     """
     if v is None or isinstance(v, (str, bytes)):
         raise ValueError(f"{name} must be an array of real numbers, got {type(v).__name__}")
-    raw = np.asarray(v)
+    try:
+        raw = np.asarray(v)
+    except ValueError:  # ragged nested sequences
+        raise ValueError(f"{name} must be a rectangular array of real numbers (rows of equal "
+                         f"length)") from None
     if raw.dtype.kind not in "iuf":
         raise ValueError(f"{name} must hold real numbers, got an array of dtype {raw.dtype}")
     try:
@@ -201,6 +205,8 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
         bad = ~np.isfinite(a)
         if bad.any():
             i = np.unravel_index(int(np.flatnonzero(bad.ravel())[0]), a.shape)
+            if a.ndim == 0:
+                raise ValueError(f"{name} must be finite, got {float(a)!r}")
             where = i[0] if len(i) == 1 else i
             raise ValueError(f"{name} holds NaN or inf ({float(a[i])!r}) at index {where}")
     return a
