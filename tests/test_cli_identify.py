@@ -30,10 +30,9 @@ def test_json_output(tmp_path, capsys):
         assert np.isfinite(out["parameters"][name]["std"]) and out["parameters"][name]["std"] > 0
     assert out["parameters"]["offset"]["value"] == pytest.approx(0.003, abs=0.001)
     # the JSON's numbers are the library's: same fit through identify_run
-    from fricctl.datasets import Run as _Run
     from fricctl.identify import identify_run
 
-    res = identify_run(_Run.from_csv(path))
+    res = identify_run(Run.from_csv(path))
     assert out["condition_number"] == pytest.approx(res.condition_number, rel=1e-9)
     assert out["fit_percent"] == pytest.approx(res.fit_percent, rel=1e-9) and res.fit_percent > 95
 

@@ -135,14 +135,14 @@ def test_inverse_dynamics_sign_convention():
 def test_bad_input():
     _, _, w, a = _motion(1.0)
     y = _law(TRUE, w, a)
-    with pytest.raises(ValueError, match="unknown friction model"):
+    with pytest.raises(ValueError, match="model must be one of"):
         I.fit_friction(w, a, y, model="lugre")
     with pytest.raises(ValueError, match="do not excite inertia"):
         I.fit_friction(w, np.zeros_like(a), y)
     bad = y.copy(); bad[3] = np.nan
-    with pytest.raises(ValueError, match="torque: non-finite value at row 3"):
+    with pytest.raises(ValueError, match=r"torque holds NaN or inf \(nan\) at index 3"):
         I.fit_friction(w, a, bad)
-    with pytest.raises(ValueError, match="length"):
+    with pytest.raises(ValueError, match=f"acceleration must have {w.size} elements"):
         I.fit_friction(w, a[:-1], y)
     with pytest.raises(ValueError, match="initial: unknown"):
         I.fit_friction(w, a, y, initial={"mass": 1.0})
@@ -168,3 +168,54 @@ def test_plot_identification():
     assert "[N*m]" in ax.get_ylabel() and "[s]" in ax.get_xlabel()
     with pytest.raises(ValueError, match="length"):
         plot_identification(res, t=t[:-1])
+
+
+def test_units_of_parameters_come_from_fricctl_units():
+    # labels are fricctl.units' (one table for the package): linear axis -> N, N*s/m, m/s
+    from fricctl.units import UNITS
+
+    _, _, w, a = _motion()
+    res = I.fit_friction(w, a, _law(TRUE_STRIBECK, w, a), model="stribeck", units="linear")
+    unit = {n: p["unit"] for n, p in res.as_dict()["parameters"].items()}
+    lin = UNITS["linear"]
+    assert unit == {"inertia": lin.inertia, "viscous": lin.viscous, "coulomb": lin.torque,
+                    "static": lin.torque, "stribeck_velocity": lin.velocity, "offset": lin.torque}
+    assert I.parameter_unit("coulomb_neg", "rotary") == UNITS["rotary"].torque
+    with pytest.raises(ValueError, match="units must be one of"):
+        I.fit_friction(w, a, _law(TRUE, w, a), units="metric")
+
+
+def test_argument_checks_name_the_argument():
+    _, _, w, a = _motion(1.0)
+    y = _law(TRUE, w, a)
+    # NumPy scalars are real numbers: same prediction as Python floats (exact)
+    p64 = {k: np.float64(x) for k, x in TRUE.items()}
+    np.testing.assert_array_equal(I.inverse_dynamics("coulomb_viscous", p64, w, a),
+                                  I.inverse_dynamics("coulomb_viscous", TRUE, w, a))
+    assert I.IdimRecipe(filter_order=np.int64(2)).filter_order == 2
+    with pytest.raises(ValueError, match="decimation must be an integer >= 1"):
+        I.IdimRecipe(decimation=0)
+    with pytest.raises(ValueError, match="cutoff must be > 0"):
+        I.IdimRecipe(cutoff=-1.0)
+    with pytest.raises(ValueError, match="lower holds NaN at index 1"):
+        I.fit_least_squares(I.linear_prediction, I.regressor("coulomb_viscous", w, a), y,
+                            names=I.model_names("coulomb_viscous"), initial=np.zeros(4),
+                            lower=[0.0, np.nan, 0.0, -np.inf])
+    with pytest.raises(ValueError, match="run must be a fricctl.datasets.Run"):
+        I.identify_run({"t": w})
+    with pytest.raises(ValueError, match="offset must be True or False"):
+        I.model_names("stribeck", offset="yes")
+
+
+def test_linear_prediction_is_the_regressor_product():
+    # CasADi graph of linear_prediction evaluated numerically = X @ theta (numpy, 1e-12)
+    import casadi as ca
+
+    _, _, w, a = _motion(1.0)
+    X = I.regressor("asymmetric", w, a)
+    theta = np.array([TRUE_ASYM[n] for n in I.model_names("asymmetric")])
+    th = ca.MX.sym("th", X.shape[1])
+    rows = [ca.MX.sym(f"x{j}", 1, X.shape[0]) for j in range(X.shape[1])]
+    f = ca.Function("f", [th, *rows], [I.linear_prediction(th, rows)])
+    out = np.asarray(f(theta, *[X[:, j][None, :] for j in range(X.shape[1])])).ravel()
+    np.testing.assert_allclose(out, X @ theta, rtol=1e-12, atol=1e-15)

@@ -1,0 +1,175 @@
+r"""The friction models of the inverse dynamic identification model (IDIM).
+
+One axis, rotary convention (for a linear axis read force [N], mass [kg], [m], [m/s]):
+
+.. math::
+
+    \tau = I\,\ddot q + F_f(\dot q) + \text{offset},
+
+with the friction laws (``w`` = velocity, friction has the sign of ``w``)
+
+* ``"coulomb_viscous"``: ``F_f = b*w + Fc*sign(w)``;
+  parameters ``inertia, viscous, coulomb, offset``;
+* ``"asymmetric"`` (EMPS eq. 12): ``b+ * w + Fc+`` for ``w > 0`` and
+  ``b- * w - Fc-`` for ``w < 0``, two positive magnitudes per direction;
+  parameters ``inertia, viscous_pos, coulomb_pos, viscous_neg, coulomb_neg``
+  (``offset`` only on request: without rest samples it is collinear with the two
+  Coulomb columns);
+* ``"stribeck"``: ``b*w + sign(w)*(Fc + (Fs - Fc)*exp(-(w/vs)^2))``;
+  parameters ``inertia, viscous, coulomb, static, stribeck_velocity, offset``.
+
+This module states the models once, in numpy: their parameter names, units and
+bounds, the observation matrix of the linear ones (:func:`regressor`) and the
+torque every model predicts (:func:`inverse_dynamics`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .. import _validate as v
+from ..units import units as units_of
+
+__all__ = [
+    "MODELS",
+    "LINEAR_MODELS",
+    "NONNEGATIVE",
+    "model_names",
+    "parameter_unit",
+    "lower_bounds",
+    "regressor",
+    "inverse_dynamics",
+]
+
+#: Parameter names of each model (``offset`` included where it is the default).
+MODELS = {
+    "coulomb_viscous": ("inertia", "viscous", "coulomb", "offset"),
+    "asymmetric": ("inertia", "viscous_pos", "coulomb_pos", "viscous_neg", "coulomb_neg"),
+    "stribeck": ("inertia", "viscous", "coulomb", "static", "stribeck_velocity", "offset"),
+}
+#: The models that are linear in their parameters (they have a :func:`regressor`).
+LINEAR_MODELS = ("coulomb_viscous", "asymmetric")
+#: Parameters bounded below by 0 in every fit (magnitudes, per the sign convention).
+NONNEGATIVE = frozenset({"inertia", "viscous", "coulomb", "viscous_pos", "coulomb_pos",
+                         "viscous_neg", "coulomb_neg", "static"})
+#: The quantity of each parameter (a field of :class:`fricctl.units.Units`).
+_QUANTITY = {"inertia": "inertia", "viscous": "viscous", "coulomb": "torque",
+             "offset": "torque", "static": "torque", "stribeck_velocity": "velocity"}
+
+
+def _model(model) -> str:
+    return v.choice("model", model, MODELS)
+
+
+def model_names(model: str, offset: bool | None = None) -> tuple[str, ...]:
+    """Parameter names of ``model``, with or without ``offset``.
+
+    Examples
+    --------
+    >>> model_names("asymmetric", offset=True)
+    ('inertia', 'viscous_pos', 'coulomb_pos', 'viscous_neg', 'coulomb_neg', 'offset')
+    """
+    names = MODELS[_model(model)]
+    if offset is not None:
+        offset = v.flag("offset", offset)
+    has = "offset" in names
+    if offset is None or offset == has:
+        return names
+    return names + ("offset",) if offset else tuple(n for n in names if n != "offset")
+
+
+def parameter_unit(name: str, kind: str = "rotary") -> str:
+    """Unit label of a friction-model parameter (``""`` for a name of no model).
+
+    Parameters
+    ----------
+    name : str
+        Parameter name, e.g. ``"viscous_neg"``.
+    kind : {"rotary", "linear"}
+        Kind of axis (:mod:`fricctl.units`).
+
+    Examples
+    --------
+    >>> parameter_unit("viscous_neg", "linear"), parameter_unit("stribeck_velocity")
+    ('N*s/m', 'rad/s')
+    """
+    labels = units_of(kind)
+    quantity = _QUANTITY.get(name.replace("_pos", "").replace("_neg", ""))
+    return "" if quantity is None else getattr(labels, quantity)
+
+
+def lower_bounds(names) -> np.ndarray:
+    """Lower bounds of a fit over ``names``: 0 for :data:`NONNEGATIVE`, else ``-inf``."""
+    return np.array([0.0 if nm in NONNEGATIVE else -np.inf for nm in names])
+
+
+def regressor(model: str, velocity, acceleration, *, offset: bool | None = None) -> np.ndarray:
+    """Observation matrix of a linear-in-parameters model, columns in :func:`model_names` order.
+
+    Parameters
+    ----------
+    model : {"coulomb_viscous", "asymmetric"}
+        Linear model.
+    velocity, acceleration : array_like, shape (N,)
+        Joint velocity [rad/s] and acceleration [rad/s^2] (or [m/s], [m/s^2]).
+    offset : bool, optional
+        Include the constant column (default: as in :data:`MODELS`).
+
+    Examples
+    --------
+    >>> regressor("coulomb_viscous", [2.0, -1.0], [0.5, 0.0]).tolist()
+    [[0.5, 2.0, 1.0, 1.0], [0.0, -1.0, -1.0, 1.0]]
+    """
+    if _model(model) not in LINEAR_MODELS:
+        raise ValueError(f"model: {model!r} is not linear in its parameters; no regressor matrix")
+    w = v.array("velocity", velocity)
+    a = v.array("acceleration", acceleration, size=w.size)
+    s = np.sign(w)
+    cols = {"inertia": a, "offset": np.ones_like(w)}
+    if model == "coulomb_viscous":
+        cols.update(viscous=w, coulomb=s)
+    else:
+        pos, neg = (1.0 + s) / 2.0, (1.0 - s) / 2.0  # EMPS's O+ and O- operators
+        cols.update(viscous_pos=w * pos, coulomb_pos=s * pos, viscous_neg=w * neg,
+                    coulomb_neg=s * neg)
+    return np.column_stack([cols[n] for n in model_names(model, offset)])
+
+
+def inverse_dynamics(model: str, parameters: Mapping, velocity, acceleration) -> np.ndarray:
+    """Torque [N*m] (or force [N]) the model predicts for given motion.
+
+    Parameters
+    ----------
+    model : str
+        One of :data:`MODELS`.
+    parameters : dict
+        Name -> value; exactly the names of the model, ``offset`` optional.
+    velocity, acceleration : array_like, shape (N,)
+        [rad/s], [rad/s^2] (or [m/s], [m/s^2]).
+
+    Examples
+    --------
+    >>> p = dict(inertia=2.0, viscous=0.5, coulomb=1.0, offset=0.0)
+    >>> inverse_dynamics("coulomb_viscous", p, [2.0, -2.0], [1.0, 1.0]).tolist()
+    [4.0, 0.0]
+    """
+    names = set(MODELS[_model(model)]) - {"offset"}
+    v.instance("parameters", parameters, Mapping, "a mapping of parameter names to values")
+    given = set(parameters)
+    if not names <= given or not given <= names | {"offset"}:
+        raise ValueError(f"parameters: expected {sorted(names)} (+ optional offset), got {sorted(given)}")
+    p = {k: v.real(f"parameters[{k!r}]", x) for k, x in parameters.items()}
+    w = v.array("velocity", velocity)
+    a = v.array("acceleration", acceleration, size=w.size)
+    s = np.sign(w)
+    tau = p["inertia"] * a + p.get("offset", 0.0)
+    if model == "coulomb_viscous":
+        return tau + p["viscous"] * w + p["coulomb"] * s
+    if model == "asymmetric":
+        pos, neg = w > 0, w < 0
+        return tau + np.where(pos, p["viscous_pos"] * w + p["coulomb_pos"], 0.0) \
+                   + np.where(neg, p["viscous_neg"] * w - p["coulomb_neg"], 0.0)
+    excess = (p["static"] - p["coulomb"]) * np.exp(-(w / p["stribeck_velocity"]) ** 2)
+    return tau + p["viscous"] * w + s * (p["coulomb"] + excess)
