@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from . import _validate as v
+
 __all__ = [
     "DerivativeEstimate",
     "backward_difference",
@@ -77,24 +79,24 @@ class DerivativeEstimate:
             object.__setattr__(self, name, x)
 
 
-def _check(t, position) -> tuple[np.ndarray, np.ndarray, float]:
-    t = np.asarray(t, dtype=float)
-    q = np.asarray(position, dtype=float)
-    if t.ndim != 1 or q.ndim != 1:
-        raise ValueError(f"t and position must be 1-D, got shapes {t.shape} and {q.shape}")
-    if t.size != q.size:
-        raise ValueError(f"position: length {q.size} differs from t ({t.size})")
-    if t.size < 5:
-        raise ValueError(f"fewer than 5 samples ({t.size})")
-    for name, x in (("t", t), ("position", q)):
-        bad = np.flatnonzero(~np.isfinite(x))
-        if bad.size:
-            raise ValueError(f"{name}: non-finite value at row {int(bad[0])}")
+@dataclass(frozen=True, kw_only=True)
+class _Record:
+    """A checked position record: uniform times, positions, and the sample time."""
+
+    t: np.ndarray
+    q: np.ndarray
+    ts: float
+
+
+def _record(t, position) -> _Record:
+    """The record of an estimator's ``(t, position)``: 1-D, finite, same length >= 5, uniform t."""
+    t = v.array("t", t, min_size=5)
+    q = v.array("position", position, size=t.size)
     dt = np.diff(t)
     ts = (t[-1] - t[0]) / (t.size - 1)
     if np.any(dt <= 0) or np.any(np.abs(dt - ts) > _TIME_RTOL * ts):
         raise ValueError("t: time must be strictly increasing and uniform")
-    return t, q, float(ts)
+    return _Record(t=t, q=q, ts=float(ts))
 
 
 def _backward(x: np.ndarray, ts: float) -> np.ndarray:
@@ -121,11 +123,8 @@ def central_difference(x, sample_time: float) -> np.ndarray:
     >>> central_difference([0.0, 1.0, 4.0, 9.0], 1.0).tolist()
     [1.0, 2.0, 4.0, 5.0]
     """
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 1 or x.size < 3:
-        raise ValueError("x: expected a 1-D array of at least 3 samples")
-    if not sample_time > 0:
-        raise ValueError(f"sample_time: must be positive, got {sample_time}")
+    x = v.array("x", x, min_size=3)
+    sample_time = v.real("sample_time", sample_time, positive=True, unit="s")
     return np.concatenate(([x[1] - x[0]], (x[2:] - x[:-2]) / 2.0, [x[-1] - x[-2]])) / sample_time
 
 
@@ -136,9 +135,9 @@ def zero_phase_filter(b, a, x) -> np.ndarray:
     end, as MATLAB does; SciPy's default pads one sample more, which changes the
     first and last few dozen samples slightly.
     """
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 1 or not np.all(np.isfinite(x)):
-        raise ValueError("the signal to filter must be a finite 1-D array")
+    b = v.array("b", b, min_size=1)
+    a = v.array("a", a, min_size=1)
+    x = v.array("x", x)
     padlen = 3 * (max(len(a), len(b)) - 1)
     if x.size <= padlen:
         raise ValueError(f"the record has {x.size} samples; this zero-phase filter needs more than "
@@ -168,14 +167,12 @@ def decimate(x, factor: int) -> np.ndarray:
     >>> len(y), round(float(y[0]), 4)    # DC gain of an even-order Chebyshev I: -0.05 dB twice
     (3, 0.9886)
     """
-    x = np.asarray(x, dtype=float)
-    if int(factor) != factor or factor < 1:
-        raise ValueError(f"factor: must be a positive integer, got {factor}")
-    factor = int(factor)
+    factor = v.integer("factor", factor, low=1)
+    x = v.array("x", x)
     if factor == 1:
         return x.copy()
-    if x.ndim != 1 or x.size <= 3 * 8:
-        raise ValueError("x: expected a 1-D array of more than 24 samples")
+    if x.size <= 3 * 8:
+        raise ValueError(f"x must have more than 24 samples to decimate, got {x.size}")
     b, a = signal.cheby1(8, 0.05, 0.8 / factor)
     y = zero_phase_filter(b, a, x)
     n = x.size
@@ -209,10 +206,10 @@ def backward_difference(t, position) -> DerivativeEstimate:
     >>> est.velocity.tolist(), est.acceleration.tolist()
     ([1.0, 1.0, 2.0, 3.0, 4.0], [0.0, 0.0, 1.0, 1.0, 1.0])
     """
-    t, q, ts = _check(t, position)
-    v = _backward(q, ts)
-    return DerivativeEstimate(t=t, position=q, velocity=v, acceleration=_backward(v, ts),
-                              method="backward_difference")
+    rec = _record(t, position)
+    vel = _backward(rec.q, rec.ts)
+    return DerivativeEstimate(t=rec.t, position=rec.q, velocity=vel,
+                              acceleration=_backward(vel, rec.ts), method="backward_difference")
 
 
 def _segments(moving: np.ndarray) -> list[tuple[int, int]]:
@@ -271,14 +268,12 @@ def polynomial_segments(t, position, *, order: int = 6, window: int = 200,
     >>> bool(np.max(np.abs(est.velocity[10:-10] - np.cos(t[10:-10]))) < 5e-3)
     True
     """
-    t, q, ts = _check(t, position)
-    if order < 1:
-        raise ValueError(f"order: must be >= 1, got {order}")
-    if window < order + 2:
-        raise ValueError(f"window: must be at least order + 2 = {order + 2}, got {window}")
-    if not 0 <= overlap < window:
-        raise ValueError(f"overlap: must satisfy 0 <= overlap < window, got {overlap}")
-    min_samples = order + 2 if min_samples is None else int(min_samples)
+    rec = _record(t, position)
+    t, q, ts = rec.t, rec.q, rec.ts
+    order = v.integer("order", order, low=1)
+    window = v.integer("window", window, low=order + 2)
+    overlap = v.integer("overlap", overlap, low=0, high=window - 1)
+    min_samples = order + 2 if min_samples is None else v.integer("min_samples", min_samples)
     vb = np.empty_like(q)
     vb[1:] = np.diff(q) / ts
     vb[0] = vb[1]
@@ -348,16 +343,16 @@ def savitzky_golay(t, position, *, window_length: int = 51, polyorder: int = 3) 
     >>> bool(np.allclose(est.acceleration, 2.0))
     True
     """
-    t, q, ts = _check(t, position)
-    if window_length % 2 != 1 or window_length > q.size:
-        raise ValueError(f"window_length: must be odd and at most {q.size}, got {window_length}")
-    if not 2 <= polyorder < window_length:
-        raise ValueError(f"polyorder: must satisfy 2 <= polyorder < window_length, got {polyorder}")
-    kw = dict(window_length=window_length, polyorder=polyorder, delta=ts, mode="interp")
+    rec = _record(t, position)
+    window_length = v.integer("window_length", window_length, low=3, high=rec.q.size)
+    if window_length % 2 != 1:
+        raise ValueError(f"window_length must be odd, got {window_length}")
+    polyorder = v.integer("polyorder", polyorder, low=2, high=window_length - 1)
+    kw = dict(window_length=window_length, polyorder=polyorder, delta=rec.ts, mode="interp")
     return DerivativeEstimate(
-        t=t, position=signal.savgol_filter(q, deriv=0, **kw),
-        velocity=signal.savgol_filter(q, deriv=1, **kw),
-        acceleration=signal.savgol_filter(q, deriv=2, **kw), method="savitzky_golay")
+        t=rec.t, position=signal.savgol_filter(rec.q, deriv=0, **kw),
+        velocity=signal.savgol_filter(rec.q, deriv=1, **kw),
+        acceleration=signal.savgol_filter(rec.q, deriv=2, **kw), method="savitzky_golay")
 
 
 def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> DerivativeEstimate:
@@ -389,17 +384,18 @@ def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> Deriva
     >>> bool(np.allclose(est.velocity[100:-100], 2 * np.pi * np.cos(2 * np.pi * t[100:-100]), atol=1e-3))
     True
     """
-    t, q, ts = _check(t, position)
-    nyq = 0.5 / ts
+    rec = _record(t, position)
+    nyq = 0.5 / rec.ts
+    cutoff = v.real("cutoff", cutoff, unit="Hz")
     if not 0 < cutoff < nyq:
-        raise ValueError(f"cutoff: must lie in (0, {nyq:g}) Hz, got {cutoff}")
-    if order < 1:
-        raise ValueError(f"order: must be >= 1, got {order}")
+        raise ValueError(f"cutoff must lie in (0, {nyq:g}) Hz (below Nyquist), got {cutoff!r}")
+    order = v.integer("order", order, low=1)
     b, a = signal.butter(order, cutoff / nyq)
-    qf = zero_phase_filter(b, a, q)
-    v = central_difference(qf, ts)
-    return DerivativeEstimate(t=t, position=qf, velocity=v,
-                              acceleration=central_difference(v, ts), method="butterworth_central")
+    qf = zero_phase_filter(b, a, rec.q)
+    vel = central_difference(qf, rec.ts)
+    return DerivativeEstimate(t=rec.t, position=qf, velocity=vel,
+                              acceleration=central_difference(vel, rec.ts),
+                              method="butterworth_central")
 
 
 #: Estimators by name (for the CLI and :func:`estimate`).
@@ -417,9 +413,8 @@ def estimate(t, position, method: str = "polynomial_segments", **options) -> Der
     ``butterworth_central`` without a ``cutoff`` uses a fifth of the Nyquist
     frequency (100 Hz at 1 kHz, the EMPS choice).
     """
-    if method not in ESTIMATORS:
-        raise ValueError(f"method: unknown estimator {method!r}; choose from {sorted(ESTIMATORS)}")
+    v.choice("method", method, ESTIMATORS)
     if method == "butterworth_central" and "cutoff" not in options:
-        t_arr = np.asarray(t, dtype=float)
-        options = dict(options, cutoff=0.1 / ((t_arr[-1] - t_arr[0]) / (t_arr.size - 1)))
+        ts = _record(t, position).ts
+        options = dict(options, cutoff=0.1 / ts)
     return ESTIMATORS[method](t, position, **options)

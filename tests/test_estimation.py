@@ -99,18 +99,37 @@ def test_decimate_picks_matlab_samples():
 
 
 @pytest.mark.parametrize("call,msg", [
-    (lambda: E.backward_difference([0, 1, 2, 3], [0, 1, 2, 3]), "fewer than 5"),
+    (lambda: E.backward_difference([0, 1, 2, 3], [0, 1, 2, 3]), "t must have at least 5"),
     (lambda: E.backward_difference([0, 1, 2, 3, 5], [0, 1, 2, 3, 4]), "uniform"),
-    (lambda: E.backward_difference([0, 1, 2, 3, 4], [0, 1, np.nan, 3, 4]), "position: non-finite"),
+    (lambda: E.backward_difference([0, 1, 2, 3, 4], [0, 1, np.nan, 3, 4]),
+     r"position holds NaN or inf \(nan\) at index 2"),
+    (lambda: E.backward_difference([0, 1, 2, 3, 4], [0, 1, 2, 3]), "position must have 5 elements"),
     (lambda: E.polynomial_segments(np.arange(10.0), np.arange(10.0), overlap=300), "overlap"),
+    (lambda: E.polynomial_segments(np.arange(10.0), np.arange(10.0), order=2.5),
+     "order must be an integer"),
     (lambda: E.savitzky_golay(np.arange(10.0), np.arange(10.0), window_length=4), "odd"),
-    (lambda: E.butterworth_central(np.arange(10.0), np.arange(10.0), cutoff=0.6), "cutoff"),
-    (lambda: E.estimate(np.arange(10.0), np.arange(10.0), "kalman"), "unknown estimator"),
-    (lambda: E.decimate(np.arange(100.0), 2.5), "factor"),
+    (lambda: E.butterworth_central(np.arange(10.0), np.arange(10.0), cutoff=0.6),
+     r"cutoff must lie in \(0, 0.5\) Hz"),
+    (lambda: E.estimate(np.arange(10.0), np.arange(10.0), "kalman"), "method must be one of"),
+    (lambda: E.decimate(np.arange(100.0), 2.5), "factor must be an integer"),
+    (lambda: E.central_difference([0.0, 1.0, 2.0], 0.0), "sample_time must be > 0"),
+    (lambda: E.zero_phase_filter([1.0], [1.0], [0.0, np.inf]), "x holds NaN or inf"),
 ])
 def test_bad_input(call, msg):
     with pytest.raises(ValueError, match=msg):
         call()
+
+
+def test_numpy_scalar_options_estimate_like_python_ones():
+    # np.int64 / np.float32 options are numbers like any other (fricctl._validate): same
+    # estimate as the Python values, exactly (25.0 is exact in float32)
+    t, q, v, a, qe = _trajectory(1.0)
+    ref = E.butterworth_central(t, qe, cutoff=25.0, order=4)
+    est = E.butterworth_central(t, qe, cutoff=np.float32(25.0), order=np.int64(4))
+    np.testing.assert_array_equal(est.velocity, ref.velocity)
+    ref = E.savitzky_golay(t, qe, window_length=31, polyorder=3)
+    est = E.savitzky_golay(t, qe, window_length=np.int64(31), polyorder=np.int32(3))
+    np.testing.assert_array_equal(est.acceleration, ref.acceleration)
 
 
 def test_plot_velocity_estimates():

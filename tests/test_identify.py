@@ -166,7 +166,7 @@ def test_plot_identification():
     np.testing.assert_array_equal(lines[0].get_ydata(), res.measured)
     np.testing.assert_array_equal(lines[2].get_ydata(), res.residual)
     assert "[N*m]" in ax.get_ylabel() and "[s]" in ax.get_xlabel()
-    with pytest.raises(ValueError, match="length"):
+    with pytest.raises(ValueError, match=f"t must have {res.n_samples} elements"):
         plot_identification(res, t=t[:-1])
 
 

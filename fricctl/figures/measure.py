@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _validate as v
+from ..estimation import DerivativeEstimate
+from ..identify import IdentificationResult
+from ..units import units as units_of
 from ._common import get_ax
 
 __all__ = ["plot_velocity_estimates", "plot_identification"]
@@ -28,20 +32,24 @@ def plot_velocity_estimates(estimates, *, raw=None, truth=None, ax=None, units: 
     -------
     matplotlib.axes.Axes
     """
+    labels = units_of(units)
     ax = get_ax(ax)
     if not isinstance(estimates, (list, tuple)):
         estimates = [estimates]
+    for i, est in enumerate(estimates):
+        v.instance(f"estimates[{i}]", est, DerivativeEstimate)
+    if raw is not None:
+        v.instance("raw", raw, DerivativeEstimate)
     if raw is not None:
         ax.plot(raw.t, raw.velocity, drawstyle="steps-post", color="0.6", lw=0.8,
                 label=f"raw ({raw.method})")
     for est in estimates:
         ax.plot(est.t, est.velocity, lw=1.2, label=est.method)
     if truth is not None:
-        t, v = truth
-        ax.plot(np.asarray(t), np.asarray(v), "k--", lw=1.0, label="true")
-    unit = "rad/s" if units == "rotary" else "m/s"
+        t_true, w_true = truth
+        ax.plot(np.asarray(t_true), np.asarray(w_true), "k--", lw=1.0, label="true")
     ax.set_xlabel("time $t$ [s]")
-    ax.set_ylabel(rf"velocity $\omega$ [{unit}]")
+    ax.set_ylabel(rf"velocity $\omega$ [{labels.velocity}]")
     ax.legend(loc="best", fontsize="small")
     return ax
 
@@ -60,11 +68,11 @@ def plot_identification(result, *, t=None, ax=None):
     -------
     matplotlib.axes.Axes
     """
+    v.instance("result", result, IdentificationResult)
+    x = np.arange(result.n_samples) if t is None else v.array("t", t, size=result.n_samples)
     ax = get_ax(ax)
-    x = np.arange(result.n_samples) if t is None else np.asarray(t, dtype=float)
-    if x.size != result.n_samples:
-        raise ValueError(f"t: length {x.size} differs from the fit's {result.n_samples} samples")
-    unit, name = ("N*m", r"torque $\tau$") if result.units == "rotary" else ("N", "force $F$")
+    name = r"torque $\tau$" if result.units == "rotary" else "force $F$"
+    unit = units_of(result.units).torque
     ax.plot(x, result.measured, lw=1.2, label="measured")
     ax.plot(x, result.predicted, "--", lw=1.2, label=f"predicted ({result.model or 'custom'})")
     ax.plot(x, result.residual, lw=0.8, color="k", label="residual")
