@@ -19,6 +19,7 @@ import json
 def register(subparsers) -> None:
     from ..estimation import ESTIMATORS
     from ..identify import MODELS
+    from ..units import KINDS
 
     p = subparsers.add_parser(
         "identify", help="fit a friction law to a measured record (CSV)",
@@ -30,7 +31,7 @@ def register(subparsers) -> None:
     p.add_argument("--estimator", choices=tuple(ESTIMATORS), default="butterworth_central",
                    help="velocity/acceleration estimator (default butterworth_central, "
                         "cut-off a fifth of the Nyquist frequency)")
-    p.add_argument("--units", choices=("rotary", "linear"), default=None,
+    p.add_argument("--units", choices=KINDS, default=None,
                    help="override the record's '# units:' line")
     p.add_argument("--border", type=int, default=50, metavar="N",
                    help="samples dropped at each end (default 50)")
