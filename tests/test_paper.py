@@ -240,7 +240,7 @@ def test_claims_table(claims):
 
 def test_claim_rejects_non_str():
     with pytest.raises(ValueError, match="Claim.measured"):
-        paper.Claim("x", "c", "p", 1.0, True, "Fig. 1")
+        paper.Claim(id="x", claim="c", paper="p", measured=1.0, passed=True, figure="Fig. 1")
 
 
 # -- robustness sweep ----------------------------------------------------------------

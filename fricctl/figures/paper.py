@@ -4,16 +4,26 @@ One ``plot_figN(result, ax=None)`` per figure; single-panel ones return the
 Axes, multi-panel ones (``ax`` then a sequence of Axes, or None) return the
 Figure.  Held torques are drawn with ``drawstyle="steps-post"``; every axis
 carries symbol and unit; nothing is shown or saved here.
+
+Each plot registers itself for its figure with ``@paper_plot(N)``: the decorator
+checks that Fig. N is in the paper's registry (:func:`fricctl.paper.paper_figures`),
+makes the plot refuse any result but that figure's ``result_type``, and adds it to
+:data:`PAPER_PLOTS` (figure number -> plot, read-only), which ``fricctl reproduce``
+reads.  Adding a figure's plot is one decorated function here.
 """
 
 from __future__ import annotations
+
+import functools
+from types import MappingProxyType
+from typing import Callable
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 from ..paper import (Fig4Result, Fig5Result, Fig8Result, Fig9Result, Fig10Result, Fig11Result,
                      Fig12Result, Fig13Result, Fig14Result, Fig16Result, Fig17Result, Fig18Result,
-                     SweepResult)
+                     SweepResult, paper_figures)
 from ._common import get_ax
 from .core import plot_dead_zone
 from .measure import plot_velocity_estimates
@@ -21,14 +31,48 @@ from .network import plot_fit
 
 __all__ = ["plot_fig4", "plot_fig5", "plot_fig8", "plot_fig9", "plot_fig10", "plot_fig11",
            "plot_fig12", "plot_fig13", "plot_fig14", "plot_fig16", "plot_fig17", "plot_fig18",
-           "plot_sweep", "PAPER_PLOTS"]
+           "plot_sweep", "PAPER_PLOTS", "paper_plot"]
 
 _DEG = 180.0 / np.pi
+
+_PLOTS: dict[int, Callable] = {}
+#: Figure number -> plot function, filled by :func:`paper_plot` (read-only view).
+PAPER_PLOTS = MappingProxyType(_PLOTS)
 
 
 def _check(result, cls):
     if not isinstance(result, cls):
         raise ValueError(f"expected a {cls.__name__}, got {type(result).__name__}")
+
+
+def paper_plot(number: int) -> Callable[[Callable], Callable]:
+    """Register the decorated ``plot(result, ax=None)`` as the plot of paper figure ``number``.
+
+    The returned plot refuses (``ValueError``) a result that is not the figure's
+    registered ``result_type``.
+
+    Raises
+    ------
+    ValueError
+        Fig. ``number`` is not in :func:`fricctl.paper.paper_figures`, or already has a plot.
+    """
+    figure = paper_figures().get(number)
+    if figure is None:
+        raise ValueError(f"Fig. {number} is not registered in fricctl.paper (no module fig{number:02d})")
+
+    def register(plot: Callable) -> Callable:
+        if number in _PLOTS:
+            raise ValueError(f"Fig. {number} already has a plot: {_PLOTS[number].__name__}")
+
+        @functools.wraps(plot)
+        def checked(result, *args, **kwargs):
+            _check(result, figure.result_type)
+            return plot(result, *args, **kwargs)
+
+        _PLOTS[number] = checked
+        return checked
+
+    return register
 
 
 def _axes(ax, n, width=9.6, height=3.6):
@@ -50,9 +94,9 @@ def _position(ax, run, label, *, reference=True, **style):
     ax.set_ylabel("position q [deg]")
 
 
+@paper_plot(4)
 def plot_fig4(result: Fig4Result, ax=None):
     """Raw (backward-difference) and filtered velocity, with the true one (Fig. 4)."""
-    _check(result, Fig4Result)
     ax = plot_velocity_estimates(result.filtered, raw=result.raw,
                                  truth=(result.filtered.t, result.truth_velocity), ax=get_ax(ax))
     ax.set_title(f"Fig. 4: velocity, {result.experiment} (RMS error raw {result.raw_rms:.3g}, "
@@ -60,9 +104,9 @@ def plot_fig4(result: Fig4Result, ax=None):
     return ax
 
 
+@paper_plot(5)
 def plot_fig5(result: Fig5Result, ax=None):
     """Training torque sequence and the friction patterns it gives (Fig. 5)."""
-    _check(result, Fig5Result)
     ax = get_ax(ax)
     ax.plot(result.t, result.torque, drawstyle="steps-post", lw=1, label="motor torque Tm")
     ax.plot(result.t, result.friction, ".", ms=1.5, label="patterns Tat = Tm - I·α̂")
@@ -74,9 +118,9 @@ def plot_fig5(result: Fig5Result, ax=None):
     return ax
 
 
+@paper_plot(8)
 def plot_fig8(result: Fig8Result, ax=None):
     """Experimental against network friction on the held-out patterns (Fig. 8)."""
-    _check(result, Fig8Result)
     ax = plot_fit(result.target, result.predicted, ax=get_ax(ax))
     ax.set_title(f"Fig. 8 (held out): {ax.get_title()}, g = {result.gain_at_rest:.2f}", fontsize="small")
     return ax
@@ -91,9 +135,9 @@ def _torques(ax, run, *, which=("cmd", "motor")):
     ax.set_ylabel("torque [N·m]")
 
 
+@paper_plot(9)
 def plot_fig9(result: Fig9Result, ax=None):
     """Velocity under an open-loop sinusoid near breakaway, without and with compensation (Fig. 9)."""
-    _check(result, Fig9Result)
     fig, (a0, a1) = _axes(ax, 2)
     for a, run, name, sticks in ((a0, result.without, "without compensation", result.sticks_without),
                                  (a1, result.with_nn, "with NN compensation", result.sticks_with)):
@@ -109,9 +153,9 @@ def plot_fig9(result: Fig9Result, ax=None):
     return fig
 
 
+@paper_plot(10)
 def plot_fig10(result: Fig10Result, ax=None):
     """Control and motor torque at 10 % of Tmax with compensation, and the dead zones (Fig. 10)."""
-    _check(result, Fig10Result)
     fig, (a0, a1) = _axes(ax, 2)
     _torques(a0, result.with_nn)
     a0.set_title(f"with NN compensation: {result.with_nn.displacement_counts()} counts of motion "
@@ -124,9 +168,9 @@ def plot_fig10(result: Fig10Result, ax=None):
     return fig
 
 
+@paper_plot(11)
 def plot_fig11(result: Fig11Result, ax=None):
     """P step without compensation, with the linear viscous prediction (Fig. 11)."""
-    _check(result, Fig11Result)
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "--", label="linear viscous simulation")
     _position(ax, result.run, "joint, no compensation")
@@ -135,9 +179,9 @@ def plot_fig11(result: Fig11Result, ax=None):
     return ax
 
 
+@paper_plot(12)
 def plot_fig12(result: Fig12Result, ax=None):
     """P step with NN compensation against the linear viscous simulation, dashed (Fig. 12)."""
-    _check(result, Fig12Result)
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "k--", label="linear viscous simulation")
     _position(ax, result.run, "NN compensation (paper)")
@@ -164,19 +208,18 @@ def _pd_figure(result, ax, title, extra=None):
     return fig
 
 
+@paper_plot(13)
 def plot_fig13(result: Fig13Result, ax=None):
     """PD step without compensation; the residual motor torque and the NN estimate (Fig. 13)."""
-    _check(result, Fig13Result)
-
     def extra(a):
         a.axhline(result.nn_at_rest, color="C3", ls=":", label=f"NN estimate at rest {result.nn_at_rest:.3f} N·m")
     return _pd_figure(result, ax, f"Fig. 13: PD step, no compensation, e_ss = "
                       f"{_DEG * result.steady_state_error:.2f} deg", extra)
 
 
+@paper_plot(14)
 def plot_fig14(result: Fig14Result, ax=None):
     """PD step with NN compensation (Fig. 14)."""
-    _check(result, Fig14Result)
     return _pd_figure(result, ax, f"Fig. 14: PD step with NN compensation, e_ss = "
                       f"{_DEG * result.steady_state_error:.3f} deg")
 
@@ -196,22 +239,22 @@ def _link_figure(result, ax, title):
     return fig
 
 
+@paper_plot(16)
 def plot_fig16(result: Fig16Result, ax=None):
     """Aged actuator with link: NN x 0.95, Coulomb and no compensation (Fig. 16)."""
-    _check(result, Fig16Result)
     return _link_figure(result, ax, f"Fig. 16: aged actuator (friction x {result.friction_scale:g}), "
                         f"step {_DEG * result.step:.0f} deg")
 
 
+@paper_plot(17)
 def plot_fig17(result: Fig17Result, ax=None):
     """Step of 0.08 rad with the link (Fig. 17)."""
-    _check(result, Fig17Result)
     return _link_figure(result, ax, f"Fig. 17: step {result.step:g} rad")
 
 
+@paper_plot(18)
 def plot_fig18(result: Fig18Result, ax=None):
     """Sawtooth without and with compensation, plus the stick-slip extra (Fig. 18)."""
-    _check(result, Fig18Result)
     fig, (a0, a1) = _axes(ax, 2)
     a0.plot(result.with_nn.t, _DEG * result.linear, "k--", lw=1, label="linear viscous simulation")
     _position(a0, result.without, "no compensation")
@@ -247,8 +290,3 @@ def plot_sweep(result: SweepResult, ax=None):
                  fontsize="small")
     return ax
 
-
-#: Figure number -> plotting function.
-PAPER_PLOTS = {4: plot_fig4, 5: plot_fig5, 8: plot_fig8, 9: plot_fig9, 10: plot_fig10, 11: plot_fig11,
-               12: plot_fig12, 13: plot_fig13, 14: plot_fig14, 16: plot_fig16, 17: plot_fig17,
-               18: plot_fig18}

@@ -1,0 +1,109 @@
+"""The paper's experiments on the virtual bench, and its claims checked by numbers.
+
+Gervini, Gomes & da Rosa (2003) show their results in Figs. 4-18.  Each
+``figN(network)`` below re-runs the experiment of figure N on the virtual bench
+(deterministic: every random draw comes from ``network.seed``) and returns a
+frozen result; :mod:`fricctl.figures.paper` draws it.  All figures share one
+trained network, :func:`train_paper_network` (the paper's pipeline run once:
+Table-2-style experiments -> friction patterns with the paper's polynomial
+velocity estimator -> 2-4-1 network).
+
+:func:`paper_claims` turns the results into :class:`Claim` rows: the paper's
+words, the paper's value, the value measured here and pass/fail, each with an
+explicit tolerance in its text.  A claim that the bench does not reproduce is
+reported as failing, with the physical reason in ``note``; nothing is tuned to
+make a claim pass.  :func:`robustness_sweep` maps where NN compensation keeps
+the PD steady-state error below 0.3 deg over friction scale and link inertia.
+:func:`reproduce_paper` runs everything (``fricctl reproduce``).
+
+Assumptions (the paper does not give these; labelled as such in the results):
+
+* Fig. 9: sinusoidal torque of 1.1 x the breakaway level Fs, 0.5 Hz, 4 s;
+* Fig. 16: step of 30 deg; the aged actuator is the bench's true friction x 0.95
+  (the paper lowers the compensation scale to s = 0.95 after 30 h of wear
+  without retraining); the Coulomb compensator is the nominal Coulomb level
+  with the same s = 0.95;
+* Fig. 17 runs on the same aged actuator and compensation as Fig. 16;
+* Fig. 18: sawtooth period 1 s (two periods).
+
+Each figure's registry entry carries the same list (``PaperFigure.assumptions``).
+
+Modules
+-------
+* :mod:`~fricctl.paper.network` -- :class:`PaperNetwork`, :func:`train_paper_network`;
+* :mod:`~fricctl.paper.common` -- the constants, the cached designs, the step and
+  link runs and the measurements several figures share;
+* ``figNN`` -- one module per figure: its frozen result, ``run(network, ...)``, its
+  claim makers and its registry entry ``FIGURE = PaperFigure(...)``;
+* :mod:`~fricctl.paper.registry` -- :class:`PaperFigure`, :func:`paper_figures`
+  (the entries of every ``figNN`` module, found by name);
+* :mod:`~fricctl.paper.claims` -- :class:`Claim`, :func:`paper_claims` and the table;
+* :mod:`~fricctl.paper.sweep` -- :func:`robustness_sweep`;
+* :mod:`~fricctl.paper.reproduce` -- :func:`reproduce_paper`.
+
+Adding a figure: write ``fricctl/paper/figNN.py`` (result, ``run``, claim makers,
+``FIGURE``) and its plot (``@paper_plot(NN)`` in :mod:`fricctl.figures.paper`);
+nothing else changes.  ``fig4`` ... ``fig18`` here are the modules' ``run``
+functions; for Figs. 10-18 that name is the function, not the module (reach the
+module with ``from fricctl.paper.fig12 import IdealEstimate`` or
+``importlib.import_module("fricctl.paper.fig12")``).
+
+Notes
+-----
+The bench is the simulator of :mod:`fricctl.simulate` with the paper actuator of
+:mod:`fricctl.params`; it has no measurement noise, no torque ripple and no
+thermal drift unless asked for.  Claims about the real hardware (e.g. "after
+30 h of operation") are modelled, not measured.
+"""
+
+from __future__ import annotations
+
+from types import MappingProxyType
+
+from .claims import EXTRA, Claim, claims_json, claims_markdown, claims_summary, is_extra, paper_claims
+from .common import (ACCURACY_DEG, AGED_SCALE, STICK_MIN_DURATION, restarts, sign_changes,
+                     stick_intervals_after_motion)
+from .fig04 import Fig4Result
+from .fig04 import run as fig4
+from .fig05 import Fig5Result
+from .fig05 import run as fig5
+from .fig08 import Fig8Result
+from .fig08 import run as fig8
+from .fig09 import Fig9Result
+from .fig09 import run as fig9
+from .fig10 import Fig10Result
+from .fig10 import run as fig10
+from .fig11 import Fig11Result
+from .fig11 import run as fig11
+from .fig12 import Fig12Result, IdealEstimate, ViscousExcluded
+from .fig12 import run as fig12
+from .fig13 import Fig13Result
+from .fig13 import run as fig13
+from .fig14 import Fig14Result
+from .fig14 import run as fig14
+from .fig16 import Fig16Result
+from .fig16 import run as fig16
+from .fig17 import Fig17Result
+from .fig17 import run as fig17
+from .fig18 import Fig18Result
+from .fig18 import run as fig18
+from .network import PaperNetwork, train_paper_network
+from .registry import PaperFigure, paper_figures
+from .reproduce import PaperResults, reproduce_paper
+from .sweep import SweepResult, robustness_sweep
+
+__all__ = [
+    "PaperNetwork", "train_paper_network",
+    "Fig4Result", "Fig5Result", "Fig8Result", "Fig9Result", "Fig10Result", "Fig11Result",
+    "Fig12Result", "Fig13Result", "Fig14Result", "Fig16Result", "Fig17Result", "Fig18Result",
+    "fig4", "fig5", "fig8", "fig9", "fig10", "fig11", "fig12", "fig13", "fig14", "fig16",
+    "fig17", "fig18", "FIGURES", "PaperFigure", "paper_figures",
+    "ViscousExcluded", "IdealEstimate", "SweepResult", "robustness_sweep",
+    "Claim", "paper_claims", "claims_markdown", "claims_json", "claims_summary", "is_extra", "EXTRA",
+    "PaperResults", "reproduce_paper",
+    "stick_intervals_after_motion", "restarts", "sign_changes",
+    "ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE",
+]
+
+#: Figure number -> experiment function (read-only; built from the registry).
+FIGURES = MappingProxyType({n: fig.run for n, fig in paper_figures().items()})

