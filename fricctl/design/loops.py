@@ -274,14 +274,15 @@ def sampled_loop(design: Design | None = None, *, kp: float | None = None,
     Returns
     -------
     control.StateSpace
-        ``dt = Ts``; input r_k [rad]; output q_k [rad] (and Tm_k); state
-        ``(q, omega, Tm, y_prev)``, so the initial state of a loop at rest at
-        ``q0`` is ``(q0, 0, 0, q0)``.
+        As :meth:`LinearLoop.sampled`: state ``(q, omega, Tm, y_prev)``, at rest
+        at ``q0`` it is ``(q0, 0, 0, q0)``.
 
-    Notes
-    -----
-    Linear viscous plant only: no saturation, no quantisation, no Coulomb or
-    static friction.
+    Examples
+    --------
+    >>> from fricctl.params import paper_actuator
+    >>> loop = sampled_loop(kp=0.9, kd=0.07, params=paper_actuator())
+    >>> loop.dt, loop.nstates, loop.noutputs
+    (0.002, 4, 1)
     """
     if design is not None:
         if kp is not None or params is not None:
