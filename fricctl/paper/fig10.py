@@ -89,8 +89,9 @@ def claim_fig10_motion(r: Fig10Result, params=None) -> Claim:
         id="fig10-motion", claim="A sinusoidal control torque of 10 % of Tmax, inside the dead zone, moves "
         f"the joint with compensation and not without (here: encoder motion > {thr} counts)",
         paper="moves with, still without",
-        measured=f"{c0} counts without, {c1} counts with; peak |Tm| {np.abs(r.with_nn.torque_motor).max():.3f} "
-        f"N*m for peak |Tc| {np.abs(r.with_nn.torque_cmd).max():.3f} N*m", passed=ok, figure="Fig. 10",
+        measured=f"{c0} counts without, {c1} counts with; peak |Tm| "
+        f"{np.abs(r.with_nn.torque_motor).max():.3f} N*m for peak |Tc| "
+        f"{np.abs(r.with_nn.torque_cmd).max():.3f} N*m", passed=ok, figure="Fig. 10",
         note=("the loop winds the motor torque up to several times the control torque (g > 1 at rest): the "
               "joint moves, but it runs away rather than following the small control torque"
               if ok and np.abs(r.with_nn.torque_motor).max() > 2 * np.abs(r.with_nn.torque_cmd).max() else

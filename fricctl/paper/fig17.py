@@ -53,8 +53,8 @@ def claim_fig17_none(r: Fig17Result, params: ActuatorParams) -> Claim:
     ok = m <= resolution
     return Claim(
         id="fig17-none", claim="Step of 0.08 rad without compensation: no motion (here: peak |q| <= 1 "
-        "encoder count)", paper="no motion", measured=f"peak |q| {m:.2e} rad (1 count = {resolution:.2e} rad)",
-        passed=ok, figure="Fig. 17",
+        "encoder count)", paper="no motion",
+        measured=f"peak |q| {m:.2e} rad (1 count = {resolution:.2e} rad)", passed=ok, figure="Fig. 17",
         note=f"Passes trivially: Kp*0.08 rad = {r.design.kp * r.step:.3f} N*m is below the breakaway level."
         if ok else "the joint moved")
 

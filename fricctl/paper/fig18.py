@@ -103,8 +103,9 @@ def claim_fig18_with(r: Fig18Result, params=None) -> Claim:
 def claim_fig18_extra(r: Fig18Result, params=None) -> Claim:
     ok = r.extra_restarts >= 2
     return Claim(
-        id="fig18-extra", claim=f"(Extra, not in the paper.) A larger, slower sawtooth ({r.extra_amplitude:g} "
-        f"rad over {r.extra_period:g} s) without compensation shows stick-slip (>= 2 cycles)",
+        id="fig18-extra", claim="(Extra, not in the paper.) A larger, slower sawtooth "
+        f"({r.extra_amplitude:g} rad over {r.extra_period:g} s) without compensation shows stick-slip "
+        "(>= 2 cycles)",
         paper=EXTRA, measured=f"{r.extra_restarts} stick-slip cycles", passed=ok, figure="Fig. 18",
         note="" if ok else "the joint creeps without sticking at this ramp rate")
 
