@@ -5,9 +5,10 @@ import json
 import numpy as np
 import pytest
 
-from fricctl.cli import main
-from fricctl.diagnose import CAUSES, JointModel
 from fricctl.bench.hidden_effects import hidden_effect_record
+from fricctl.cli import main
+from fricctl.diagnose import CAUSES, NOMINAL_ONLY
+from fricctl.plant import JointModel
 
 
 @pytest.fixture(scope="module")
@@ -23,7 +24,9 @@ def test_json_output(record_csv, capsys):
     assert main(["diagnose", str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["cause"] == "time_delay"
-    assert all(r["cause"] in CAUSES for r in out["ranking"])
+    # fit mode: every candidate that needs no nominal model, scored once
+    assert sorted(r["cause"] for r in out["ranking"]) == sorted(
+        set(CAUSES) - {"none"} - set(NOMINAL_ONLY))
     assert {"inertia", "viscous_pos", "coulomb_pos"} <= set(out["baseline"])
     assert "delay" in out["extended"]
     assert set(out["gain"]) >= {"torque_rms_before", "torque_rms_after",
@@ -38,7 +41,9 @@ def test_nominal_model_and_report(record_csv, tmp_path, capsys):
     out_dir = tmp_path / "report"
     assert main(["diagnose", str(path), "--model", str(mfile), "--report", str(out_dir)]) == 0
     text = capsys.readouterr().out
-    assert "time_delay" in text
+    assert "# Diagnosis: `time_delay`" in text
+    # nominal mode: the nominal-only candidates are scored too
+    assert all(f"| {c} |" in text for c in NOMINAL_ONLY)
     for name in ("report.md", "residuals.png", "simulation.png", "spectrum.png", "extended_model.json"):
         assert (out_dir / name).is_file(), name
     ext = JointModel.load(out_dir / "extended_model.json")

@@ -23,26 +23,12 @@ encoder                3.14e-5 rad per count        paper actuator (2000 counts,
 torque limit           12 * Fc                      paper: Fs = 12.7 % of Tmax
 =====================  ===========================  ==============================
 
-Hidden effects and their magnitudes (uniform within the ranges)
------------------------------------------------------------------
-=================  =====================================================================
-cause              magnitude
-=================  =====================================================================
-none               nothing added
-stribeck           excess Fs - Fc = 0.5 .. 1.0 Fc, Stribeck velocity 0.02 .. 0.1 rad/s
-asymmetry          one of: Coulomb ratio 1.3 .. 1.7 between the directions; viscous
-                   ratio 1.5 .. 2.2; a constant torque offset of 0.2 .. 0.4 Fc
-load_dependent     mu = 0.08 .. 0.20 (friction + mu*|Tm|; harmonic drives lose 10-30 %)
-position_ripple    amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase
-time_delay         4 .. 8 samples (8-16 ms at 500 Hz)
-thermal_drift      friction level changes by 25 .. 50 % over the record (either sign)
-compliance         elastic joint (paper Eq. 1), link 0.5 .. 1.5 x actuator inertia,
-                   coupled resonance 12 .. 40 Hz, structural damping ratio 0.02 .. 0.1
-presliding         LuGre bristles, presliding length Fc/sigma0 = 6 .. 20 encoder counts,
-                   bristle damping ratio 0.3 .. 1
-inertia            (nominal model) true inertia 1.3 .. 2.6 x or 0.6 .. 0.8 x the nominal
-friction_scale     (nominal model) friction 0.80 .. 0.93 x or 1.07 .. 1.20 x the nominal
-=================  =====================================================================
+Hidden effects and their magnitudes
+-----------------------------------
+Each cause module of :mod:`fricctl.diagnose.causes` says how the bench hides its
+effect (its ``inject`` function, ranges in its docstring's "Bench:" line):
+:data:`HIDDEN_CAUSES` and :data:`NOMINAL_CAUSES` come from that registry, so a new
+cause module is hidden here without an edit.  ``none`` adds nothing.
 
 The lower ends are the sizes the issue requires to be found (ripple 20 % of Fc,
 Stribeck excess 50 %, delay 4 samples, 25 % drift); each range starts where the
@@ -76,20 +62,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel
-from ..friction import Coulomb, FrictionModel, LuGre, PositionRipple, Stribeck, Viscous, LoadDependent
-from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
 from ..simulate import Schedule, simulate_schedule
+# The bench reads the cause registry: each cause module says how the bench hides it.
+# Layering: this generator is the diagnosis's test bench and sits beside it, above
+# fricctl.diagnose (which never imports fricctl.bench); fricctl.bench.experiments does not
+# import it, so the paper's experiments stay below the diagnosis.
+from ..diagnose import causes
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION"]
 
-#: Effects the generator hides without a nominal model (``none`` included).
-HIDDEN_CAUSES = ("none", "stribeck", "asymmetry", "load_dependent", "position_ripple",
-                 "time_delay", "thermal_drift", "compliance", "presliding")
+#: Effects the generator hides without a nominal model (``none`` included), from the registry.
+HIDDEN_CAUSES = (causes.NONE,) + tuple(c.name for c in causes.candidates(nominal=False))
 #: Effects that only exist against a supplied nominal model.
-NOMINAL_CAUSES = ("inertia", "friction_scale")
+NOMINAL_CAUSES = causes.NOMINAL_ONLY
 
 #: Load-side encoder count of the paper actuator [rad] (2000 counts/rev, n = 100).
 ENCODER_RESOLUTION = 2.0 * math.pi / (2000 * 100)
@@ -103,24 +92,24 @@ class HiddenEffectRecord:
     ----------
     run : Run
         The measured record (t, recorded torque, encoder position, reference).
-    nominal : fricctl.diagnose.JointModel or None
+    nominal : JointModel or None
         The nominal model an engineer would hold (the true baseline actuator) for
         the nominal-model causes and ``none`` drawn with ``nominal=True``; else None.
     cause : str
         The hidden cause (ground truth; tests must not pass it to the diagnosis).
     magnitude : dict
         Parameters of the hidden effect (SI units).
-    truth : fricctl.diagnose.JointModel
+    truth : JointModel
         The complete true model (baseline + effect).
     excitation : tuple of str
         The segments, in order.
     """
 
     run: Run
-    nominal: object
+    nominal: JointModel | None
     cause: str
     magnitude: dict = field(default_factory=dict)
-    truth: object = None
+    truth: JointModel
     excitation: tuple = ()
 
 
@@ -204,12 +193,6 @@ def _excitation(rng, n, ts, inertia, breakaway, viscous, tmax):
 
 
 # ----------------------------------------------------------------------------- generator
-def _uniform_pm(rng, lo, hi):
-    """A value in [lo, hi] or [1/hi, 1/lo] (a ratio either way)."""
-    v = rng.uniform(lo, hi)
-    return v if rng.random() < 0.5 else 1.0 / v
-
-
 def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
                          duration: float = 40.0, sample_time: float = 0.002,
                          nominal: bool = False, noise: bool = True) -> HiddenEffectRecord:
@@ -238,6 +221,12 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     -------
     HiddenEffectRecord
 
+    Notes
+    -----
+    The draws come in a fixed sequence: the cause (when not forced), the actuator
+    (Jm, Jl, b, Fc, noise level), the effect's magnitudes (the cause module's
+    ``inject``), the excitation, the noise.
+
     Examples
     --------
     >>> import numpy as np
@@ -245,20 +234,17 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     >>> rec.run.n_samples, rec.nominal is None
     (5000, True)
     """
-    if not isinstance(rng, np.random.Generator):
-        raise ValueError("rng must be a numpy.random.Generator")
-    if not (isinstance(duration, (int, float)) and 10.0 <= duration <= 120.0):
-        raise ValueError(f"duration must lie in [10, 120] s, got {duration!r}")
-    if not (isinstance(sample_time, (int, float)) and 5e-4 <= sample_time <= 5e-3):
-        raise ValueError(f"sample_time must lie in [0.0005, 0.005] s, got {sample_time!r}")
+    v.rng("rng", rng)
+    duration = v.real("duration", duration, low=10.0, high=120.0, unit="s")
+    ts = v.real("sample_time", sample_time, low=5e-4, high=5e-3, unit="s")
+    nominal = v.flag("nominal", nominal)
+    noise = v.flag("noise", noise)
     if cause is None:
-        pool = ("none",) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
+        pool = (causes.NONE,) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
         cause = str(rng.choice(pool))
-    if cause not in HIDDEN_CAUSES + NOMINAL_CAUSES:
-        raise ValueError(f"cause must be one of {HIDDEN_CAUSES + NOMINAL_CAUSES}, got {cause!r}")
+    cause = v.choice("cause", cause, HIDDEN_CAUSES + NOMINAL_CAUSES)
     nominal = nominal or cause in NOMINAL_CAUSES
 
-    ts = float(sample_time)
     n = int(round(duration / ts))
     jm = rng.uniform(1.5e-3, 4.5e-3)
     jl = rng.uniform(0.0, 6e-3)
@@ -266,106 +252,23 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     fc = rng.uniform(0.08, 0.25)
     noise_std = rng.uniform(0.01, 0.03) * fc
     tmax = 12.0 * fc
-    base = (Viscous(b) + Coulomb(fc))
-    inertia = jm + jl
-    friction = base
-    delay = 0
-    mag: dict = {}
-    kind = RIGID
-    kst = dmp = 0.0
-    jm_sim, jl_sim = inertia, inertia
-    nsub = 4
-    truth_kw = {}
-    breakaway = fc
-    if cause == "stribeck":
-        mag = dict(excess=rng.uniform(0.5, 1.0) * fc, velocity=rng.uniform(0.02, 0.1))
-        friction = base + Stribeck(mag["excess"], mag["velocity"])
-        breakaway = fc + mag["excess"]
-    elif cause == "asymmetry":
-        which = str(rng.choice(("coulomb", "viscous", "offset")))
-        if which == "coulomb":
-            r = _uniform_pm(rng, 1.3, 1.7)
-            friction = Viscous(b) + Coulomb(pos=fc * math.sqrt(r), neg=fc / math.sqrt(r))
-            mag = dict(kind=which, coulomb_pos=fc * math.sqrt(r), coulomb_neg=fc / math.sqrt(r))
-        elif which == "viscous":
-            r = _uniform_pm(rng, 1.5, 2.2)
-            friction = Viscous(pos=b * math.sqrt(r), neg=b / math.sqrt(r)) + Coulomb(fc)
-            mag = dict(kind=which, viscous_pos=b * math.sqrt(r), viscous_neg=b / math.sqrt(r))
-        else:
-            off = rng.uniform(0.2, 0.4) * fc * rng.choice((-1.0, 1.0))
-            # a constant resistive torque c is Coulomb fc+c one way, fc-c the other
-            # (identical sliding torque and identical breakaway band)
-            friction = Viscous(b) + Coulomb(pos=fc + off, neg=fc - off)
-            mag = dict(kind=which, offset=off)
-        breakaway = max(friction.coulomb_pos, friction.coulomb_neg)
-    elif cause == "load_dependent":
-        mag = dict(coefficient=rng.uniform(0.08, 0.20))
-        friction = base + LoadDependent(mag["coefficient"])
-    elif cause == "position_ripple":
-        mag = dict(amplitude=rng.uniform(0.2, 0.5) * fc,
-                   period=math.exp(rng.uniform(math.log(0.04), math.log(0.5))),
-                   phase=rng.uniform(0, 2 * math.pi))
-        friction = base + PositionRipple(mag["amplitude"], mag["period"], mag["phase"])
-        breakaway = fc + mag["amplitude"]
-    elif cause == "time_delay":
-        delay = int(rng.integers(4, 9))
-        mag = dict(samples=delay, seconds=delay * ts)
-    elif cause == "thermal_drift":
-        change = rng.uniform(0.25, 0.5) * rng.choice((-1.0, 1.0))
-        mag = dict(change=change, rate=change / duration)
-        friction = base.with_drift(change / duration)
-        breakaway = fc * max(1.0, 1.0 + change)
-    elif cause == "compliance":
-        jl = rng.uniform(0.5, 1.5) * jm
-        inertia = jm + jl
-        fr = rng.uniform(12.0, 40.0)
-        kst = (2 * math.pi * fr) ** 2 / (1.0 / jm + 1.0 / jl)
-        zeta = rng.uniform(0.02, 0.1)
-        dmp = 2 * zeta * math.sqrt(kst * jl)
-        kind, jm_sim, jl_sim, nsub = FLEXIBLE, jm, jl, 10
-        mag = dict(stiffness=kst, damping=dmp, motor_inertia=jm, load_inertia=jl, resonance_hz=fr)
-        truth_kw = dict(load_inertia=jl, stiffness=kst, damping=dmp)
-    elif cause == "presliding":
-        xc = rng.uniform(6.0, 20.0) * ENCODER_RESOLUTION
-        sigma0 = fc / xc
-        sigma1 = rng.uniform(0.3, 1.0) * 2.0 * math.sqrt(sigma0 * inertia)
-        friction = base + LuGre(sigma0, sigma1)
-        kind = LUGRE
-        # RK4 on z' = w - |w| z / xc needs h*|w|/xc < ~2.5 at the highest speed (~10 rad/s)
-        nsub = int(min(max(40, math.ceil(ts * 12.0 / xc / 1.5)), 2000))
-        mag = dict(sigma0=sigma0, sigma1=sigma1, presliding_length=xc)
-    elif cause == "inertia":
-        f = rng.uniform(1.3, 2.6) if rng.random() < 0.7 else rng.uniform(0.6, 0.8)
-        mag = dict(factor=f, nominal=inertia, true=inertia * f)
-        jm_sim = jl_sim = inertia * f
-    elif cause == "friction_scale":
-        f = rng.uniform(0.80, 0.93) if rng.random() < 0.5 else rng.uniform(1.07, 1.20)
-        mag = dict(factor=f)
-        friction = base.scaled(f)
-        breakaway = fc * max(f, 1.0)
-    if not isinstance(friction, FrictionModel):
-        friction = friction.model()
+    actuator = causes.BenchActuator(motor_inertia=jm, link_inertia=jl, viscous=b, coulomb=fc,
+                                     sample_time=ts, duration=duration,
+                                     encoder_resolution=ENCODER_RESOLUTION)
+    effect = causes.inject(cause, rng, actuator)
 
-    kinds, kp, kd, ref, ff, start = _excitation(rng, n, ts, max(jm_sim, inertia) if kind != FLEXIBLE
-                                                else inertia, breakaway, b, tmax)
-    noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
-    joint = (FlexibleJoint(motor_inertia=jm_sim, load_inertia=jl_sim, stiffness=kst, damping=dmp,
-                           friction=friction) if kind == FLEXIBLE
-             else RigidJoint(inertia=jm_sim, friction=friction))
-    sim = simulate_schedule(joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
-                                            segment_start=start),
+    # the excitation is sized for the heavier of the true and the nominal inertia
+    kinds, kp, kd, ref, ff, start = _excitation(
+        rng, n, ts, max(effect.truth.inertia, effect.nominal.inertia), effect.breakaway, b, tmax)
+    torque_noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
+    sim = simulate_schedule(effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
+                                                   segment_start=start),
                             sample_time=ts, max_torque=tmax, encoder_resolution=ENCODER_RESOLUTION,
-                            substeps=int(nsub), delay=int(delay), noise=noise)
+                            substeps=int(effect.substeps), delay=int(effect.delay),
+                            noise=torque_noise)
     if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
     run = Run(t=sim.t, torque=sim.torque_motor, position=sim.q_meas, reference=sim.reference,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
-    base_model = JointModel(inertia=jm + jl, friction=base)
-    if cause == "inertia":
-        truth = JointModel(inertia=inertia * mag["factor"], friction=friction)
-    elif cause == "compliance":
-        truth = JointModel(inertia=jm + jl, friction=friction, **truth_kw)
-    else:
-        truth = JointModel(inertia=inertia, friction=friction, delay=delay * ts)
-    return HiddenEffectRecord(run=run, nominal=base_model if nominal else None, cause=cause,
-                              magnitude=mag, truth=truth, excitation=kinds)
+    return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None, cause=cause,
+                              magnitude=effect.magnitude, truth=effect.truth, excitation=kinds)

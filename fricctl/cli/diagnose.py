@@ -40,7 +40,8 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from ..datasets import Run
-    from ..diagnose import JointModel, diagnose
+    from ..diagnose import diagnose
+    from ..plant import JointModel
 
     record = Run.from_csv(args.run, units=args.units)
     model = JointModel.load(args.model) if args.model else None

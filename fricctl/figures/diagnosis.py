@@ -6,15 +6,12 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
+from ..units import units
 from ._common import get_ax
 
 __all__ = ["plot_simulation", "plot_residual", "plot_residual_spectrum", "plot_diagnosis"]
 
 _AGAINST = ("velocity", "position", "time", "torque")
-
-
-def _units(result):
-    return ("N*m", "rad") if result.units == "rotary" else ("N", "m")
 
 
 def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
@@ -36,17 +33,17 @@ def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
     if quantity not in ("position", "velocity"):
         raise ValueError(f"quantity must be 'position' or 'velocity', got {quantity!r}")
     ax = get_ax(ax)
-    tu, qu = _units(result)
+    u = units(result.units)
     t = result.t
     sel = np.ones(t.size, bool) if span is None else (t >= span[0]) & (t <= span[1])
     if quantity == "position":
         meas, b, a = result.position, result.sim_before.q, result.sim_after.q
         ax.plot(t[sel], meas[sel], drawstyle="steps-post", color="k", lw=1.0, label="measured (encoder)")
-        ax.set_ylabel(f"position $q$ [{qu}]")
+        ax.set_ylabel(f"position $q$ [{u.position}]")
     else:
         meas, b, a = result.velocity, result.sim_before.omega, result.sim_after.omega
         ax.plot(t[sel], meas[sel], color="k", lw=1.0, label="estimated")
-        ax.set_ylabel(rf"velocity $\omega$ [{qu}/s]")
+        ax.set_ylabel(rf"velocity $\omega$ [{u.velocity}]")
     ax.plot(t[sel], b[sel], color="tab:red", lw=1.0, label="baseline, simulated")
     if result.cause != "none":
         ax.plot(t[sel], a[sel], color="tab:blue", lw=1.0, ls="--", label=f"+ {result.cause}, simulated")
@@ -73,11 +70,12 @@ def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = F
     if against not in _AGAINST:
         raise ValueError(f"against must be one of {_AGAINST}, got {against!r}")
     ax = get_ax(ax)
-    tu, qu = _units(result)
+    u = units(result.units)
     x = {"velocity": result.velocity, "position": result.position, "time": result.t,
          "torque": result.torque}[against]
-    label = {"velocity": rf"velocity $\omega$ [{qu}/s]", "position": f"position $q$ [{qu}]",
-             "time": "time $t$ [s]", "torque": f"recorded torque $T_m$ [{tu}]"}[against]
+    label = {"velocity": rf"velocity $\omega$ [{u.velocity}]",
+             "position": f"position $q$ [{u.position}]", "time": "time $t$ [s]",
+             "torque": f"recorded torque $T_m$ [{u.torque}]"}[against]
     ok = ~np.isnan(result.residual_before)
     ax.plot(x[ok], result.residual_before[ok], ".", ms=1.5, color="tab:red", alpha=0.5,
             label="baseline")
@@ -87,7 +85,7 @@ def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = F
                 label=f"+ {result.cause}")
     ax.axhline(0.0, color="0.3", lw=0.8)
     ax.set_xlabel(label)
-    ax.set_ylabel(f"torque residual [{tu}]")
+    ax.set_ylabel(f"torque residual [{u.torque}]")
     ax.legend(loc="best", fontsize="small", markerscale=6)
     return ax
 
@@ -100,7 +98,7 @@ def plot_residual_spectrum(result, *, ax=None):
     matplotlib.axes.Axes
     """
     ax = get_ax(ax)
-    tu, _ = _units(result)
+    tu = units(result.units).torque
     fs = 1.0 / float(result.t[1] - result.t[0])
     for res, color, lab in ((result.residual_before, "tab:red", "baseline"),
                             (result.residual_after, "tab:blue", f"+ {result.cause}")):

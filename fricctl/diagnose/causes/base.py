@@ -1,0 +1,292 @@
+"""What a cause module provides and what it is handed: :class:`Cause`, :class:`Term`,
+:class:`Baseline` (the record as every candidate sees it), and the bench's side,
+:class:`BenchActuator` and :class:`Injection`.
+
+Kept apart from :mod:`fricctl.diagnose.causes` (the registry) so that a cause module
+imports its interface without importing the registry that imports it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Callable, Iterable, Mapping
+
+import numpy as np
+
+from ... import _validate as v
+from ...friction import Coulomb, FrictionModel, Viscous
+from ...plant import FlexibleJoint, JointModel, RigidJoint
+from ...units import Units, units
+from ..crossval import Variant
+from ..signals import Signals, friction_columns, predict
+
+__all__ = ["Cause", "Term", "Baseline", "BenchActuator", "Injection", "identifiable_always",
+           "coulomb_level"]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Term:
+    """A cause's term as fitted on a record: its hyper-parameter and its coefficients."""
+
+    h: object = None
+    """Hyper-parameter chosen on the training data (Stribeck velocity, period, delay in
+    samples, ``(wl, zeta)`` of the resonance, presliding length ...), or None."""
+    coef: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    """Coefficients of the cause's extra columns, in the order of :attr:`Cause.params`."""
+
+
+def identifiable_always(base: "Baseline", term: Term) -> str | None:
+    """The default identifiability check: every fitted term counts as evidence (None)."""
+    return None
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Cause:
+    """One candidate cause of a disagreement between a model and a record.
+
+    A cause module defines one ``CAUSE = Cause(...)``; the registry
+    (:mod:`fricctl.diagnose.causes`) finds it.  The diagnosis calls, in this order:
+    :attr:`variants` (per training set when :attr:`per_fold`) in the blocked
+    cross-validation, and :attr:`extend` for every fitted model; then, for the
+    supported candidates best first, :attr:`refine` and :attr:`identifiable` on all
+    data until one can be told on the record (it is named); :attr:`evidence` for the
+    report.  The bench calls :attr:`inject`.
+    """
+
+    name: str
+    """Identifier (also the module name), e.g. ``"stribeck"``."""
+    physical: str
+    """The physical effect in one line, for reports."""
+    order: int
+    """Place in the candidate list (ascending): a tie in score goes to the lower number."""
+    params: tuple
+    """Names of the coefficients of the extra columns (``()`` for a pure shift such as a delay)."""
+    changes: tuple
+    """The model parameters the effect acts on (keys of :meth:`JointModel.parameters`): its
+    extension sets only these, and the bench's injection changes only these."""
+    variants: Callable[["Baseline", int | None], Iterable[Variant]]
+    """``variants(base, fold)``: one :class:`~fricctl.diagnose.crossval.Variant` per value of the
+    hyper-parameter (extra columns, target, sign and upper bounds of the coefficients)."""
+    extend: Callable[[JointModel, Term, "Baseline"], JointModel]
+    """``extend(model, term, base)``: ``model`` with the fitted term added.  A function of a model,
+    so that several causes' terms apply one after the other."""
+    evidence: Callable[["Baseline", Term, JointModel], str]
+    """``evidence(base, term, extended)``: what in the data shows the cause and the fitted values,
+    as one clause (the diagnosis adds the score before it and the held-out gain after it)."""
+    inject: Callable[[np.random.Generator, "BenchActuator"], "Injection"]
+    """``inject(rng, actuator)``: the bench hides the effect in a drawn actuator (magnitudes drawn
+    from ``rng`` in a fixed sequence, so that a seed gives the same record)."""
+    nominal_only: bool = False
+    """True when the cause only exists against a supplied nominal model (inertia, friction level)."""
+    per_fold: bool = False
+    """True when :attr:`variants` depends on the training blocks (``fold`` is the block left out,
+    None for all data); else it is called once with ``fold=None``."""
+    refine: Callable[["Baseline", list], list] | None = None
+    """``refine(base, variants)``: a finer variant grid for the final fit on all data, or None."""
+    identifiable: Callable[["Baseline", Term], str | None] = identifiable_always
+    """``identifiable(base, term)``: None when the term fitted on all data can be told apart on
+    this record, else the reason why not (a cause that cannot be told is never named).  Every
+    cause accepts every term today; issue 12 fills this in (collinearity with the baseline,
+    a coefficient at its bound, a resonance beyond what the sample rate resolves)."""
+
+    def __post_init__(self):
+        if not (isinstance(self.name, str) and self.name.isidentifier()):
+            raise ValueError(f"Cause.name must be an identifier (the module name), got {self.name!r}")
+        v.text("Cause.physical", self.physical, empty=False)
+        v.integer("Cause.order", self.order)
+        for name in ("variants", "extend", "evidence", "inject", "identifiable"):
+            if not callable(getattr(self, name)):
+                raise ValueError(f"Cause {self.name}: {name} must be a function")
+
+    @property
+    def n_extra(self) -> int:
+        """Number of extra regressor columns (= coefficients)."""
+        return len(self.params)
+
+
+def coulomb_level(model: JointModel) -> float:
+    """Mean Coulomb level of ``model``, times its friction scale [N*m]."""
+    fr = model.friction
+    return 0.5 * (fr.coulomb_pos + fr.coulomb_neg) * fr.scale
+
+
+class Baseline:
+    """The record as every candidate sees it: the baseline's columns or prediction, the target.
+
+    In *fit mode* (no nominal model) the baseline ``I*q'' + b*w + Fc*sign(w)`` is refitted with
+    each candidate: its three columns come first in every design, and ``theta`` holds the fit
+    on all data.  With a *nominal* model the target is the nominal model's residual and each
+    candidate fits only its own term.
+
+    Parameters
+    ----------
+    sig : Signals
+    nominal : JointModel or None
+    theta : ndarray or None
+        Fit mode: the baseline (I, b, Fc) fitted on all sliding samples.
+    """
+
+    def __init__(self, sig: Signals, nominal: JointModel | None, theta: np.ndarray | None):
+        self.sig = sig
+        self.nominal = nominal
+        n = sig.t.size
+        #: effective sign of the motion (fractional at reversals)
+        self.sign = sig.seff
+        self.fit_mode = nominal is None
+        if self.fit_mode:
+            #: (N, 3) columns of the baseline (fit mode), or None
+            self.columns = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(self.sign)])
+            #: delay of the baseline [samples]
+            self.delay = 0
+            #: the target every candidate fits (LP torque, or the nominal residual)
+            self.target = sig.torque_target(0)
+            #: what the target is measured from (the nominal prediction, or zeros)
+            self.reference = np.zeros(n)
+            self.theta = theta
+        else:
+            self.columns = None
+            self.delay = nominal.delay_samples(sig.ts)
+            tp = predict(nominal, sig)
+            self.target = tp.target - tp.prediction
+            self.reference = tp.prediction
+            self.theta = None
+            u = sig.centred(self.delay)
+            #: nominal friction along the measured motion, raw and low-passed [N*m]
+            self.nominal_friction_raw = friction_columns(sig, nominal.friction, u)
+            self.nominal_friction = sig.filt(self.nominal_friction_raw)
+        #: the sample-centred torque the joint receives under the baseline's delay [N*m]
+        self.torque = sig.centred(self.delay)
+        self._variants: dict = {}
+
+    @property
+    def labels(self) -> Units:
+        """Unit labels of the record."""
+        return units(self.sig.units)
+
+    @cached_property
+    def fitted(self) -> JointModel:
+        """The baseline model fitted on all data (fit mode), or the nominal model."""
+        return self.model(None, None, self.theta if self.fit_mode else np.zeros(0))
+
+    @cached_property
+    def residual(self) -> np.ndarray:
+        """The baseline's residual on all samples (fit on all data) [N*m]."""
+        if self.fit_mode:
+            return self.target - self.columns @ self.theta
+        return self.target.copy()
+
+    def variant(self, h, cols, signs, y=None, upper=()) -> Variant:
+        """A :class:`Variant` with extra columns ``cols`` against the baseline's target (or ``y``)."""
+        cols = np.asarray(cols, dtype=float)
+        if cols.ndim == 1:
+            cols = cols[:, None]
+        return Variant(h=h, extra=cols, y=self.target if y is None else y, signs=tuple(signs),
+                       upper=tuple(upper))
+
+    def variants(self, cause: Cause, fold: int | None = None) -> list:
+        """The cause's variants (computed once per cause, or once per fold when it says so)."""
+        key = (cause.name, fold if cause.per_fold else None)
+        if key not in self._variants:
+            self._variants[key] = list(cause.variants(self, key[1]))
+        return self._variants[key]
+
+    def model(self, cause: Cause | None, h, theta: np.ndarray) -> JointModel:
+        """The model of a fit: the baseline (from ``theta`` in fit mode), extended by ``cause``."""
+        units_ = self.sig.units
+        if self.fit_mode:
+            inertia, b, fc = theta[:3]
+            ex = theta[3:]
+            base = JointModel(inertia=max(inertia, 1e-12),
+                              friction=Viscous(max(float(b), 0.0)) + Coulomb(max(float(fc), 0.0)),
+                              units=units_)
+        else:
+            base = replace(self.nominal, units=units_)
+            ex = theta
+        if cause is None:
+            return base
+        return cause.extend(base, Term(h=h, coef=ex), self)
+
+
+# ============================================================================ bench
+@dataclass(frozen=True, kw_only=True)
+class BenchActuator:
+    """The baseline actuator the bench drew for one record (load side), before any effect."""
+
+    motor_inertia: float
+    """Actuator (motor side) inertia Jm [kg*m^2]."""
+    link_inertia: float
+    """Link inertia Jl, rigidly attached unless a cause makes it elastic [kg*m^2]."""
+    viscous: float
+    """Viscous coefficient b [N*m*s/rad]."""
+    coulomb: float
+    """Coulomb level Fc (stiction at the same level) [N*m]."""
+    sample_time: float
+    """Ts of the record [s]."""
+    duration: float
+    """Length of the record [s]."""
+    encoder_resolution: float
+    """One encoder count [rad]."""
+
+    @property
+    def inertia(self) -> float:
+        """Total inertia Jm + Jl [kg*m^2]."""
+        return self.motor_inertia + self.link_inertia
+
+    def friction(self) -> FrictionModel:
+        """The baseline friction ``Viscous(b) + Coulomb(Fc)``."""
+        return Viscous(self.viscous) + Coulomb(self.coulomb)
+
+    def nominal(self) -> JointModel:
+        """The model an engineer would hold: the true baseline actuator."""
+        return JointModel(inertia=self.inertia, friction=self.friction())
+
+    def rigid(self, *, magnitude: Mapping, friction=None, breakaway: float | None = None,
+              delay: int = 0, inertia: float | None = None, substeps: int = 4) -> "Injection":
+        """The injection of an effect that keeps the joint rigid.
+
+        Parameters
+        ----------
+        magnitude : mapping
+            Parameters of the effect (SI), for the record's metadata.
+        friction : FrictionLaw or FrictionModel, optional
+            The true friction (default: the baseline's).
+        breakaway : float, optional
+            The torque the drive must exceed to start moving, for sizing the excitation
+            (default: the Coulomb level) [N*m].
+        delay : int
+            The joint receives the torque this many samples late.
+        inertia : float, optional
+            The true inertia (default: the baseline's) [kg*m^2].
+        substeps : int
+            RK4 sub-intervals per sample of the bench simulation.
+        """
+        fr = (self.friction() if friction is None else friction).model()
+        true_inertia = self.inertia if inertia is None else inertia
+        return Injection(joint=RigidJoint(inertia=true_inertia, friction=fr),
+                         truth=JointModel(inertia=true_inertia, friction=fr,
+                                          delay=delay * self.sample_time),
+                         nominal=self.nominal(), magnitude=dict(magnitude),
+                         breakaway=self.coulomb if breakaway is None else breakaway,
+                         delay=delay, substeps=substeps)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Injection:
+    """An effect hidden in a bench actuator: what the bench simulates and what is true."""
+
+    joint: RigidJoint | FlexibleJoint
+    """The joint the bench simulates."""
+    truth: JointModel
+    """The complete true model (baseline + effect)."""
+    nominal: JointModel
+    """The model an engineer would hold (the true baseline actuator, without the effect)."""
+    magnitude: dict
+    """Parameters of the effect (SI units)."""
+    breakaway: float
+    """Torque needed to start moving, for sizing the excitation [N*m]."""
+    delay: int = 0
+    """Samples between the recorded torque and the torque the joint receives."""
+    substeps: int = 4
+    """RK4 sub-intervals per sample of the bench simulation."""
+

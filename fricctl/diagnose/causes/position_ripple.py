@@ -1,0 +1,102 @@
+"""Position ripple: a torque disturbance periodic in position (cogging, gear mesh, kinematic error).
+
+Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods ``P``
+at the three highest peaks of the training residual's periodogram in position (per block
+left out); on all data a finer period grid around each peak (``1/(6*span)`` in spatial
+frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+from scipy import signal
+
+from ...friction import PositionRipple
+from .base import Cause, coulomb_level
+
+
+def _sin_cos(base, period, ang):
+    """The variant of period ``period`` from the angle ``ang = 2*pi*q/period`` along the record."""
+    sig = base.sig
+    return base.variant(float(period), np.column_stack([sig.filt(np.sin(ang)),
+                                                        sig.filt(np.cos(ang))]), (0, 0))
+
+
+def _variants(base, fold):
+    """Periods at the top peaks of the residual's periodogram in position (training data)."""
+    sig = base.sig
+    rows = sig.moving & (sig.folds != fold) if fold is not None else sig.moving.copy()
+    r = base.residual[rows]
+    q = sig.qf[rows]
+    span = float(np.ptp(q))
+    res = sig.resolution if sig.resolution > 0 else 1e-6 * span
+    pmin = max(30 * res, 2e-5 * span)
+    pmax = span / 4
+    out = []
+    if pmax > 2 * pmin:
+        # Schuster periodogram of the residual as a function of position: residual
+        # summed into bins of pmin/8, FFT (zero-padded x2 for a finer grid).
+        nb = int(min(2 ** 21, 2 ** math.ceil(math.log2(span / (pmin / 8) + 1))))
+        width = span / (nb - 1) if nb > 1 else span
+        idx = np.minimum(((q - q.min()) / width).astype(np.int64), nb - 1)
+        binned = np.bincount(idx, weights=r - r.mean(), minlength=nb)
+        spec = np.abs(np.fft.rfft(binned, n=2 * nb)) ** 2
+        nu = np.fft.rfftfreq(2 * nb, d=width)
+        ok = (nu >= 1 / pmax) & (nu <= 1 / pmin)
+        power = np.where(ok, spec, 0.0)
+        peaks, _ = signal.find_peaks(power)
+        top = peaks[np.argsort(power[peaks])[::-1][:3]] if peaks.size else []
+        for i in top:
+            per = 1.0 / nu[i]
+            out.append(_sin_cos(base, per, 2 * np.pi * sig.qf / per))
+    return out
+
+
+def _refine(base, variants):
+    """A finer period grid around each periodogram peak (full data)."""
+    out = list(variants)
+    sig = base.sig
+    span = float(np.ptp(sig.qf[sig.moving]))
+    for v in variants:
+        dnu = 1.0 / (6 * span)
+        for k in np.linspace(-1.0, 1.0, 9):
+            nu = 1.0 / v.h + k * dnu
+            if nu <= 0:
+                continue
+            out.append(_sin_cos(base, 1.0 / nu, 2 * np.pi * sig.qf * nu))
+    return out
+
+
+def _extend(model, term, base):
+    al, be = term.coef
+    ripple = PositionRipple(float(math.hypot(al, be)), term.h, float(math.atan2(be, al)))
+    return replace(model, friction=model.friction + ripple)
+
+
+def _evidence(base, term, extended):
+    u = base.labels
+    fr = extended.friction
+    fc = coulomb_level(base.fitted)
+    return (f"residual periodic in position, period {fr.ripple_period:.4g} {u.position}, amplitude "
+            f"{fr.ripple_amplitude:.3g} {u.torque} ({100 * fr.ripple_amplitude / max(fc, 1e-12):.0f} % "
+            f"of the Coulomb level)")
+
+
+def _inject(rng, act):
+    fc = act.coulomb
+    mag = dict(amplitude=rng.uniform(0.2, 0.5) * fc,
+               period=math.exp(rng.uniform(math.log(0.04), math.log(0.5))),
+               phase=rng.uniform(0, 2 * math.pi))
+    ripple = PositionRipple(mag["amplitude"], mag["period"], mag["phase"])
+    return act.rigid(magnitude=mag, friction=act.friction() + ripple, breakaway=fc + mag["amplitude"])
+
+
+CAUSE = Cause(
+    name="position_ripple", order=40,
+    physical="a torque disturbance periodic in position",
+    changes=("ripple_amplitude", "ripple_period", "ripple_phase"),
+    params=("ripple_sin", "ripple_cos"), variants=_variants, per_fold=True, refine=_refine,
+    extend=_extend, evidence=_evidence, inject=_inject)

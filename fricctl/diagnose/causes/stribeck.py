@@ -1,0 +1,57 @@
+"""Stribeck effect: friction at low speed exceeds the Coulomb level and decays toward it with speed.
+
+Regressor: ``LP(sign(w) * exp(-(w/vs)^2))`` for 14 Stribeck velocities ``vs`` from 0.1 % to
+20 % of the 95th percentile of |w|; coefficient: the excess ``Fs - Fc >= 0``.
+Bench: excess 0.5 .. 1.0 Fc, Stribeck velocity 0.02 .. 0.1 rad/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ...friction import Stribeck
+from .base import Cause, coulomb_level
+
+
+def _variants(base, fold):
+    sig = base.sig
+    v95 = float(np.percentile(np.abs(sig.w[sig.moving]), 95))
+    for vs in v95 * np.logspace(-3, -0.7, 14):
+        yield base.variant(float(vs), sig.filt(base.sign * np.exp(-(sig.w / vs) ** 2)), (1,))
+
+
+def _extend(model, term, base):
+    return replace(model, friction=model.friction + Stribeck(max(term.coef[0], 0.0), term.h))
+
+
+def _evidence(base, term, extended):
+    sig, u = base.sig, base.labels
+    vs = term.h
+    fr = extended.friction
+    fc = coulomb_level(base.fitted)
+    w = np.abs(sig.w[sig.moving])
+    rr = (base.residual * np.sign(sig.w))[sig.moving]
+    lo = rr[w < vs].mean() if np.any(w < vs) else float("nan")
+    hi = rr[w > 10 * vs].mean() if np.any(w > 10 * vs) else float("nan")
+    return (f"below |w| = {vs:.3g} {u.velocity} the baseline residual averages {lo:+.3g} {u.torque} "
+            f"in the direction of motion, above {10 * vs:.3g} {u.velocity} {hi:+.3g} {u.torque}; "
+            f"fitted Stribeck excess {fr.stribeck_pos:.3g} {u.torque} "
+            f"({100 * fr.stribeck_pos / max(fc, 1e-12):.0f} % of the Coulomb level {fc:.3g} "
+            f"{u.torque}), Stribeck velocity {vs:.3g} {u.velocity}")
+
+
+def _inject(rng, act):
+    fc = act.coulomb
+    mag = dict(excess=rng.uniform(0.5, 1.0) * fc, velocity=rng.uniform(0.02, 0.1))
+    return act.rigid(magnitude=mag, friction=act.friction() + Stribeck(mag["excess"], mag["velocity"]),
+                     breakaway=fc + mag["excess"])
+
+
+CAUSE = Cause(
+    name="stribeck", order=10,
+    physical="friction at low speed exceeds the Coulomb level and decays toward it with speed",
+    changes=("stribeck_pos", "stribeck_neg", "stribeck_velocity"),
+    params=("stribeck_excess",), variants=_variants, extend=_extend, evidence=_evidence,
+    inject=_inject)

@@ -1,0 +1,281 @@
+"""The signals a diagnosis reads off a record, computed once, and a model's torque along them.
+
+Velocity and acceleration come from the zero-phase Butterworth + central
+difference estimator (:func:`fricctl.estimation.butterworth_central`, cut-off
+``fc`` = a fifth of the Nyquist frequency).  The torque is first centred on the
+sample grid (``(Tm[k-1] + Tm[k])/2``: a held torque acts half a sample before the
+central-difference acceleration it causes) and low-passed with the same filter;
+every nonlinear regressor column is low-passed too ("parallel filtering"), so
+``LP(Tm) = I*LP(q'') + LP(F)`` holds sample by sample.  Samples at rest (encoder
+constant) and a guard of ``1/fc`` around them carry no sliding-friction
+information and are left out of the equation error.
+
+:func:`predict` gives, for a :class:`~fricctl.plant.JointModel`, the low-passed
+torque the joint receives and the model's low-passed torque along the measured
+motion: their difference is the equation-error (torque) residual.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from scipy import signal
+
+from ..datasets import Run
+from ..estimation import butterworth_central, zero_phase_filter
+from ..friction import FrictionModel
+from ..plant import JointModel
+
+__all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "centred",
+           "load_acceleration", "friction_columns", "predict"]
+
+
+@njit(cache=True)
+def dahl_state(q, xc, z0):
+    """Normalised Dahl/LuGre bristle state along a position record (exact per step).
+
+    ``dz/dx = (1 - sign(dx)*z)/xc``, so over a step dx:
+    ``z <- s + (z - s)*exp(-|dx|/xc)`` with ``s = sign(dx)``.
+    """
+    z = np.empty(q.size)
+    zz = z0
+    z[0] = zz
+    for k in range(1, q.size):
+        dx = q[k] - q[k - 1]
+        if dx != 0.0:
+            s = 1.0 if dx > 0 else -1.0
+            zz = s + (zz - s) * math.exp(-abs(dx) / xc)
+        z[k] = zz
+    return z
+
+
+def centred(tm: np.ndarray, delay: int = 0) -> np.ndarray:
+    """The torque centred on the sample grid, ``(Tm[k-1] + Tm[k])/2``, delayed by ``delay`` samples."""
+    u = np.empty_like(tm)
+    u[1:] = 0.5 * (tm[1:] + tm[:-1])
+    u[0] = tm[0]
+    if delay > 0:
+        u = np.concatenate([np.full(delay, u[0]), u[:-delay]])
+    return u
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Signals:
+    """Everything the equation error and the windows need, computed once (:func:`estimate_signals`)."""
+
+    t: np.ndarray
+    """Sample instants [s]."""
+    ts: float
+    """Sample time [s]."""
+    tm: np.ndarray
+    """Recorded torque [N*m]."""
+    q: np.ndarray
+    """Encoder position [rad]."""
+    qf: np.ndarray
+    """Filtered position [rad]."""
+    w: np.ndarray
+    """Velocity estimate, its sign taken from the encoder [rad/s]."""
+    seff: np.ndarray
+    """Effective sign of the motion per sample (fractional at reversals) [-]."""
+    a: np.ndarray
+    """Acceleration estimate [rad/s^2]."""
+    lp: tuple
+    """``(b, a)`` of the low-pass."""
+    slide: np.ndarray
+    """1.0 where the joint slides, 0.0 at rest (encoder constant)."""
+    moving: np.ndarray
+    """Samples used by the equation error (bool)."""
+    rest: np.ndarray
+    """Samples at rest, encoder constant around them (bool)."""
+    folds: np.ndarray
+    """Block (fold) index per sample."""
+    n_folds: int
+    """Blocks of the blocked cross-validation."""
+    resolution: float
+    """Smallest position step seen [rad]."""
+    cutoff: float
+    """Cut-off of the low-pass [Hz]."""
+    units: str
+    """``"rotary"`` or ``"linear"``."""
+
+    def filt(self, x):
+        """Low-pass of ``x`` with the samples at rest zeroed.
+
+        At rest the friction is the reaction that holds the joint, equal to the torque
+        it receives (q'' = 0): so the torque and every friction column are zeroed there
+        before filtering, and ``LP(Tm*S) = I*LP(q'') + sum_j theta_j*LP(f_j*S)`` holds at
+        every sample (S = 1 while sliding), with no filter smear across stops.
+        """
+        return zero_phase_filter(self.lp[0], self.lp[1], np.asarray(x, dtype=float) * self.slide)
+
+    def torque_target(self, delay: int = 0, offset: float = 0.0) -> np.ndarray:
+        """LP of the sample-centred torque the joint receives, delayed by ``delay`` samples."""
+        return self.filt(centred(self.tm, delay)) - offset
+
+    def centred(self, delay: int = 0) -> np.ndarray:
+        """The sample-centred recorded torque, delayed by ``delay`` samples."""
+        return centred(self.tm, delay)
+
+
+def estimate_signals(run: Run, n_folds: int) -> Signals:
+    """Velocity, acceleration, direction, rest and the blocks of ``run`` (see the module notes)."""
+    ts = run.sample_time
+    cutoff = 0.1 / ts  # a fifth of the Nyquist frequency (100 Hz at 1 kHz, the EMPS choice)
+    est = butterworth_central(run.t, run.position, cutoff=cutoff)
+    b, a = signal.butter(4, cutoff * 2 * ts)
+    q = np.asarray(run.position, dtype=float)
+    steps = np.abs(np.diff(q))
+    nz = steps[steps > 0]
+    res = float(np.min(nz)) if nz.size else 0.0
+    n = q.size
+    # at rest: no encoder change across a sample on either side
+    still = np.zeros(n, dtype=bool)
+    same = steps == 0.0
+    still[1:-1] = same[:-1] & same[1:]
+    guard = max(int(math.ceil(1.0 / (cutoff * ts))), 1)
+    edge = np.zeros(n, dtype=bool)
+    border = max(5 * guard, 20)
+    edge[:border] = edge[-border:] = True
+    moving = (~still) & (~edge)
+    if moving.sum() < 50 * n_folds:
+        raise ValueError(f"too little motion: {int(moving.sum())} sliding samples for {n_folds} "
+                         f"blocks (need at least {50 * n_folds}); record longer or move more")
+    folds = np.minimum((np.arange(n) * n_folds) // n, n_folds - 1)
+    active = sum(int(moving[folds == f].sum() >= 20) for f in range(n_folds))
+    if active < min(3, n_folds):
+        raise ValueError(f"the joint slides in only {active} of {n_folds} blocks of the record; "
+                         f"cross-validation needs motion in at least 3")
+    # Direction of motion from the encoder, not from the filtered velocity: at a
+    # reversal the velocity is kinked (friction flips), and the zero-phase filter
+    # moves its zero crossing by a sample or more -- a 2*Fc error there.
+    w = np.asarray(est.velocity, dtype=float)
+    dq = np.zeros(n)
+    dq[1:-1] = q[2:] - q[:-2]
+    direction = np.where(dq != 0, np.sign(dq), np.sign(w))
+    w = direction * np.abs(w)
+    seff = _reversal_signs(q, direction)
+    # Acceleration by the narrow second difference of the filtered position: under a
+    # held torque it equals the mean of the two torques around the sample exactly
+    # ((Tm[k-1] + Tm[k])/2, the centred torque), where central differences applied
+    # twice would spread it over four samples with weights 1,3,3,1 and leave a
+    # mismatch at every torque or friction jump.
+    qf = np.asarray(est.position, dtype=float)
+    acc = np.empty(n)
+    acc[1:-1] = (qf[2:] - 2 * qf[1:-1] + qf[:-2]) / ts ** 2
+    acc[0], acc[-1] = acc[1], acc[-2]
+    return Signals(t=np.asarray(run.t, float), ts=ts, tm=np.asarray(run.torque, float), q=q,
+                   qf=qf, w=w, seff=seff, a=acc, lp=(b, a), slide=(~still).astype(float),
+                   moving=moving, rest=still, folds=folds, n_folds=n_folds, resolution=res,
+                   cutoff=cutoff, units=run.units)
+
+
+def _reversal_signs(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The sign of the motion per sample, fractional at the samples around a reversal.
+
+    At a reversal between samples k-1 and k the friction flips inside a sample.
+    The reversal instant t* is where the decelerating motion before it stops: the
+    vertex of a parabola through the encoder readings k-9 .. k-1 (the motion after
+    the reversal is often much slower, and filters or short fits straddling the
+    kink place t* late).  Each sample near t* gets the triangle-weighted mean of
+    the sign over +-Ts, the weighting of the second difference used for the
+    acceleration.
+    """
+    n = q.size
+    seff = direction.copy()
+    flips = np.flatnonzero((direction[1:] != direction[:-1]) & (direction[1:] != 0)
+                           & (direction[:-1] != 0)) + 1
+    flips = flips[(flips >= 10) & (flips <= n - 3)]
+    if flips.size:
+        loc = np.arange(-9.0, 0.0)          # samples k-9 .. k-1, relative to k
+        V = np.column_stack([loc ** 2, loc, np.ones(loc.size)])
+        coef = np.linalg.lstsq(V, np.stack([q[k - 9:k] for k in flips]).T, rcond=None)[0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tv = -coef[1] / (2 * coef[0])
+        tstar = np.clip(np.nan_to_num(tv, nan=-0.5), -2.0, 1.0)   # relative to k
+        for k, ts_ in zip(flips, tstar):
+            sb = direction[k - 1]
+            for j in range(k - 2, k + 2):
+                x = ts_ - (j - k)           # t* relative to sample j
+                if x <= -1:
+                    wb = 0.0
+                elif x <= 0:
+                    wb = (x + 1) ** 2 / 2
+                elif x < 1:
+                    wb = 1 - (1 - x) ** 2 / 2
+                else:
+                    wb = 1.0
+                if direction[j] != 0:
+                    seff[j] = sb * (2 * wb - 1)
+    return seff
+
+
+# ============================================================================ torque prediction
+def load_acceleration(sig: Signals, wl: float, zeta: float) -> np.ndarray:
+    """Acceleration of a load on a spring (natural frequency wl [rad/s], damping zeta) driven by qf."""
+    num = [2 * zeta * wl, wl * wl]
+    den = [1.0, 2 * zeta * wl, wl * wl]
+    bz, az = signal.bilinear(num, den, fs=1.0 / sig.ts)
+    # start at equilibrium with the first position: filter the deviation
+    ql = signal.lfilter(bz, az, sig.qf - sig.qf[0]) + sig.qf[0]
+    vl = np.gradient(ql, sig.ts)
+    return np.gradient(vl, sig.ts)
+
+
+def friction_columns(sig: Signals, fr: FrictionModel, tm_joint) -> np.ndarray:
+    """Friction torque of ``fr`` along the measured motion (before low-pass) [N*m].
+
+    At the two samples of a reversal the torques for both directions are blended
+    with the effective sign ``sig.seff``.
+    """
+    f = _friction_raw(sig, fr, tm_joint, sig.w)
+    rho = sig.seff * np.sign(sig.w)
+    mix = rho < 1.0
+    if np.any(mix):
+        f_alt = _friction_raw(sig, fr, tm_joint, -sig.w)
+        f = np.where(mix, 0.5 * (1 + rho) * f + 0.5 * (1 - rho) * f_alt, f)
+    return f
+
+
+def _friction_raw(sig: Signals, fr: FrictionModel, tm_joint, w) -> np.ndarray:
+    if fr.is_lugre:
+        xc = min(fr.coulomb_pos, fr.coulomb_neg) / fr.lugre_sigma0
+        z = dahl_state(sig.qf, xc, 0.0)
+        s = np.sign(w)
+        level = np.where(z >= 0, fr.coulomb_pos, fr.coulomb_neg) + fr.load_coefficient * np.abs(tm_joint)
+        visc = np.where(w > 0, fr.viscous_pos, fr.viscous_neg) * w
+        damp = fr.lugre_sigma1 * w * (1 - s * z)
+        return fr.scale_at(sig.t) * (level * z + visc) + fr.ripple(sig.qf) + damp
+    return fr.torque(w, sig.qf, tm_joint, sig.t)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TorquePrediction:
+    """The low-passed torque the joint receives and a model's low-passed torque [N*m]."""
+
+    target: np.ndarray
+    """LP of the (delayed) sample-centred recorded torque."""
+    prediction: np.ndarray
+    """LP of the model's torque along the measured motion."""
+
+    @property
+    def residual(self) -> np.ndarray:
+        """``target - prediction`` [N*m]."""
+        return self.target - self.prediction
+
+
+def predict(model: JointModel, sig: Signals) -> TorquePrediction:
+    """LP of the torque the joint receives and the model's LP torque along the measured motion."""
+    d = model.delay_samples(sig.ts)
+    u = sig.centred(d)
+    target = sig.filt(u)
+    pred = (model.inertia * sig.a + sig.filt(friction_columns(sig, model.friction, u))
+            + model.offset * sig.filt(np.ones(u.size)))
+    if model.elastic:
+        jl = model.load_inertia
+        wl = math.sqrt(model.stiffness / jl)
+        zeta = model.damping / (2 * math.sqrt(model.stiffness * jl))
+        pred = pred + jl * (sig.filt(load_acceleration(sig, wl, zeta)) - sig.a)
+    return TorquePrediction(target=target, prediction=pred)
