@@ -2,9 +2,11 @@
 and the time of one 40 s record end to end against a named alternative.
 
 Records: :func:`fricctl.bench.hidden_effects.hidden_effect_record`, seeds [7000, i]; every
-fifth record is drawn with a nominal model (causes none / inertia / friction_scale),
-the others from the nine hidden causes.  A second, stratified pass forces every cause
-k times (seeds [7200, j, i]) so that no cause escapes the draw.  Timing: one 40 s record at 500 Hz, end to
+fifth record is drawn with a nominal model (``none`` or a nominal-only cause), the
+others from ``HIDDEN_CAUSES``; both lists come from the cause registry
+(:mod:`fricctl.diagnose.causes`), so a new cause module is benchmarked without an edit.
+A second, stratified pass forces every cause k times (seeds [7200, j, i]) so that no
+cause escapes the draw.  Timing: one 40 s record at 500 Hz, end to
 end (generate, diagnose, write the report), against the same record's plain CasADi
 baseline fit (:func:`fricctl.identify.identify_run`) as the named alternative.
 Run:  .venv/bin/python benchmarks/bench_diagnose.py [N_random [K_per_cause]]
