@@ -228,6 +228,13 @@ class BenchActuator:
     encoder_resolution: float
     """One encoder count [rad]."""
 
+    def __post_init__(self):
+        for name in ("motor_inertia", "viscous", "coulomb", "sample_time", "duration",
+                     "encoder_resolution"):
+            object.__setattr__(self, name, v.real(name, getattr(self, name), positive=True))
+        object.__setattr__(self, "link_inertia", v.real("link_inertia", self.link_inertia,
+                                                          nonneg=True))
+
     @property
     def inertia(self) -> float:
         """Total inertia Jm + Jl [kg*m^2]."""
