@@ -42,7 +42,8 @@ CASES = {
 def bench_training():
     rows = []
     for case, kw in CASES.items():
-        tm, om, f = nn.smooth_friction_patterns(np.random.default_rng(100), **kw)
+        pats = nn.smooth_friction_patterns(np.random.default_rng(100), **kw)
+        tm, om, f = pats.tm, pats.omega, pats.friction
         for epochs in EPOCHS:
             ratios, ratios_warm, t_bp_all, t_cas_all, fits_bp, fits_cas = [], [], [], [], [], []
             for seed in SEEDS:
@@ -85,8 +86,9 @@ def bench_c():
     if cc is None:
         print("\nno C compiler: C timing skipped")
         return
-    tm, om, f = nn.smooth_friction_patterns(np.random.default_rng(100), n_sliding=800,
+    pats = nn.smooth_friction_patterns(np.random.default_rng(100), n_sliding=800,
                                             n_stuck=200)
+    tm, om, f = pats.tm, pats.omega, pats.friction
     net = nn.train_casadi(tm, om, f, restarts=1, rng=np.random.default_rng(0)).net
     n = 1_000_000
     rng = np.random.default_rng(1)

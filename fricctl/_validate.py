@@ -206,7 +206,7 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
         if bad.any():
             i = np.unravel_index(int(np.flatnonzero(bad.ravel())[0]), a.shape)
             if a.ndim == 0:
-                raise ValueError(f"{name} must be finite, got {float(a)!r}")
+                raise ValueError(f"{name} holds NaN or inf ({float(a)!r})")
             where = i[0] if len(i) == 1 else i
             raise ValueError(f"{name} holds NaN or inf ({float(a[i])!r}) at index {where}")
     return a

@@ -34,9 +34,19 @@ from . import _validate as v
 from .nn.layout import NET_ATTRIBUTES, pack_compiled
 
 __all__ = ["Compensator", "NoCompensation", "CoulombCompensator", "NNCompensator",
-           "COMP_NONE", "COMP_COULOMB", "COMP_NN"]
+           "CompiledCompensator", "COMP_NONE", "COMP_COULOMB", "COMP_NN"]
 
 COMP_NONE, COMP_COULOMB, COMP_NN = 0, 1, 2
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class CompiledCompensator:
+    """What the compiled loop needs of a compensator: its kind and its parameter vector."""
+
+    kind: int
+    """:data:`COMP_NONE`, :data:`COMP_COULOMB` or :data:`COMP_NN`."""
+    params: np.ndarray
+    """Parameters in the kind's layout (Coulomb: pos, neg, dead band; NN: :mod:`fricctl.nn.layout`)."""
 
 
 class Compensator:
@@ -49,7 +59,7 @@ class Compensator:
         raise NotImplementedError
 
     def compiled(self):
-        """``(kind, params)`` for the compiled loop, or ``None`` (Python loop)."""
+        """A :class:`CompiledCompensator` for the compiled loop, or ``None`` (Python loop)."""
         return None
 
 
@@ -70,7 +80,7 @@ class NoCompensation(Compensator):
         return np.zeros(np.broadcast(np.asarray(tm), np.asarray(omega_hat)).shape)
 
     def compiled(self):
-        return COMP_NONE, np.zeros(1)
+        return CompiledCompensator(kind=COMP_NONE, params=np.zeros(1))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -114,7 +124,8 @@ class CoulombCompensator(Compensator):
                         np.where(w < -self.deadband, -self.coulomb_neg, 0.0)) + 0.0 * np.asarray(tm)
 
     def compiled(self):
-        return COMP_COULOMB, np.array([self.coulomb_pos, self.coulomb_neg, self.deadband])
+        return CompiledCompensator(kind=COMP_COULOMB,
+                                   params=np.array([self.coulomb_pos, self.coulomb_neg, self.deadband]))
 
 
 @dataclass(frozen=True)
@@ -163,4 +174,4 @@ class NNCompensator(Compensator):
     def compiled(self):
         if not self._is_net():
             return None
-        return COMP_NN, pack_compiled(self.estimator, self.clip)
+        return CompiledCompensator(kind=COMP_NN, params=pack_compiled(self.estimator, self.clip))

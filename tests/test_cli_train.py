@@ -11,7 +11,8 @@ from fricctl.nn import fit_percent, load_net, smooth_friction_patterns
 
 @pytest.fixture()
 def patterns_csv(tmp_path):
-    tm, om, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=300, n_stuck=0)
+    pats = smooth_friction_patterns(np.random.default_rng(0), n_sliding=300, n_stuck=0)
+    tm, om, f = pats.tm, pats.omega, pats.friction
     path = tmp_path / "patterns.csv"
     # columns in a different order than tm,omega,friction: read by name
     np.savetxt(path, np.column_stack([om, f, tm]), delimiter=",", header="omega,friction,tm",

@@ -36,7 +36,7 @@ def sliding():
     rng = np.random.default_rng(0)
     train = smooth_friction_patterns(rng, n_sliding=400, n_stuck=0)
     test = smooth_friction_patterns(rng, n_sliding=400, n_stuck=0)
-    return train, test
+    return ((train.tm, train.omega, train.friction), (test.tm, test.omega, test.friction))
 
 
 @pytest.fixture(scope="module")
@@ -258,7 +258,8 @@ def test_stuck_patterns_give_a_gain_near_one_at_rest():
     # to 1; the tolerance 0.3 allows for the sliding patterns near omega = 0,
     # which pull the other way (their friction does not depend on Tm).
     rng = np.random.default_rng(4)
-    tm, om, f = smooth_friction_patterns(rng, n_sliding=300, n_stuck=150)
+    pats = smooth_friction_patterns(rng, n_sliding=300, n_stuck=150)
+    tm, om, f = pats.tm, pats.omega, pats.friction
     net = train_casadi(tm, om, f, restarts=2, rng=np.random.default_rng(6)).net
     assert net.gain_at_rest() == pytest.approx(1.0, abs=0.3)
 
@@ -425,7 +426,8 @@ def test_compiled_vector_has_the_named_layout():
                                   net.envelope_high)
     theta = layout.pack(net.w1, net.b1, net.w2, net.b2)
     np.testing.assert_array_equal(p[layout.P_W1:], theta[:-1])  # the tail is theta without b2
-    kind, params = NNCompensator(net, clip=True).compiled()
+    compiled = NNCompensator(net, clip=True).compiled()
+    kind, params = compiled.kind, compiled.params
     np.testing.assert_array_equal(params, p)
     assert layout.pack_compiled(net, False)[layout.P_CLIP] == 0.0
     w = layout.unpack(theta, 2)
@@ -495,7 +497,8 @@ def test_c_source_rejects_bad_name():
 
 def test_smooth_patterns_obey_the_law():
     rng = np.random.default_rng(0)
-    tm, om, f = smooth_friction_patterns(rng, n_sliding=50, n_stuck=20)
+    pats = smooth_friction_patterns(rng, n_sliding=50, n_stuck=20)
+    tm, om, f = pats.tm, pats.omega, pats.friction
     np.testing.assert_allclose(f[:50], 0.0169 * om[:50] + 0.144 * np.tanh(om[:50] / 0.05),
                                rtol=1e-15)  # definition
     np.testing.assert_array_equal(f[50:], tm[50:])  # stuck: Tat = Tm

@@ -205,7 +205,8 @@ def test_friction_net_runs_compiled_exactly_as_in_python():
     # a real FrictionNet inside the compiled loop equals its own numpy evaluation in the Python loop
     from fricctl.nn import smooth_friction_patterns, train_casadi
 
-    tm, w, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=50)
+    pats = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=50)
+    tm, w, f = pats.tm, pats.omega, pats.friction
     net = train_casadi(tm, w, f, restarts=1, rng=np.random.default_rng(0)).net
     ctrl = pd_control(1.23, 0.0906, sawtooth(1.0, 2.0))
     for clip in (False, True):

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _validate as v
 from ..compensators import Compensator, NoCompensation
 from ..controllers import open_loop, p_control, pd_control, sequence, sinusoid
 from ..datasets import Run
@@ -35,12 +36,12 @@ from ..params import ActuatorParams, paper_actuator
 from ..simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
-    "Experiment", "training_experiments", "Patterns", "friction_patterns", "true_patterns", "train_network",
+    "Experiment", "training_experiments", "Patterns", "PatternSplit", "friction_patterns", "true_patterns", "train_network",
     "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "DeadZonePrediction", "predicted_dead_zone", "paper_gains",
 ]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Experiment:
     """One bench experiment: the record a lab would keep, and the simulator's truth."""
 
@@ -106,7 +107,7 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     if preheat:
         dur = 20.0 if fast else 300.0
         res = simulate(p, open_loop(sinusoid(0.3 * tmax, 0.5)), duration=dur, **kw)
-        out.append(Experiment("preheat", res.to_run(source="bench: preheat"), res))
+        out.append(Experiment(name="preheat", run=res.to_run(source="bench: preheat"), truth=res))
     fractions = (np.array([0.05, 0.1, 0.15, 0.25, 0.4, 0.6, 0.8, 1.0]) if fast
                  else np.linspace(0.025, 1.0, 20))
     levels, durations = [0.0], [0.1]
@@ -115,18 +116,19 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
         durations += [0.1, 0.4]
     ctrl = open_loop(sequence(levels, durations))
     res = simulate(p, ctrl, duration=float(np.sum(durations)), **kw)
-    out.append(Experiment("open-loop steps", res.to_run(source="bench: open-loop torque steps"), res))
+    out.append(Experiment(name="open-loop steps", run=res.to_run(source="bench: open-loop torque steps"),
+                          truth=res))
     (kp_p, _), (kp_pd, kd_pd) = paper_gains(p)
     refs = [0.4, -0.4, 0.8, 0.0, -0.8, 0.2] if fast else [0.4, -0.4, 0.8, 0.0, -0.8, 0.2, 0.6, -0.2, 0.5, -0.6,
                                                            0.3, 0.0]
     ref = sequence(refs, [1.0] * len(refs))
     for name, ctrl in (("P steps", p_control(kp_p, ref)), ("PD steps", pd_control(kp_pd, kd_pd, ref))):
         res = simulate(p, ctrl, duration=float(len(refs)), **kw)
-        out.append(Experiment(name, res.to_run(source=f"bench: closed-loop {name}"), res))
+        out.append(Experiment(name=name, run=res.to_run(source=f"bench: closed-loop {name}"), truth=res))
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Patterns:
     """Training patterns ``(Tm, omega) -> Tat`` with where they came from.
 
@@ -153,16 +155,27 @@ class Patterns:
         return self.tm.size
 
     def subset(self, index) -> "Patterns":
-        return Patterns(self.tm[index], self.omega[index], self.friction[index], self.friction_true[index],
-                        self.t[index], self.experiment[index], self.method)
+        """The patterns at ``index`` (a boolean mask or integer indices)."""
+        return Patterns(tm=self.tm[index], omega=self.omega[index], friction=self.friction[index],
+                        friction_true=self.friction_true[index], t=self.t[index],
+                        experiment=self.experiment[index], method=self.method)
 
-    def split(self, fraction: float, rng: np.random.Generator):
-        """Random (train, held-out) split; ``fraction`` of the patterns go to training."""
+    def split(self, fraction: float, rng: np.random.Generator) -> "PatternSplit":
+        """Random split; ``fraction`` of the patterns go to training, the rest are held out."""
+        fraction = v.real("fraction", fraction, low=0.0, high=1.0)
         if not 0 < fraction < 1:
             raise ValueError(f"fraction must lie in (0, 1), got {fraction!r}")
-        idx = rng.permutation(len(self))
+        idx = v.rng("rng", rng).permutation(len(self))
         k = int(round(fraction * len(self)))
-        return self.subset(np.sort(idx[:k])), self.subset(np.sort(idx[k:]))
+        return PatternSplit(train=self.subset(np.sort(idx[:k])), held_out=self.subset(np.sort(idx[k:])))
+
+
+@dataclass(frozen=True, kw_only=True)
+class PatternSplit:
+    """Patterns split at random into a training and a held-out part."""
+
+    train: Patterns
+    held_out: Patterns
 
 
 def friction_patterns(experiments, params: ActuatorParams, *, method: str = "polynomial_segments",
@@ -190,8 +203,12 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
         tm = ex.run.torque[sl]
         parts.append((tm, est.velocity[sl], tm - params.total_inertia * est.acceleration[sl],
                       ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i)))
-    cols = [np.concatenate(c) for c in zip(*parts)]
-    return Patterns(*cols, method=method)
+    return _patterns(parts, method)
+
+
+def _patterns(parts, method) -> Patterns:
+    names = ("tm", "omega", "friction", "friction_true", "t", "experiment")
+    return Patterns(method=method, **{n: np.concatenate(c) for n, c in zip(names, zip(*parts))})
 
 
 def true_patterns(experiments, *, border: int = 5) -> Patterns:
@@ -205,8 +222,7 @@ def true_patterns(experiments, *, border: int = 5) -> Patterns:
         sl = slice(border, ex.run.n_samples - border)
         parts.append((ex.run.torque[sl], ex.truth.omega[sl], ex.truth.friction[sl], ex.truth.friction[sl],
                       ex.run.t[sl], np.full(ex.run.t[sl].size, i)))
-    cols = [np.concatenate(c) for c in zip(*parts)]
-    return Patterns(*cols, method="truth")
+    return _patterns(parts, "truth")
 
 
 def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 4, max_patterns: int = 4000,
@@ -231,7 +247,7 @@ def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 
     return fn(pats.tm, pats.omega, pats.friction, hidden=hidden, rng=rng, metadata=meta, **options)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class EstimatorError:
     """Errors of one estimator against the simulator's truth.
 
@@ -275,13 +291,15 @@ def compare_estimators(experiment: Experiment, params: ActuatorParams, *, method
         moving = tr.omega[sl] != 0.0
         if not moving.any():
             raise ValueError(f"experiment {experiment.name!r} never moves: nothing to compare")
-        out.append(EstimatorError(
-            m, *(float(np.sqrt(np.mean(e ** 2))) for e in (ev, ea, ef)),
-            *(float(np.median(np.abs(e[moving]))) for e in (ev, ea, ef))))
+        rms = [float(np.sqrt(np.mean(e ** 2))) for e in (ev, ea, ef)]
+        med = [float(np.median(np.abs(e[moving]))) for e in (ev, ea, ef)]
+        out.append(EstimatorError(method=m, velocity_rms=rms[0], acceleration_rms=rms[1],
+                                  friction_rms=rms[2], velocity_median=med[0],
+                                  acceleration_median=med[1], friction_median=med[2]))
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DeadZone:
     """Open-loop sinusoid amplitudes and the motion each produced.
 
@@ -359,7 +377,8 @@ def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
     batch = simulate_batch(params, ctrls, comp, duration=periods / frequency, friction=friction)
     counts = np.round(np.ptp(batch.q_meas, axis=1) / params.encoder_resolution).astype(int)
     results = tuple(batch[i] for i in range(len(batch))) if keep_results else ()
-    return DeadZone(amps, counts, int(threshold_counts), params.max_torque, comp.name, results)
+    return DeadZone(amplitudes=amps, counts=counts, threshold_counts=int(threshold_counts),
+                    max_torque=params.max_torque, compensator=comp.name, results=results)
 
 
 @dataclass(frozen=True, kw_only=True)

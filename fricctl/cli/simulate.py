@@ -10,6 +10,7 @@ Examples::
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 
@@ -40,7 +41,7 @@ def parse_signal(spec: str):
 
 def register(sub):
     p = sub.add_parser("simulate", help="simulate the actuator (virtual bench) and save the record",
-                       description=__doc__, formatter_class=__import__("argparse").RawDescriptionHelpFormatter)
+                       description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--controller", choices=("open", "p", "pd"), default="open")
     p.add_argument("--rise-time", type=float, help="design rise time [s] (P/PD)")
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")

@@ -7,11 +7,34 @@ its approximation error.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import _validate as v
 
-__all__ = ["smooth_friction_patterns"]
+__all__ = ["FrictionPatterns", "smooth_friction_patterns"]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class FrictionPatterns:
+    """Training patterns ``(Tm, omega) -> Tat`` of the friction network (load side, SI)."""
+
+    tm: np.ndarray
+    """Motor torque [N*m]."""
+    omega: np.ndarray
+    """Velocity [rad/s]."""
+    friction: np.ndarray
+    """Friction torque [N*m]."""
+
+    def __post_init__(self):
+        tm = v.array("tm", self.tm)
+        object.__setattr__(self, "tm", tm)
+        object.__setattr__(self, "omega", v.array("omega", self.omega, size=tm.size))
+        object.__setattr__(self, "friction", v.array("friction", self.friction, size=tm.size))
+
+    def __len__(self):
+        return self.tm.size
 
 
 def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
@@ -50,8 +73,9 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
 
     Returns
     -------
-    tm, omega, friction : numpy.ndarray
-        [N*m], [rad/s], [N*m]; the sliding patterns first, then the stuck ones.
+    FrictionPatterns
+        ``tm`` [N*m], ``omega`` [rad/s], ``friction`` [N*m]; the sliding patterns first,
+        then the stuck ones.
 
     Notes
     -----
@@ -60,8 +84,8 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
 
     Examples
     --------
-    >>> tm, om, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=3, n_stuck=2)
-    >>> bool(np.all(f[3:] == tm[3:])), om[3:].tolist()
+    >>> p = smooth_friction_patterns(np.random.default_rng(0), n_sliding=3, n_stuck=2)
+    >>> bool(np.all(p.friction[3:] == p.tm[3:])), p.omega[3:].tolist()
     (True, [0.0, 0.0])
     """
     v.rng("rng", rng)
@@ -77,5 +101,5 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
     fr = viscous * om + coulomb * np.tanh(om / smoothing_velocity)
     tm = fr + inertia * rng.uniform(-alpha_max, alpha_max, n_sliding)
     tm_stuck = rng.uniform(-static, static, n_stuck)
-    return (np.concatenate([tm, tm_stuck]), np.concatenate([om, np.zeros(n_stuck)]),
-            np.concatenate([fr, tm_stuck]))
+    return FrictionPatterns(tm=np.concatenate([tm, tm_stuck]), omega=np.concatenate([om, np.zeros(n_stuck)]),
+                            friction=np.concatenate([fr, tm_stuck]))

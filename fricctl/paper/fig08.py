@@ -49,7 +49,8 @@ def run(network: PaperNetwork) -> Fig8Result:
     ho = net.held_out
     exact = true_patterns(net.experiments)
     # same permutation as the measured patterns' split (same length, same seed)
-    train_e, held_e = exact.split(len(net.train) / len(net.patterns), np.random.default_rng(net.seed))
+    split = exact.split(len(net.train) / len(net.patterns), np.random.default_rng(net.seed))
+    train_e, held_e = split.train, split.held_out
     net_e = train_network(train_e, rng=np.random.default_rng(net.seed)).net
     fit_exact = fit_report(held_e.friction, net_e(held_e.tm, held_e.omega))
     return Fig8Result(target=ho.friction, predicted=net.net(ho.tm, ho.omega), fit_held_out=net.fit_held_out,

@@ -107,7 +107,8 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
         warnings.simplefilter("ignore", DesignWarning)
         exps = training_experiments(p, fast=fast)
     pats = friction_patterns(exps, p, method=estimator, **estimator_options)
-    train, held = pats.split(train_fraction, np.random.default_rng(seed))
+    split = pats.split(train_fraction, np.random.default_rng(seed))
+    train, held = split.train, split.held_out
     res = train_network(train, rng=np.random.default_rng(seed))
     net = res.net
     return PaperNetwork(

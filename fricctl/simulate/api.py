@@ -183,16 +183,16 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     out, stuck = _outputs(n, nsamp)
     compiled = [c.compiled() for c in comps]
     for c in compiled:
-        if c is not None and not np.all(np.isfinite(c[1])):
+        if c is not None and not np.all(np.isfinite(c.params)):
             raise ValueError("the compensator's parameters contain NaN or inf")
     scales = np.array([c.scale for c in comps], dtype=float)
-    if all(c is not None for c in compiled) and len({c[0] for c in compiled}) == 1:
-        width = max(c[1].size for c in compiled)
+    if all(c is not None for c in compiled) and len({c.kind for c in compiled}) == 1:
+        width = max(c.params.size for c in compiled)
         cpar = np.zeros((n, width))
-        for i, (_, p) in enumerate(compiled):
-            cpar[i, :p.size] = p
+        for i, c in enumerate(compiled):
+            cpar[i, :c.params.size] = c.params
         run_compiled(plant_args, loop_args, control,
-                     dict(kind=compiled[0][0], params=cpar, scale=scales), out, stuck)
+                     dict(kind=compiled[0].kind, params=cpar, scale=scales), out, stuck)
         path = "compiled"
     else:
         run_python(plant_args, loop_args, control, comps, scales, out, stuck)
@@ -317,7 +317,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
                    segments=schedule.segment_start[None, :])
     out, stuck = _outputs(1, nsamp)
     run_compiled(plant_args, loop_args, control,
-                 dict(kind=NoCompensation().compiled()[0], params=np.zeros((1, 1)),
+                 dict(kind=NoCompensation().compiled().kind, params=np.zeros((1, 1)),
                       scale=np.ones(1)), out, stuck)
     info = SimInfo(params=None, friction_model=joint.friction, controller="schedule",
                    kp=float(schedule.kp.max()), kd=float(schedule.kd.max()), compensator="none",

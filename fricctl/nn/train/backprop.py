@@ -185,7 +185,8 @@ def train_backprop(tm, omega, target, *, hidden: int = 4, learning_rate: float =
     Examples
     --------
     >>> from fricctl.nn import smooth_friction_patterns
-    >>> tm, om, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=0)
+    >>> pats = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=0)
+    >>> tm, om, f = pats.tm, pats.omega, pats.friction
     >>> res = train_backprop(tm, om, f, epochs=50, rng=np.random.default_rng(1))
     >>> bool(res.history.loss[-1] < res.history.loss[0])
     True

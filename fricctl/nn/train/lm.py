@@ -224,7 +224,8 @@ def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
     Examples
     --------
     >>> from fricctl.nn import fit_percent, smooth_friction_patterns
-    >>> tm, om, f = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=0)
+    >>> pats = smooth_friction_patterns(np.random.default_rng(0), n_sliding=200, n_stuck=0)
+    >>> tm, om, f = pats.tm, pats.omega, pats.friction
     >>> net = train_casadi(tm, om, f, restarts=1, rng=np.random.default_rng(1)).net
     >>> fit_percent(f, net(tm, om)) > 99
     True
