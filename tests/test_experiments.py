@@ -97,9 +97,13 @@ def test_trained_network_reduces_the_dead_zone(experiments):
 
 
 def test_paper_gains_are_the_designs():
-    (kp_p, kd_p), (kp, kd) = paper_gains(P)
-    assert kd_p == 0.0 and kp_p == pytest.approx(P.inertia * 9.8303**2, rel=1e-4)
-    assert kd > 0 and kp > kp_p
+    g = paper_gains(P)
+    # closed forms: P: Kp = I*wn^2 with wn = (pi - acos 0.3)/(0.2*sqrt(1 - 0.09)) = 9.8303 rad/s;
+    # PD (0.3 s, 0.9): wn = (pi - acos 0.9)/(0.3*sqrt(1 - 0.81)), Kp = I*wn^2, Kd = 2*0.9*wn*I - b
+    assert g.p_kp == pytest.approx(P.inertia * 9.8303**2, rel=1e-4)
+    wn = (np.pi - np.arccos(0.9)) / (0.3 * np.sqrt(1 - 0.81))
+    assert g.pd_kp == pytest.approx(P.inertia * wn**2, rel=1e-9)
+    assert g.pd_kd == pytest.approx(2 * 0.9 * wn * P.inertia - P.viscous, rel=1e-9)
 
 
 def test_dead_zone_rejects_bad_amplitudes():

@@ -37,7 +37,7 @@ from ..simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
     "Experiment", "training_experiments", "Patterns", "PatternSplit", "friction_patterns", "true_patterns", "train_network",
-    "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "DeadZonePrediction", "predicted_dead_zone", "paper_gains",
+    "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "DeadZonePrediction", "predicted_dead_zone", "PaperGains", "paper_gains",
 ]
 
 
@@ -50,8 +50,20 @@ class Experiment:
     truth: SimResult
 
 
-def paper_gains(params: ActuatorParams):
-    """(Kp, Kd) of the paper's P (0.2 s, 0.3) and PD (0.3 s, 0.9) designs for ``params``.
+@dataclass(frozen=True, kw_only=True)
+class PaperGains:
+    """Gains of the paper's two training controllers."""
+
+    p_kp: float
+    """Kp of the P design (0.2 s, 0.3) [N*m/rad]."""
+    pd_kp: float
+    """Kp of the PD design (0.3 s, 0.9) [N*m/rad]."""
+    pd_kd: float
+    """Kd of the PD design [N*m*s/rad]."""
+
+
+def paper_gains(params: ActuatorParams) -> PaperGains:
+    """Gains of the paper's P (0.2 s, 0.3) and PD (0.3 s, 0.9) designs for ``params``.
 
     The PD design's sampled-loop warning (its 0-100 % rise time is ill-conditioned
     at zeta = 0.9; see :func:`fricctl.design.design_pd`) is expected and silenced here.
@@ -64,7 +76,7 @@ def paper_gains(params: ActuatorParams):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DesignWarning)
         pd = design_pd(params, rise_time=0.3, damping=0.9)
-    return (p.kp, 0.0), (pd.kp, pd.kd)
+    return PaperGains(p_kp=p.kp, pd_kp=pd.kp, pd_kd=pd.kd)
 
 
 def training_experiments(params: ActuatorParams | None = None, *, friction: FrictionModel | None = None,
@@ -118,7 +130,8 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     res = simulate(p, ctrl, duration=float(np.sum(durations)), **kw)
     out.append(Experiment(name="open-loop steps", run=res.to_run(source="bench: open-loop torque steps"),
                           truth=res))
-    (kp_p, _), (kp_pd, kd_pd) = paper_gains(p)
+    gains = paper_gains(p)
+    kp_p, kp_pd, kd_pd = gains.p_kp, gains.pd_kp, gains.pd_kd
     refs = [0.4, -0.4, 0.8, 0.0, -0.8, 0.2] if fast else [0.4, -0.4, 0.8, 0.0, -0.8, 0.2, 0.6, -0.2, 0.5, -0.6,
                                                            0.3, 0.0]
     ref = sequence(refs, [1.0] * len(refs))
