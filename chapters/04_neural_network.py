@@ -61,7 +61,7 @@ for ex in net_run.experiments:
 print(f"patterns: {len(net_run.patterns)} ({len(net_run.train)} training, {len(net_run.held_out)} held out)")
 stuck = net_run.patterns.omega == 0
 print(f"{np.mean(stuck) * 100:.0f} % of the patterns are at rest, where Tat = Tm exactly")
-figures.plot_fig5(paper.fig5(net_run))
+figures.plot_fig5(paper.fig05.run(net_run))
 plt.show()
 
 # %% [markdown]
@@ -117,7 +117,7 @@ moving = ho.omega != 0
 print(f"fit on the sliding patterns only: {fit_report(ho.friction[moving], yhat[moving]).fit_percent:.1f} %; "
       f"at rest only: {fit_report(ho.friction[~moving], yhat[~moving]).fit_percent:.1f} %")
 assert net_run.fit_held_out.fit_percent < 98 and net_run.fit_held_out.r_squared < 0.98
-r8 = paper.fig8(net_run)
+r8 = paper.fig08.run(net_run)
 figures.plot_fig8(r8)
 plt.show()
 

@@ -57,7 +57,7 @@ print(f"breakaway Fs = {p.static:.3f} N*m = {100 * p.static / p.max_torque:.1f} 
 # as the joint stops, so it breaks loose again at once.
 
 # %%
-r9 = paper.fig9(net_run)
+r9 = paper.fig09.run(net_run)
 print(f"amplitude {r9.amplitude:.3f} N*m at {r9.frequency:g} Hz")
 print(f"stick intervals >= {1e3 * paper.STICK_MIN_DURATION:.0f} ms: {len(r9.sticks_without)} without, "
       f"{len(r9.sticks_with)} with compensation")
@@ -79,7 +79,7 @@ plt.show()
 # compensation the *motor* torque is the control torque amplified by the loop:
 
 # %%
-r10 = paper.fig10(net_run)
+r10 = paper.fig10.run(net_run)
 tc, tm = np.abs(r10.with_nn.torque_cmd).max(), np.abs(r10.with_nn.torque_motor).max()
 print(f"peak |Tc| {tc:.3f} N*m -> peak |Tm| {tm:.3f} N*m (x{tm / tc:.2f}); motion "
       f"{r10.without.displacement_counts()} counts without, {r10.with_nn.displacement_counts()} with")

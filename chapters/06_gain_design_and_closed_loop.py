@@ -202,8 +202,8 @@ plt.show()
 
 # %%
 net_run = paper.train_paper_network(p, fast=FAST, seed=0)
-r12 = paper.fig12(net_run)
-r14 = paper.fig14(net_run)
+r12 = paper.fig12.run(net_run)
+r14 = paper.fig14.run(net_run)
 print(f"P + NN: max |q - q_linear| {np.rad2deg(r12.max_deviation):.1f} deg, "
       f"error growth last/first second x{r12.growth:.2f}")
 print(f"P + ideal estimate: max |q - q_linear| {np.rad2deg(r12.ideal_max_deviation):.1f} deg, "

@@ -49,7 +49,7 @@ net_run = paper.train_paper_network(p, fast=FAST, seed=0)
 # PD designed for 0.4 s and damping 0.85 with the link, step of 30 deg.
 
 # %%
-r16 = paper.fig16(net_run)
+r16 = paper.fig16.run(net_run)
 print(f"Kp = {r16.design.kp:.4f} N*m/rad, Kd = {r16.design.kd:.4f} N*m*s/rad")
 for name, run in r16.runs.items():
     print(f"{name:10s} e_ss {np.rad2deg(r16.steady_state_error[name]):7.3f} deg, "
@@ -92,7 +92,7 @@ assert abs(r16.steady_state_error[nn_key]) < abs(r16.steady_state_error["none"])
 # without compensation nothing moves at all.
 
 # %%
-r17 = paper.fig17(net_run)
+r17 = paper.fig17.run(net_run)
 print(f"Kp * step = {r17.design.kp * r17.step:.4f} N*m vs breakaway {0.95 * p.static:.4f} N*m (aged)")
 for name in r17.runs:
     print(f"{name:10s} peak |q| {r17.max_motion[name]:.4f} rad, e_ss "
@@ -109,7 +109,7 @@ plt.show()
 # appears only for a larger, slower ramp (right panel, an extra).
 
 # %%
-r18 = paper.fig18(net_run)
+r18 = paper.fig18.run(net_run)
 print(f"Kp * amplitude = {r18.design.kp * r18.amplitude:.4f} N*m (breakaway {p.static:.3f} N*m)")
 print(f"without: peak |q| {r18.max_motion_without:.4f} rad, {r18.restarts_without} stick-slip cycles")
 print(f"with NN: RMS deviation from the linear loop {r18.rms_deviation_with:.4f} rad, "

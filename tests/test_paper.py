@@ -383,7 +383,7 @@ def test_bad_inputs():
     with pytest.raises(ValueError, match="seed"):
         paper.train_paper_network(P, fast=True, seed=-1)
     with pytest.raises(ValueError, match="PaperNetwork"):
-        paper.fig9(object())
+        paper.fig09.run(object())
     with pytest.raises(ValueError, match="FrictionNet"):
         paper.robustness_sweep("net")
 
@@ -431,7 +431,7 @@ def test_registry_is_built_from_the_figure_modules():
         module = importlib.import_module(f"fricctl.paper.fig{n:02d}")
         assert module.FIGURE is fig and fig.number == n and fig.run is module.run
         assert paper.FIGURES[n] is fig.run
-        assert getattr(paper, f"fig{n}") is fig.run  # the old names are the modules' run functions
+        assert getattr(paper, f"fig{n:02d}") is module  # the package attribute is the module
     with pytest.raises(TypeError):
         paper.FIGURES[99] = None  # read-only: nobody edits the registry by accident
 
@@ -469,11 +469,11 @@ def test_claims_come_from_the_registry(figs, claims):
 
 def test_paper_figure_rejects_bad_entries():
     with pytest.raises(ValueError, match="run"):
-        paper.PaperFigure(number=3, title="x", run=None, result_type=paper.Fig9Result)
+        paper.PaperFigure(number=3, title="x", run=None, result_type=paper.fig09.Fig9Result)
     with pytest.raises(ValueError, match="claims"):
-        paper.PaperFigure(number=3, title="x", run=paper.fig9, result_type=paper.Fig9Result, claims=[])
+        paper.PaperFigure(number=3, title="x", run=paper.fig09.run, result_type=paper.fig09.Fig9Result, claims=[])
     with pytest.raises(ValueError, match="title"):
-        paper.PaperFigure(number=3, title=" ", run=paper.fig9, result_type=paper.Fig9Result)
+        paper.PaperFigure(number=3, title=" ", run=paper.fig09.run, result_type=paper.fig09.Fig9Result)
 
 
 def test_every_figure_has_one_plot():

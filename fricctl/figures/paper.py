@@ -21,9 +21,19 @@ from typing import Callable
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..paper import (Fig4Result, Fig5Result, Fig8Result, Fig9Result, Fig10Result, Fig11Result,
-                     Fig12Result, Fig13Result, Fig14Result, Fig16Result, Fig17Result, Fig18Result,
-                     SweepResult, paper_figures)
+from ..paper import SweepResult, paper_figures
+from ..paper.fig04 import Fig4Result
+from ..paper.fig05 import Fig5Result
+from ..paper.fig08 import Fig8Result
+from ..paper.fig09 import Fig9Result
+from ..paper.fig10 import Fig10Result
+from ..paper.fig11 import Fig11Result
+from ..paper.fig12 import Fig12Result
+from ..paper.fig13 import Fig13Result
+from ..paper.fig14 import Fig14Result
+from ..paper.fig16 import Fig16Result
+from ..paper.fig17 import Fig17Result
+from ..paper.fig18 import Fig18Result
 from ._common import get_ax
 from .core import plot_dead_zone
 from .measure import plot_velocity_estimates

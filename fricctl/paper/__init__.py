@@ -43,10 +43,8 @@ Modules
 
 Adding a figure: write ``fricctl/paper/figNN.py`` (result, ``run``, claim makers,
 ``FIGURE``) and its plot (``@paper_plot(NN)`` in :mod:`fricctl.figures.paper`);
-nothing else changes.  ``fig4`` ... ``fig18`` here are the modules' ``run``
-functions; for Figs. 10-18 that name is the function, not the module (reach the
-module with ``from fricctl.paper.fig12 import IdealEstimate`` or
-``importlib.import_module("fricctl.paper.fig12")``).
+nothing else changes.  Run a figure with ``paper.fig09.run(network)`` (the modules
+are imported when the package is) or ``paper.FIGURES[9](network)``.
 
 Notes
 -----
@@ -63,30 +61,6 @@ from types import MappingProxyType
 from .claims import EXTRA, Claim, claims_json, claims_markdown, claims_summary, is_extra, paper_claims
 from .common import (ACCURACY_DEG, AGED_SCALE, STICK_MIN_DURATION, restarts, sign_changes,
                      stick_intervals_after_motion)
-from .fig04 import Fig4Result
-from .fig04 import run as fig4
-from .fig05 import Fig5Result
-from .fig05 import run as fig5
-from .fig08 import Fig8Result
-from .fig08 import run as fig8
-from .fig09 import Fig9Result
-from .fig09 import run as fig9
-from .fig10 import Fig10Result
-from .fig10 import run as fig10
-from .fig11 import Fig11Result
-from .fig11 import run as fig11
-from .fig12 import Fig12Result, IdealEstimate, ViscousExcluded
-from .fig12 import run as fig12
-from .fig13 import Fig13Result
-from .fig13 import run as fig13
-from .fig14 import Fig14Result
-from .fig14 import run as fig14
-from .fig16 import Fig16Result
-from .fig16 import run as fig16
-from .fig17 import Fig17Result
-from .fig17 import run as fig17
-from .fig18 import Fig18Result
-from .fig18 import run as fig18
 from .network import PaperNetwork, train_paper_network
 from .registry import PaperFigure, paper_figures
 from .reproduce import PaperResults, reproduce_paper
@@ -94,11 +68,7 @@ from .sweep import SweepResult, robustness_sweep
 
 __all__ = [
     "PaperNetwork", "train_paper_network",
-    "Fig4Result", "Fig5Result", "Fig8Result", "Fig9Result", "Fig10Result", "Fig11Result",
-    "Fig12Result", "Fig13Result", "Fig14Result", "Fig16Result", "Fig17Result", "Fig18Result",
-    "fig4", "fig5", "fig8", "fig9", "fig10", "fig11", "fig12", "fig13", "fig14", "fig16",
-    "fig17", "fig18", "FIGURES", "PaperFigure", "paper_figures",
-    "ViscousExcluded", "IdealEstimate", "SweepResult", "robustness_sweep",
+    "FIGURES", "PaperFigure", "paper_figures", "SweepResult", "robustness_sweep",
     "Claim", "paper_claims", "claims_markdown", "claims_json", "claims_summary", "is_extra", "EXTRA",
     "PaperResults", "reproduce_paper",
     "stick_intervals_after_motion", "restarts", "sign_changes",
