@@ -4,10 +4,11 @@ A textbook companion to Gervini, Gomes & da Rosa, "A new robotic drive joint
 friction compensation mechanism using neural networks", J. Braz. Soc. Mech. Sci.
 & Eng. 25(2), 2003.
 
-Modules (dependencies flow one way)::
+Layers (dependencies flow one way; ``docs/architecture.md``)::
 
-    params -> friction -> plant -> simulate / compensators / controllers
-           -> estimation -> identify -> nn -> design -> diagnose -> figures, cli
+    _validate, units, params -> friction -> plant -> simulate, compensators, controllers
+      -> estimation, datasets -> identify, design, nn -> bench, diagnose, paper
+      -> figures, cli
 
 ``import fricctl`` does not import matplotlib; only :mod:`fricctl.figures` and
 the command line do.
