@@ -66,6 +66,22 @@ class Scaling:
                    output_offset=float(target.mean()), output_scale=float(target.std()),
                    envelope_low=lo, envelope_high=hi)
 
+    @classmethod
+    def centred(cls, tm: np.ndarray, omega: np.ndarray, target: np.ndarray, *,
+                torque_scale: float, velocity_scale: float) -> "Scaling":
+        """Inputs and output about zero, inputs divided by the given scales.
+
+        Friction is odd in (Tm, omega) about rest, so no offsets; ``velocity_scale``
+        sets where the net's tanh units resolve the velocity (a low speed puts the
+        resolution where friction is nonlinear, instead of over the whole range).
+        """
+        ts = v.real("torque_scale", torque_scale, positive=True, unit="N*m")
+        ws = v.real("velocity_scale", velocity_scale, positive=True, unit="rad/s")
+        return cls(input_offset=np.zeros(2), input_scale=np.array([ts, ws]), output_offset=0.0,
+                   output_scale=float(np.sqrt(np.mean(target ** 2))) or 1.0,
+                   envelope_low=np.array([tm.min(), omega.min()]),
+                   envelope_high=np.array([tm.max(), omega.max()]))
+
     def inputs(self, tm: np.ndarray, omega: np.ndarray) -> np.ndarray:
         """Scaled inputs ``xn``, shape (2, N) [-]."""
         xn = np.empty((2, tm.size))
@@ -115,6 +131,9 @@ class TrainingProblem:
     """The caller's generator: initial weights, pattern order, ..."""
     start: float
     """``time.perf_counter()`` when training started [s]."""
+    scaling: Scaling
+    """How :attr:`xn` and :attr:`tn` were scaled (a loop that constrains the net in
+    physical units converts its grids with it)."""
 
     @property
     def n(self) -> int:
@@ -223,7 +242,8 @@ class Trainer:
         return {p.name: p.default for p in params}
 
     def train(self, tm, omega, target, *, hidden: int = 4, rng: np.random.Generator,
-              metadata: dict | None = None, **options) -> TrainingResult:
+              metadata: dict | None = None, scaling: Scaling | None = None,
+              **options) -> TrainingResult:
         """Train a 2-``hidden``-1 net on the patterns with this trainer.
 
         Parameters
@@ -236,6 +256,10 @@ class Trainer:
             Source of the initial weights (and whatever else the loop draws).
         metadata : dict, optional
             Extra JSON-serialisable entries stored with the net (e.g. the seed).
+        scaling : Scaling, optional
+            Input and output scaling; default :meth:`Scaling.of` the patterns (inputs to
+            [-1, 1] over their range).  A pipeline that wants the net's resolution where
+            friction is nonlinear (low speeds) passes its own.
         **options
             The loop's options (:meth:`options`); unknown names raise ``ValueError``.
         """
@@ -249,12 +273,13 @@ class Trainer:
         if metadata is not None:
             v.instance("metadata", metadata, dict)
         rng_state = rng.bit_generator.state
-        scaling = Scaling.of(tm, omega, target)
+        scaling = (Scaling.of(tm, omega, target) if scaling is None
+                   else v.instance("scaling", scaling, Scaling))
         xn, tn = scaling.inputs(tm, omega), scaling.target(target)
         if self.prepare is not None:
             self.prepare()
         problem = TrainingProblem(hidden=hidden, xn=xn, tn=tn, rng=rng,
-                                  start=time.perf_counter())
+                                  start=time.perf_counter(), scaling=scaling)
         out = self.loop(problem, **options)
         mse = 2.0 * out.loss * scaling.output_scale ** 2  # scaled 0.5*e^2 -> physical e^2
         history = TrainingHistory(trainer=self.name, step=self.step, loss=mse,
