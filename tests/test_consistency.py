@@ -185,8 +185,7 @@ def test_inertia_windows_by_hand_and_the_conflict_proof():
     # the proof: under 0-100 and 10-90 no inertia satisfies Figs. 11 and 18 together; under peak
     # only the +-0.1 rad reading leaves a window, and it holds the P design's exact inertia
     assert all(x.empty for x in w.values() if x.reading != "peak" or x.span == 0.1)
-    lo, hi = w[("peak", 0.2)].intersection
-    assert lo < cs.PROPOSED.actuator_inertia < hi
+    assert w[("peak", 0.2)].allowed_low < cs.PROPOSED.actuator_inertia < w[("peak", 0.2)].allowed_high
     # even 10 % slack on both P specs leaves Fig. 11 below breakaway under 0-100 and 10-90: the
     # largest Kp r = b c(zeta) r / (2 zeta tr) is at the corner tr = 0.18 s, zeta = 0.27 (c/zeta
     # falls with zeta), by hand with the 0-100 closed form c = (pi - acos z) / sqrt(1 - z^2)

@@ -181,9 +181,13 @@ class Statement:
     """A statement of the paper, what it requires of the bench, and how it is checked."""
 
     key: str
+    """Short identifier, e.g. ``"fig11-moves"``."""
     paper: str
+    """What the paper says."""
     requires: str
+    """What it requires of the unknowns, in symbols."""
     method: str
+    """``"closed form"`` or ``"simulation"``."""
 
 
 STATEMENTS = (
@@ -344,7 +348,8 @@ def evaluate(candidates) -> tuple:
     -------
     tuple of CandidateResult
         In the order given.  The runs are batched: one :func:`~fricctl.simulate.simulate_batch`
-        per P gain (Fig. 11) and per Fig. 18 loop and reference; equal actuators run once.
+        per P gain (Fig. 11, and the compensated step, whose Python estimator runs in the
+        Python loop) and per Fig. 18 loop and reference; equal actuators run once.
     """
     cands = tuple(v.instance("candidate", c, Unknowns) for c in candidates)
     groups = {}
@@ -406,15 +411,19 @@ class InertiaWindow:
     p_design: float
 
     @property
-    def intersection(self) -> tuple:
-        """``(low, high)`` of every closed-form statement together; ``low >= high`` when empty."""
-        return max(self.lower, self.p_low), min(self.upper, self.p_high)
+    def allowed_low(self) -> float:
+        """Lowest inertia every closed-form statement allows [kg*m^2]."""
+        return max(self.lower, self.p_low)
+
+    @property
+    def allowed_high(self) -> float:
+        """Highest inertia every closed-form statement allows [kg*m^2]."""
+        return min(self.upper, self.p_high)
 
     @property
     def empty(self) -> bool:
         """True when no inertia satisfies every closed-form statement."""
-        lo, hi = self.intersection
-        return not lo < hi
+        return not self.allowed_low < self.allowed_high
 
 
 def inertia_windows(readings=tuple(RISE_TIME_READINGS), spans=(0.1, 0.2)) -> tuple:
@@ -522,10 +531,9 @@ class ConsistencyResult:
                  "| reading | Fig. 18 span [rad] | I > (by) | I < (by) | P design, tr within 10 % | "
                  "all together |", "|---|---|---|---|---|---|"]
         for w in self.windows:
-            lo, hi = w.intersection
             rows.append(f"| {w.reading} | {w.span:g} | {w.lower:.4g} ({w.lower_by}) | {w.upper:.4g} "
                         f"({w.upper_by}) | {w.p_low:.4g} to {w.p_high:.4g} (exact {w.p_design:.4g}) | "
-                        + ("**empty**" if w.empty else f"{lo:.4g} to {hi:.4g}") + " |")
+                        + ("**empty**" if w.empty else f"{w.allowed_low:.4g} to {w.allowed_high:.4g}") + " |")
         rows += ["", "Largest Kp*25deg of a P design with 10 % slack on both specs: " + ", ".join(
             f"{r} {max_p_step_torque(r):.3f} N*m" for r in RISE_TIME_READINGS) + f" (Fs = {FS:g} N*m).",
             "", f"Grid: {len(self.grid)} candidate sets, {len(self.consistent)} consistent.", "",
