@@ -78,7 +78,7 @@ plt.show()
 # seed:
 
 # %%
-lm = net_run.training
+lm = net_run.trained
 bp = train_network(net_run.train, trainer="backprop", epochs=BACKPROP_EPOCHS, max_patterns=2000,
                    rng=np.random.default_rng(SEED))
 for name, res in (("CasADi LM", lm), ("back-prop", bp)):

@@ -36,6 +36,7 @@ from scipy import signal
 from . import _validate as v
 
 __all__ = [
+    "at_rest",
     "DerivativeEstimate",
     "backward_difference",
     "polynomial_segments",
@@ -399,6 +400,40 @@ def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> Deriva
 
 
 #: Estimators by name (for the CLI and :func:`estimate`).
+def at_rest(position, *, guard: int = 2) -> np.ndarray:
+    """True where the encoder reads the same value ``guard`` samples before and after.
+
+    A sample at rest by this test had no motion around it: the friction there is the
+    reaction holding the joint (``Tat = Tm``).  A sample whose velocity estimate is 0 but
+    whose encoder moves within ``guard`` samples is a breakaway (or a reversal): the
+    friction is at its breakaway level, not ``Tm``.  The first and last ``guard`` samples
+    are never at rest (their neighbourhood is not recorded).
+
+    Parameters
+    ----------
+    position : array_like
+        Encoder readings [rad] (or [m]).
+    guard : int
+        Samples on each side, >= 1.
+
+    Examples
+    --------
+    >>> at_rest([0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1], guard=2).astype(int).tolist()
+    [0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0]
+    """
+    x = v.array("position", position)
+    guard = v.integer("guard", guard, low=1)
+    n = x.size
+    out = np.zeros(n, dtype=bool)
+    if n > 2 * guard:
+        core = np.ones(n - 2 * guard, dtype=bool)
+        mid = x[guard:n - guard]
+        for d in range(1, guard + 1):
+            core &= (x[guard - d:n - guard - d] == mid) & (x[guard + d:n - guard + d] == mid)
+        out[guard:n - guard] = core
+    return out
+
+
 ESTIMATORS = {
     "backward_difference": backward_difference,
     "polynomial_segments": polynomial_segments,

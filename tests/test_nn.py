@@ -441,9 +441,9 @@ def test_compiled_vector_has_the_named_layout():
 
 # -- the trainers' seam ---------------------------------------------------------------
 def test_registry_lists_the_trainers_and_checks_options(sliding):
-    assert set(TRAINERS) == {"backprop", "casadi"}
+    assert set(TRAINERS) == {"backprop", "casadi", "certified"}
     for name, t in TRAINERS.items():
-        assert t.name == name and t.description and t.step in ("epoch", "iteration")
+        assert t.name == name and t.description and t.step in ("epoch", "iteration", "attempt")
     # the public functions' defaults are the inner loops' defaults
     for fun, name in ((train_backprop, "backprop"), (train_casadi, "casadi")):
         params = inspect.signature(fun).parameters

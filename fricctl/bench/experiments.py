@@ -30,7 +30,7 @@ from .. import _validate as v
 from ..compensators import Compensator, NoCompensation
 from ..controllers import open_loop, p_control, pd_control, sequence, sinusoid
 from ..datasets import Run
-from ..estimation import ESTIMATORS, estimate
+from ..estimation import ESTIMATORS, at_rest, estimate
 from ..friction import FrictionModel
 from ..params import ActuatorParams, paper_actuator
 from ..simulate import SimResult, simulate, simulate_batch
@@ -163,6 +163,9 @@ class Patterns:
     t: np.ndarray
     experiment: np.ndarray
     method: str
+    at_rest: np.ndarray
+    """True where the encoder stood still over ``guard`` samples either side (a pattern with
+    ``omega_hat = 0`` that is not at rest is a breakaway transient)."""
 
     def __len__(self):
         return self.tm.size
@@ -171,7 +174,8 @@ class Patterns:
         """The patterns at ``index`` (a boolean mask or integer indices)."""
         return Patterns(tm=self.tm[index], omega=self.omega[index], friction=self.friction[index],
                         friction_true=self.friction_true[index], t=self.t[index],
-                        experiment=self.experiment[index], method=self.method)
+                        experiment=self.experiment[index], method=self.method,
+                        at_rest=self.at_rest[index])
 
     def split(self, fraction: float, rng: np.random.Generator) -> "PatternSplit":
         """Random split; ``fraction`` of the patterns go to training, the rest are held out."""
@@ -192,7 +196,7 @@ class PatternSplit:
 
 
 def friction_patterns(experiments, params: ActuatorParams, *, method: str = "polynomial_segments",
-                      border: int = 5, **options) -> Patterns:
+                      border: int = 5, guard: int = 2, **options) -> Patterns:
     """Friction patterns ``Tat = Tm - I*alpha_hat`` from the experiments' encoder records.
 
     Parameters
@@ -204,6 +208,9 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
         Estimator from :data:`fricctl.estimation.ESTIMATORS`.
     border : int
         Samples dropped at each end of each record [samples].
+    guard : int
+        Samples either side that must show no encoder motion for a pattern to be at rest
+        (:func:`fricctl.estimation.at_rest`).
     **options
         Passed to the estimator.
     """
@@ -215,12 +222,13 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
         sl = slice(border, ex.run.n_samples - border)
         tm = ex.run.torque[sl]
         parts.append((tm, est.velocity[sl], tm - params.total_inertia * est.acceleration[sl],
-                      ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i)))
+                      ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i),
+                      at_rest(ex.run.position, guard=guard)[sl]))
     return _patterns(parts, method)
 
 
 def _patterns(parts, method) -> Patterns:
-    names = ("tm", "omega", "friction", "friction_true", "t", "experiment")
+    names = ("tm", "omega", "friction", "friction_true", "t", "experiment", "at_rest")
     return Patterns(method=method, **{n: np.concatenate(c) for n, c in zip(names, zip(*parts))})
 
 
@@ -234,7 +242,7 @@ def true_patterns(experiments, *, border: int = 5) -> Patterns:
     for i, ex in enumerate(experiments):
         sl = slice(border, ex.run.n_samples - border)
         parts.append((ex.run.torque[sl], ex.truth.omega[sl], ex.truth.friction[sl], ex.truth.friction[sl],
-                      ex.run.t[sl], np.full(ex.run.t[sl].size, i)))
+                      ex.run.t[sl], np.full(ex.run.t[sl].size, i), ex.truth.stuck[sl]))
     return _patterns(parts, "truth")
 
 

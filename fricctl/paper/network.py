@@ -1,9 +1,11 @@
-"""The network every figure shares: the paper's training pipeline run once.
+"""The network every figure shares: a training pipeline run once on the virtual bench.
 
 :func:`train_paper_network` runs Table-2-style experiments on the virtual bench,
-measures friction patterns with the paper's polynomial velocity estimator, splits
-them (seeded) and trains the 2-4-1 network; :class:`PaperNetwork` keeps all of it,
-with the fit on the held-out, training and true-friction patterns.
+measures friction patterns with the pipeline's velocity estimator, splits them
+(seeded) and trains the 2-4-1 network with one of the pipelines of
+:mod:`fricctl.nn.pipelines` (``"paper"``: the literal recipe; ``"fricctl"``: the fix);
+:class:`PaperNetwork` keeps all of it, with the fit of the full friction estimate on
+the held-out, training and true-friction patterns.
 """
 
 from __future__ import annotations
@@ -14,9 +16,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as v
-from ..bench.experiments import Experiment, Patterns, friction_patterns, train_network, training_experiments
+from ..bench.experiments import Experiment, Patterns, friction_patterns, training_experiments
+from ..compensators import NNCompensator
 from ..design import DesignWarning
-from ..nn import FitReport, FrictionNet, TrainingResult, fit_report
+from ..nn import FitReport, FrictionNet, fit_report
+from ..nn.pipelines import PipelineInput, PipelineNet
+from ..nn.pipelines import pipeline as _pipeline
 from ..params import ActuatorParams, paper_actuator
 
 __all__ = ["PaperNetwork", "train_paper_network", "check_network"]
@@ -32,12 +37,13 @@ class PaperNetwork:
     experiments : the training experiments (records and truth)
     patterns : all friction patterns ``Tat = Tm - I*alpha_hat``
     train, held_out : random split of the patterns (``train_fraction`` / rest)
-    training : the trainer's result (``.net``, ``.history``)
-    fit_held_out : fit of the net on the held-out measured patterns
+    trained : the pipeline's result (``.net``, ``.viscous_removed``, ``.certificate``)
+    fit_held_out : fit of the full friction estimate on the held-out measured patterns
     fit_train : fit on the training patterns
     fit_true : fit on the held-out patterns against the simulator's *true* friction
     seed : seed of the split and of the trainer
     fast : whether the short experiments were used
+    pipeline : ``"paper"`` or ``"fricctl"``
     """
 
     params: ActuatorParams
@@ -45,17 +51,26 @@ class PaperNetwork:
     patterns: Patterns
     train: Patterns
     held_out: Patterns
-    training: TrainingResult
+    trained: PipelineNet
     fit_held_out: FitReport
     fit_train: FitReport
     fit_true: FitReport
     seed: int
     fast: bool
+    pipeline: str
 
     @property
     def net(self) -> FrictionNet:
-        """The trained 2-4-1 network."""
-        return self.training.net
+        """The trained 2-4-1 network (what the compensator evaluates)."""
+        return self.trained.net
+
+    def estimate(self, tm, omega):
+        """The full friction estimate [N*m] (the net plus the viscous term it leaves out)."""
+        return self.trained.estimate(tm, omega)
+
+    def compensator(self, scale: float = 1.0) -> NNCompensator:
+        """The pipeline's compensation ``s*net(Tm, omega_hat)`` (fricctl: the nonlinear part)."""
+        return NNCompensator(self.net, scale=scale)
 
     def experiment(self, name: str) -> Experiment:
         """The training experiment called ``name`` (e.g. ``"open-loop steps"``)."""
@@ -71,9 +86,9 @@ def check_network(network) -> PaperNetwork:
 
 
 def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = False, seed: int = 0,
-                        train_fraction: float = 0.8, estimator: str = "polynomial_segments",
-                        **estimator_options) -> PaperNetwork:
-    """Run the paper's training pipeline once (shared by every figure).
+                        pipeline: str = "paper", train_fraction: float = 0.8,
+                        estimator: str | None = None, **estimator_options) -> PaperNetwork:
+    """Run a training pipeline once on the virtual bench (shared by every figure).
 
     Parameters
     ----------
@@ -83,10 +98,13 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
         Short experiments (8 torque levels, 6 closed-loop steps) for tests.
     seed : int
         Seed of the train/held-out split and of the trainer [-].
+    pipeline : {"paper", "fricctl"}
+        :data:`fricctl.nn.pipelines.PIPELINES`: the paper's literal recipe, or fricctl's.
     train_fraction : float
         Fraction of the patterns used for training; the rest measure the fit [-].
-    estimator : str
-        Velocity/acceleration estimator of the patterns (the paper's by default).
+    estimator : str, optional
+        Velocity/acceleration estimator of the patterns; default the pipeline's (with its
+        options, unless ``estimator_options`` are given).
     **estimator_options
         Passed to the estimator (e.g. ``window=100``).
 
@@ -96,24 +114,34 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
 
     Notes
     -----
-    Training uses the CasADi Levenberg-Marquardt trainer (3 seeded restarts, at
-    most 4000 patterns); the paper's back-propagation reaches a similar loss far
-    more slowly (Chapter 4 compares them).
+    The paper pipeline trains with the CasADi Levenberg-Marquardt trainer (3 seeded
+    restarts, at most 4000 patterns); the paper's back-propagation reaches a similar loss
+    far more slowly (Chapter 4 compares them).  The fricctl pipeline trains with the
+    certified trainer (at most 2000 patterns).
     """
     p = paper_actuator() if params is None else v.instance("params", params, ActuatorParams,
                                                             "an ActuatorParams")
     seed = v.integer("seed", seed, low=0)
+    recipe = _pipeline(pipeline)
+    if estimator is None:
+        estimator = recipe.estimator
+        estimator_options = estimator_options or dict(recipe.estimator_options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DesignWarning)
         exps = training_experiments(p, fast=fast)
     pats = friction_patterns(exps, p, method=estimator, **estimator_options)
     split = pats.split(train_fraction, np.random.default_rng(seed))
     train, held = split.train, split.held_out
-    res = train_network(train, rng=np.random.default_rng(seed))
-    net = res.net
+    trained = recipe.train(
+        PipelineInput(tm=train.tm, omega=train.omega, friction=train.friction, at_rest=train.at_rest,
+                      velocity_quantum=p.encoder_resolution / p.sample_time),
+        rng=np.random.default_rng(seed),
+        metadata={"seed": seed, "fast": bool(fast), "estimator": estimator, "patterns": len(train)})
+
+    def fit(target, pats_):
+        return fit_report(target, trained.estimate(pats_.tm, pats_.omega))
+
     return PaperNetwork(
-        params=p, experiments=tuple(exps), patterns=pats, train=train, held_out=held, training=res,
-        fit_held_out=fit_report(held.friction, net=net, tm=held.tm, omega=held.omega),
-        fit_train=fit_report(train.friction, net=net, tm=train.tm, omega=train.omega),
-        fit_true=fit_report(held.friction_true, net=net, tm=held.tm, omega=held.omega),
-        seed=seed, fast=bool(fast))
+        params=p, experiments=tuple(exps), patterns=pats, train=train, held_out=held,
+        trained=trained, fit_held_out=fit(held.friction, held), fit_train=fit(train.friction, train),
+        fit_true=fit(held.friction_true, held), seed=seed, fast=bool(fast), pipeline=pipeline)

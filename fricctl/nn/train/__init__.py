@@ -14,12 +14,14 @@ backprop   :func:`~fricctl.nn.train.backprop.train_backprop`, the paper's
            back-propagation with momentum (numba inner loop)
 casadi     :func:`~fricctl.nn.train.lm.train_casadi`, Levenberg-Marquardt
            with CasADi's exact Jacobian
+certified  :mod:`~fricctl.nn.train.certified`, least squares under slope
+           constraints: the gain at rest certified inside a band
 =========  ==================================================================
 
 Examples
 --------
 >>> sorted(TRAINERS)
-['backprop', 'casadi']
+['backprop', 'casadi', 'certified']
 >>> trainer("casadi").options()
 {'restarts': 3, 'max_iterations': 200, 'tolerance': 1e-10}
 """
