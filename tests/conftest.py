@@ -6,6 +6,15 @@ import pytest
 matplotlib.use("Agg")
 
 
+def pytest_configure(config):
+    # Trained networks are cached on disk (fricctl.nn.cache); the tests use a fresh cache per
+    # session (shared with the chapters they run in subprocesses), never the user's.
+    if "FRICCTL_CACHE" not in os.environ:
+        import tempfile
+
+        os.environ["FRICCTL_CACHE"] = tempfile.mkdtemp(prefix="fricctl-cache-")
+
+
 @pytest.fixture(scope="session")
 def data_dir():
     """The shared data folder (FRICCTL_DATA), or skip with the reason."""

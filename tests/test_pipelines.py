@@ -97,3 +97,35 @@ def test_pipeline_input_is_checked():
     with pytest.raises(ValueError, match="velocity_quantum"):
         PipelineInput(tm=[0.0, 1.0], omega=[0.0, 1.0], friction=[0.0, 1.0],
                       at_rest=np.array([True, False]), velocity_quantum=0.0)
+
+
+def test_cache_reads_back_the_same_network_and_retrains_on_a_new_key(tmp_path, monkeypatch):
+    from fricctl.nn.cache import cached_pipeline_net
+    from fricctl.nn.pipelines import PipelineNet
+
+    monkeypatch.setenv("FRICCTL_CACHE", str(tmp_path))
+    rng = np.random.default_rng(3)
+    tm, om, f, rest = _patterns(rng)
+    calls = []
+
+    def make():
+        calls.append(1)
+        return pipeline("fricctl").train(PipelineInput(tm=tm, omega=om, friction=f, at_rest=rest,
+                                                       velocity_quantum=0.0157),
+                                         rng=np.random.default_rng(0), max_patterns=600)
+
+    a = cached_pipeline_net({"k": 1}, make)
+    b = cached_pipeline_net({"k": 1}, make)
+    assert len(calls) == 1                                   # the second came from the file
+    assert isinstance(b, PipelineNet) and b.net.to_json() == a.net.to_json()
+    assert b.certificate == a.certificate and np.array_equal(b.used, a.used)
+    np.testing.assert_array_equal(b.history.loss, a.history.loss)
+    cached_pipeline_net({"k": 2}, make)                      # another configuration trains
+    assert len(calls) == 2
+    for f_ in (tmp_path / "nets").glob("*.json"):            # a damaged entry is retrained
+        f_.write_text("{not json")
+    cached_pipeline_net({"k": 1}, make)
+    assert len(calls) == 3
+    monkeypatch.setenv("FRICCTL_CACHE", "off")               # switched off: always trains
+    cached_pipeline_net({"k": 1}, make)
+    assert len(calls) == 4

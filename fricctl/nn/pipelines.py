@@ -46,6 +46,7 @@ from typing import Callable
 import numpy as np
 
 from .. import _validate as v
+from .io import net_from_dict, net_to_dict
 from .net import FrictionNet
 from .train import TRAINERS, Scaling, TrainingHistory
 from .train.certified import Certificate
@@ -113,6 +114,32 @@ class PipelineNet:
     def estimate(self, tm, omega) -> np.ndarray:
         """The full friction estimate ``net(Tm, omega) + b_hat*omega`` [N*m]."""
         return np.asarray(self.net(tm, omega)) + self.viscous_removed * np.asarray(omega, dtype=float)
+
+    def as_dict(self) -> dict:
+        """JSON-ready (the net in its file format; see :func:`fricctl.nn.io.net_to_dict`)."""
+        return {"net": net_to_dict(self.net), "pipeline": self.pipeline,
+                "viscous_removed": self.viscous_removed,
+                "certificate": None if self.certificate is None else self.certificate.as_dict(),
+                "used": self.used.tolist(),
+                "history": {"trainer": self.history.trainer, "step": self.history.step,
+                            "loss": self.history.loss.tolist(),
+                            "elapsed": self.history.elapsed.tolist()}}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "PipelineNet":
+        """Inverse of :meth:`as_dict`."""
+        keys = {"net", "pipeline", "viscous_removed", "certificate", "used", "history"}
+        if not isinstance(d, dict) or set(d) != keys:
+            raise ValueError(f"a saved PipelineNet is an object with keys {sorted(keys)}")
+        c = d["certificate"]
+        cert = None if c is None else Certificate(**{**c, "gain_band": tuple(c["gain_band"])})
+        h = d["history"]
+        return cls(net=net_from_dict(d["net"]), pipeline=v.choice("pipeline", d["pipeline"], PIPELINES),
+                   viscous_removed=v.real("viscous_removed", d["viscous_removed"], nonneg=True),
+                   certificate=cert, used=np.asarray(v.array("used", d["used"]), dtype=np.int64),
+                   history=TrainingHistory(trainer=h["trainer"], step=h["step"],
+                                           loss=v.array("loss", h["loss"]),
+                                           elapsed=v.array("elapsed", h["elapsed"])))
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -20,6 +20,7 @@ from ..bench.experiments import Experiment, Patterns, friction_patterns, trainin
 from ..compensators import NNCompensator
 from ..design import DesignWarning
 from ..nn import FitReport, FrictionNet, fit_report
+from ..nn.cache import cached_pipeline_net
 from ..nn.pipelines import PipelineInput, PipelineNet
 from ..nn.pipelines import pipeline as _pipeline
 from ..params import ActuatorParams, paper_actuator
@@ -114,7 +115,8 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
 
     Notes
     -----
-    The paper pipeline trains with the CasADi Levenberg-Marquardt trainer (3 seeded
+    Trained networks are cached on disk by configuration (:mod:`fricctl.nn.cache`;
+    ``FRICCTL_CACHE=off`` retrains every time).  The paper pipeline trains with the CasADi Levenberg-Marquardt trainer (3 seeded
     restarts, at most 4000 patterns); the paper's back-propagation reaches a similar loss
     far more slowly (Chapter 4 compares them).  The fricctl pipeline trains with the
     certified trainer (at most 2000 patterns).
@@ -132,11 +134,14 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
     pats = friction_patterns(exps, p, method=estimator, **estimator_options)
     split = pats.split(train_fraction, np.random.default_rng(seed))
     train, held = split.train, split.held_out
-    trained = recipe.train(
+    meta = {"seed": seed, "fast": bool(fast), "estimator": estimator, "patterns": len(train)}
+    key = {"what": "paper network", "pipeline": pipeline, "params": p.as_dict(),
+           "estimator": estimator, "estimator_options": estimator_options,
+           "train_fraction": float(train_fraction), **meta}
+    trained = cached_pipeline_net(key, lambda: recipe.train(
         PipelineInput(tm=train.tm, omega=train.omega, friction=train.friction, at_rest=train.at_rest,
                       velocity_quantum=p.encoder_resolution / p.sample_time),
-        rng=np.random.default_rng(seed),
-        metadata={"seed": seed, "fast": bool(fast), "estimator": estimator, "patterns": len(train)})
+        rng=np.random.default_rng(seed), metadata=meta))
 
     def fit(target, pats_):
         return fit_report(target, trained.estimate(pats_.tm, pats_.omega))

@@ -1,0 +1,73 @@
+"""A cache of trained networks on disk, keyed by everything that determines them.
+
+Training a network is the slow step of a chapter or of ``fricctl reproduce``; the
+same configuration (pipeline, seed, experiments, estimator, actuator) always gives the
+same network, so it is trained once and read back afterwards.  The key is a hash of
+the caller's configuration *and of fricctl's own source code*: any change to the
+library retrains.  Entries are JSON (no pickle), written atomically (a temporary file
+renamed into place), so concurrent processes at worst train the same network twice.
+
+Where: the folder named by the environment variable ``FRICCTL_CACHE``, or
+``~/.cache/fricctl`` by default; ``FRICCTL_CACHE=off`` disables the cache.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Callable
+
+from .pipelines import PipelineNet
+
+__all__ = ["cache_dir", "code_digest", "cached_pipeline_net"]
+
+_OFF = {"0", "off", "no", "false"}
+
+
+def cache_dir() -> Path | None:
+    """The cache folder, or None when ``FRICCTL_CACHE`` switches the cache off."""
+    env = os.environ.get("FRICCTL_CACHE")
+    if env is not None and env.strip().lower() in _OFF:
+        return None
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "fricctl"
+
+
+@functools.lru_cache(maxsize=1)
+def code_digest() -> str:
+    """SHA-256 of every Python source file of the installed fricctl package."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        h.update(str(f.relative_to(root)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()
+
+
+def cached_pipeline_net(key: dict, make: Callable[[], PipelineNet]) -> PipelineNet:
+    """``make()``'s network for configuration ``key`` (JSON-serialisable), from the cache if there.
+
+    An unreadable or stale entry is trained again and replaced.
+    """
+    folder = cache_dir()
+    if folder is None:
+        return make()
+    text = json.dumps({"key": key, "code": code_digest()}, sort_keys=True, allow_nan=False)
+    path = folder / "nets" / (hashlib.sha256(text.encode()).hexdigest()[:32] + ".json")
+    try:
+        return PipelineNet.from_dict(json.loads(path.read_text(encoding="utf-8")))
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    net = make()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False,
+                                         encoding="utf-8") as fh:
+            json.dump(net.as_dict(), fh, allow_nan=False)
+        os.replace(fh.name, path)
+    except OSError:  # a read-only home or a full disk: the cache is an optimisation, never a need
+        pass
+    return net
