@@ -1,49 +1,128 @@
-"""The joint model a diagnosis, a design or a simulation reads: :class:`JointModel` and its file.
+"""The model of one actuator that every command reads: :class:`JointModel` and its file.
 
-Model file format (JSON, version 1)
+Model file format (JSON, version 2)
 -----------------------------------
 ::
 
-    {"format": "fricctl.joint_model", "version": 1,
-     "units": "rotary",                       # or "linear" (kg, N*s/m, N, m)
-     "inertia": 0.00745,                      # total inertia I [kg*m^2]
-     "friction": {"viscous_pos": 0.0169, "viscous_neg": 0.0169,
-                  "coulomb_pos": 0.144, "coulomb_neg": 0.144},   # FrictionModel fields
-     "offset": 0.0,                           # constant resistive torque [N*m]
+    {"format": "fricctl.joint_model", "version": 2,
+     "units": "linear",                       # or "rotary" (N*m, rad, kg*m^2)
+     "inertia": 95.1089,                      # total inertia I [kg*m^2] or mass [kg]
+     "friction": {"viscous_pos": 203.5, "viscous_neg": 203.5,
+                  "coulomb_pos": 20.39, "coulomb_neg": 20.39},    # FrictionModel fields
+     "offset": -3.1648,                       # constant resistive torque [N*m] or force [N]
      "delay": 0.0,                            # torque acts this much later [s]
      "load_inertia": 0.0, "stiffness": 0.0, "damping": 0.0,     # elastic joint (Eq. 1)
-     "source": "free text"}
+     "sample_time": 0.001,                    # Ts of the controller [s], or null
+     "encoder_resolution": 5e-08,             # one count [rad] or [m], or null
+     "max_torque": null,                      # saturation +-Tmax [N*m] or [N], null = unknown
+     "source": "free text",
+     "provenance": {"inertia": {"source": "identified", "std": 0.1085, "note": "IDIM-LS"},
+                    "friction.coulomb_pos": {"source": "identified", "std": 0.1012,
+                                             "note": "coulomb (one level, both directions)"}}}
 
-``friction`` holds any fields of :class:`fricctl.friction.FrictionModel`
-(missing ones take its defaults; unknown ones are an error).  ``load_inertia > 0``
-makes the joint elastic: the part ``load_inertia`` of ``inertia`` sits behind a
-spring ``stiffness`` [N*m/rad] with damping ``damping`` [N*m*s/rad]; the encoder
-and the friction are on the motor side.  Unknown keys, a missing key, another
-format or version are errors.  No pickle.
+Required: ``format``, ``version``, ``units``, ``inertia``, ``friction``; the other
+keys may be left out (offset, delay and the elastic joint then are 0, sample time,
+encoder resolution and torque limit unknown, no provenance).  ``friction`` holds
+any fields of :class:`fricctl.friction.FrictionModel` (missing ones take its
+defaults).  ``load_inertia > 0`` makes the joint elastic: the part
+``load_inertia`` of ``inertia`` sits behind a spring ``stiffness`` with damping
+``damping``; the encoder and the friction are on the motor side.
 
+``provenance`` says, per value, where it comes from: its keys are the names above
+(``"inertia"``, ``"max_torque"``, ...) and ``"friction.<field>"``; each entry has a
+``source`` (one of :data:`PROVENANCE_SOURCES`), an optional standard deviation
+``std`` (same unit as the value, or null) and an optional ``note``.
+
+Version 1 files (no sample time, encoder, torque limit or provenance; ``units``
+optional, default rotary) are read too; :meth:`JointModel.save` writes version 2.
+
+Reading is strict: an unknown or missing key, another format or version, a
+duplicate key, NaN or Infinity, a boolean or a string where a number is expected,
+a number beyond double precision, a non-physical value (negative inertia, ...) or
+JSON nested deeper than a model file ever is raise :class:`ValueError` naming
+the key.  No pickle: a file is data, never code.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, fields
+import types
+from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Mapping
 
 from .. import _validate as v
-from ..friction import DEFAULTS as FRICTION_DEFAULTS
+from ..friction import FIELDS as FRICTION_FIELDS
 from ..friction import FrictionModel
 from ..units import KINDS
+from ..units import units as units_of
 from .joints import FlexibleJoint, RigidJoint
 
-__all__ = ["JointModel", "MODEL_FORMAT", "MODEL_VERSION"]
+__all__ = ["JointModel", "Provenance", "MODEL_FORMAT", "MODEL_VERSION", "READ_VERSIONS",
+           "PROVENANCE_SOURCES", "provenance_keys"]
 
 MODEL_FORMAT = "fricctl.joint_model"
-MODEL_VERSION = 1
+#: The version :meth:`JointModel.save` writes.
+MODEL_VERSION = 2
+#: The versions :meth:`JointModel.load` reads.
+READ_VERSIONS = (1, 2)
+#: Where a value may come from (the ``source`` of a :class:`Provenance`).
+PROVENANCE_SOURCES = ("paper", "datasheet", "identified", "measured", "derived", "assumption",
+                      "diagnosed")
+
+#: Numeric top-level keys: (name, check, quantity of fricctl.units.Units or "s").
+_NUMBERS = (("inertia", "positive", "inertia"), ("offset", "real", "torque"),
+            ("delay", "nonneg", "s"), ("load_inertia", "nonneg", "inertia"),
+            ("stiffness", "nonneg", "stiffness"), ("damping", "nonneg", "viscous"))
+#: Optional numeric keys (None = unknown).
+_OPTIONAL = (("sample_time", "s"), ("encoder_resolution", "position"), ("max_torque", "torque"))
+_REQUIRED = ("format", "version", "units", "inertia", "friction")
+_KEYS_V1 = ("format", "version", "units", "inertia", "friction", "offset", "delay",
+            "load_inertia", "stiffness", "damping", "source")
+_KEYS_V2 = _KEYS_V1 + tuple(n for n, _ in _OPTIONAL) + ("provenance",)
+#: Deepest nesting a model file has (object > provenance > entry); deeper is refused.
+_MAX_DEPTH = 4
+#: Longest text a model file holds (a note, a source) [characters].
+_MAX_TEXT = 10_000
+
+
+def provenance_keys() -> tuple[str, ...]:
+    """The names a ``provenance`` entry may have: the numeric keys and ``friction.<field>``."""
+    return (tuple(n for n, _, _ in _NUMBERS) + tuple(n for n, _ in _OPTIONAL)
+            + tuple(f"friction.{f}" for f in FRICTION_FIELDS))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Provenance:
+    """Where one value of a model comes from.
+
+    Examples
+    --------
+    >>> Provenance(source="identified", std=0.1085, note="IDIM-LS")
+    Provenance(source='identified', std=0.1085, note='IDIM-LS')
+    """
+
+    source: str
+    """One of :data:`PROVENANCE_SOURCES`."""
+    std: float | None = None
+    """Standard deviation of the value, same unit (None: not known)."""
+    note: str = ""
+    """How the value was obtained (free text)."""
+
+    def __post_init__(self):
+        v.choice("source", self.source, PROVENANCE_SOURCES)
+        if self.std is not None:
+            object.__setattr__(self, "std", v.real("std", self.std, nonneg=True))
+        v.text("note", self.note)
+
+    def as_dict(self) -> dict:
+        """The file's entry ``{"source", "std", "note"}``."""
+        return {"source": self.source, "std": self.std, "note": self.note}
 
 
 @dataclass(frozen=True, kw_only=True)
 class JointModel:
-    """A joint model the diagnosis simulates: inertia, friction, offset, delay, elasticity.
+    """One actuator: inertia, friction, offset, delay, elasticity, sampling, encoder, limit.
 
     Parameters
     ----------
@@ -54,7 +133,7 @@ class JointModel:
     offset : float
         Constant resistive torque [N*m]: the joint receives ``Tm - offset``.
     delay : float
-        The joint receives the recorded torque this much later [s]; applied as
+        The joint receives the commanded torque this much later [s]; applied as
         the nearest whole number of samples.
     load_inertia : float
         0 for a rigid joint; else the part of ``inertia`` behind the spring [kg*m^2].
@@ -63,14 +142,28 @@ class JointModel:
     damping : float
         Structural damping across the spring [N*m*s/rad].
     units : {"rotary", "linear"}
-        Labels only.
+        Rotary joint (N*m, rad) or linear axis (N, m, kg).
     source : str
         Where the model comes from.
+    sample_time : float or None
+        Sample time Ts of the controller [s]; None when not known.
+    encoder_resolution : float or None
+        One encoder count, load side [rad] or [m]; None when not known.
+    max_torque : float or None
+        Torque (force) saturation +-Tmax [N*m] or [N]; None when not known.
+    provenance : mapping of str to Provenance
+        Where each value comes from (keys: :func:`provenance_keys`).
+
+    Notes
+    -----
+    A model has no controller and no compensator: those are the design's and the
+    simulation's.  Temperature, backlash and motor electrical dynamics are left out.
 
     Examples
     --------
     >>> from fricctl.friction import Viscous, Coulomb
-    >>> m = JointModel(inertia=0.00745, friction=(Viscous(0.0169) + Coulomb(0.144)).model())
+    >>> m = JointModel(inertia=0.00745, friction=(Viscous(0.0169) + Coulomb(0.144)).model(),
+    ...                sample_time=0.002, provenance={"inertia": Provenance(source="derived")})
     >>> JointModel.from_json(m.to_json()) == m
     True
     """
@@ -84,31 +177,68 @@ class JointModel:
     damping: float = 0.0
     units: str = "rotary"
     source: str = ""
+    sample_time: float | None = None
+    encoder_resolution: float | None = None
+    max_torque: float | None = None
+    provenance: Mapping[str, Provenance] = field(default_factory=dict, hash=False)
 
     def __post_init__(self):
-        for name, kw in (("inertia", dict(positive=True)), ("offset", {}),
-                         ("delay", dict(nonneg=True)), ("load_inertia", dict(nonneg=True)),
-                         ("stiffness", dict(nonneg=True)), ("damping", dict(nonneg=True))):
-            object.__setattr__(self, name, v.real(name, getattr(self, name), **kw))
+        v.choice("units", self.units, KINDS)
+        labels = units_of(self.units)
+        for name, check, quantity in _NUMBERS:
+            unit = "s" if quantity == "s" else getattr(labels, quantity)
+            kw = {"positive": check == "positive", "nonneg": check == "nonneg"}
+            object.__setattr__(self, name, v.real(name, getattr(self, name), unit=unit, **kw))
+        for name, quantity in _OPTIONAL:
+            x = getattr(self, name)
+            if x is not None:
+                unit = "s" if quantity == "s" else getattr(labels, quantity)
+                object.__setattr__(self, name, v.real(name, x, positive=True, unit=unit))
         v.instance("friction", self.friction, FrictionModel, "a fricctl.friction.FrictionModel")
         if self.load_inertia > 0:
             if not self.load_inertia < self.inertia:
                 raise ValueError("load_inertia must be < inertia (the motor side needs inertia too)")
             if not self.stiffness > 0:
-                raise ValueError("an elastic joint (load_inertia > 0) needs stiffness > 0")
+                raise ValueError("stiffness: an elastic joint (load_inertia > 0) needs stiffness > 0")
             if self.friction.is_lugre:
-                raise ValueError("LuGre friction is supported on the rigid joint only")
-        v.choice("units", self.units, KINDS)
+                raise ValueError("friction: LuGre friction is supported on the rigid joint only")
         v.text("source", self.source)
+        v.instance("provenance", self.provenance, (dict, types.MappingProxyType), "a mapping")
+        allowed = provenance_keys()
+        for key, entry in self.provenance.items():
+            v.choice("provenance key", key, allowed)
+            v.instance(f"provenance[{key!r}]", entry, Provenance, "a Provenance")
+        ordered = {k: self.provenance[k] for k in allowed if k in self.provenance}
+        object.__setattr__(self, "provenance", types.MappingProxyType(ordered))
 
+    # ------------------------------------------------------------------ physics
     @property
     def elastic(self) -> bool:
         """True for the elastic joint of paper Eq. 1."""
         return self.load_inertia > 0
 
+    @property
+    def viscous(self) -> float:
+        """The one viscous coefficient of a linear design model: the mean of both directions,
+        times the friction scale [N*m*s/rad] or [N*s/m]."""
+        return self.friction.scale * 0.5 * (self.friction.viscous_pos + self.friction.viscous_neg)
+
+    @property
+    def velocity_quantum(self) -> float | None:
+        """One encoder count per sample, ``encoder_resolution / sample_time`` [rad/s] or [m/s];
+        None when either is unknown."""
+        if self.encoder_resolution is None or self.sample_time is None:
+            return None
+        return self.encoder_resolution / self.sample_time
+
     def delay_samples(self, sample_time: float) -> int:
         """The delay as a whole number of samples of ``sample_time`` [s]."""
-        return int(round(self.delay / v.real("sample_time", sample_time, positive=True)))
+        ts = v.real("sample_time", sample_time, positive=True)
+        n = self.delay / ts
+        if n > 1e6:
+            raise ValueError(f"delay: {self.delay:g} s is {n:.3g} samples of {ts:g} s "
+                             f"(more than 1e6): not a drive delay")
+        return int(round(n))
 
     def joint(self):
         """The :class:`~fricctl.plant.RigidJoint` or :class:`~fricctl.plant.FlexibleJoint`."""
@@ -119,7 +249,7 @@ class JointModel:
         return RigidJoint(inertia=self.inertia, friction=self.friction)
 
     def parameters(self) -> dict:
-        """Flat parameter dict (JSON-ready): the non-default values only."""
+        """Flat parameter dict (JSON-ready): the non-default physical values only."""
         out = {"inertia": self.inertia}
         out.update(self.friction.changed())
         for name in ("offset", "delay", "load_inertia", "stiffness", "damping"):
@@ -127,65 +257,267 @@ class JointModel:
                 out[name] = getattr(self, name)
         return {k: float(x) for k, x in out.items()}
 
+    # ------------------------------------------------------------------ building
+    @classmethod
+    def from_params(cls, params, *, source: str, plant: str = "rigid") -> "JointModel":
+        """The model of an :class:`~fricctl.params.ActuatorParams`, with its provenance.
+
+        Parameters
+        ----------
+        params : fricctl.params.ActuatorParams
+            Actuator (load side).
+        source : str
+            The model's ``source`` text.
+        plant : {"rigid", "flexible"}
+            Rigid joint of inertia ``total_inertia``, or the elastic joint of Eq. 1
+            (needs ``link_inertia > 0``: the link sits behind the spring).
+
+        Notes
+        -----
+        Each provenance entry names the field of ``ActuatorParams`` it comes from and
+        takes that field's source tag; a value computed from two fields is ``derived``.
+
+        Examples
+        --------
+        >>> from fricctl.params import paper_actuator
+        >>> m = JointModel.from_params(paper_actuator(), source="paper")
+        >>> round(m.friction.breakaway(+1), 3), m.provenance["friction.viscous_pos"].source
+        (0.18, 'paper')
+        """
+        from ..params import ActuatorParams
+
+        v.instance("params", params, ActuatorParams, "an ActuatorParams")
+        v.choice("plant", plant, ("rigid", "flexible"))
+        if plant == "flexible" and not params.link_inertia > 0:
+            raise ValueError("plant='flexible' needs link_inertia > 0 (the load behind the spring)")
+
+        def of(name, note=""):
+            return Provenance(source=params.source(name), note=f"ActuatorParams.{name}" + note)
+
+        derived = Provenance(source="derived", note="ActuatorParams.static - .coulomb "
+                             "(the breakaway excess over the Coulomb level)")
+        prov = {"inertia": of("inertia", " + .link_inertia" if params.link_inertia else ""),
+                "sample_time": of("sample_time"), "max_torque": of("max_torque"),
+                "encoder_resolution": Provenance(
+                    source="derived", note="2*pi / (ActuatorParams.encoder_counts * .gear_ratio)")}
+        for d in ("pos", "neg"):
+            prov[f"friction.viscous_{d}"] = of("viscous")
+            prov[f"friction.coulomb_{d}"] = of("coulomb")
+            prov[f"friction.stribeck_{d}"] = derived
+        prov["friction.stribeck_velocity"] = of("stribeck_velocity")
+        elastic = {}
+        if plant == "flexible":
+            elastic = dict(load_inertia=params.link_inertia, stiffness=params.stiffness,
+                           damping=params.joint_damping)
+            prov.update(load_inertia=of("link_inertia"), stiffness=of("stiffness"),
+                        damping=of("joint_damping"))
+        return cls(inertia=params.total_inertia, friction=params.friction_model(),
+                   units="rotary", source=source, sample_time=params.sample_time,
+                   encoder_resolution=params.encoder_resolution, max_torque=params.max_torque,
+                   provenance=prov, **elastic)
+
+    # ------------------------------------------------------------------ file
     def as_dict(self) -> dict:
-        """The JSON file content (format ``fricctl.joint_model``, version 1)."""
+        """The JSON file content (format ``fricctl.joint_model``, version 2)."""
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "units": self.units,
                 "inertia": self.inertia, "friction": self.friction.as_dict(),
                 "offset": self.offset, "delay": self.delay, "load_inertia": self.load_inertia,
-                "stiffness": self.stiffness, "damping": self.damping, "source": self.source}
+                "stiffness": self.stiffness, "damping": self.damping,
+                "sample_time": self.sample_time, "encoder_resolution": self.encoder_resolution,
+                "max_torque": self.max_torque, "source": self.source,
+                "provenance": {k: p.as_dict() for k, p in self.provenance.items()}}
 
     def to_json(self) -> str:
-        return json.dumps(self.as_dict(), indent=2)
+        """:meth:`as_dict` as indented JSON (never NaN or Infinity)."""
+        return json.dumps(self.as_dict(), indent=2, allow_nan=False)
 
-    def save(self, path) -> Path:
-        """Write the JSON file; returns the path."""
+    def save(self, path, *, overwrite: bool = True) -> Path:
+        """Write the JSON file; returns the path.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Destination.
+        overwrite : bool
+            False: refuse (:class:`FileExistsError`) when ``path`` exists.
+        """
         path = Path(path)
-        path.write_text(self.to_json() + "\n")
+        if not v.flag("overwrite", overwrite) and path.exists():
+            raise FileExistsError(17, "already exists (not overwritten)", str(path))
+        path.write_text(self.to_json() + "\n", encoding="utf-8")
         return path
 
     @classmethod
     def from_dict(cls, d: dict) -> "JointModel":
+        """The model of a parsed file (version 1 or 2); every problem is a ValueError naming the key."""
         if not isinstance(d, dict):
             raise ValueError("model file: expected a JSON object")
         if d.get("format") != MODEL_FORMAT:
-            raise ValueError(f"model file: 'format' must be {MODEL_FORMAT!r}, got {d.get('format')!r}")
-        if d.get("version") != MODEL_VERSION:
-            raise ValueError(f"model file: unsupported version {d.get('version')!r} "
-                             f"(this fricctl reads version {MODEL_VERSION})")
-        keys = {f.name for f in fields(cls)} | {"format", "version"}
-        unknown = sorted(set(d) - keys)
+            raise ValueError(f"format: must be {MODEL_FORMAT!r}, got {d.get('format')!r}")
+        version = d.get("version")
+        if type(version) is not int or version not in READ_VERSIONS:
+            raise ValueError(f"version: unsupported {version!r} (this fricctl reads versions "
+                             f"{', '.join(map(str, READ_VERSIONS))})")
+        allowed = _KEYS_V1 if version == 1 else _KEYS_V2
+        unknown = sorted(set(d) - set(allowed))
         if unknown:
-            raise ValueError(f"model file: unknown key(s) {', '.join(unknown)}")
-        for req in ("inertia", "friction"):
+            raise ValueError(f"unknown key(s) {', '.join(map(repr, unknown))} in a version "
+                             f"{version} model file")
+        required = ("format", "version", "inertia", "friction") if version == 1 else _REQUIRED
+        for req in required:
             if req not in d:
-                raise ValueError(f"model file: missing key {req!r}")
-        fr = d["friction"]
-        if not isinstance(fr, dict):
-            raise ValueError("model file: 'friction' must be an object of FrictionModel fields")
-        for k, x in fr.items():
-            if k in FRICTION_DEFAULTS:
-                v.real(f"friction.{k}", x)
-        kw = {k: v for k, v in d.items() if k not in ("format", "version")}
-        kw["friction"] = FrictionModel.from_dict(fr)
+                raise ValueError(f"missing key {req!r}")
+        kw = {"units": d.get("units", "rotary")}
+        if not isinstance(kw["units"], str) or kw["units"] not in KINDS:
+            raise ValueError(f"units: must be one of {', '.join(map(repr, KINDS))}, "
+                             f"got {kw['units']!r}")
+        for name, _, _ in _NUMBERS:
+            if name in d:
+                kw[name] = v.real(name, d[name])
+        for name, _ in _OPTIONAL:
+            if d.get(name) is not None:
+                kw[name] = v.real(name, d[name])
+        if "source" in d:
+            kw["source"] = _text("source", d["source"])
+        kw["friction"] = _friction(d["friction"])
+        if "provenance" in d:
+            kw["provenance"] = _provenance(d["provenance"])
         return cls(**kw)
 
     @classmethod
     def from_json(cls, text: str) -> "JointModel":
-        try:
-            d = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"model file: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-        return cls.from_dict(d)
+        """Parse a model file's text strictly (duplicate keys, NaN, deep nesting are errors)."""
+        v.text("text", text)
+        return cls.from_dict(strict_json(text, max_depth=_MAX_DEPTH))
 
     @classmethod
     def load(cls, path) -> "JointModel":
-        """Read a model file (raises FileNotFoundError / ValueError naming the problem)."""
+        """Read a model file (raises FileNotFoundError / ValueError naming the file and key)."""
         path = Path(path)
         if not path.is_file():
-            raise FileNotFoundError(f"{path}: no such model file")
+            raise FileNotFoundError(2, "no such model file", str(path))
         try:
-            return cls.from_json(path.read_text())
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            raise ValueError(f"{path.name}: not a UTF-8 text file (a model file is JSON)") from None
+        try:
+            return cls.from_json(text)
         except ValueError as exc:
             raise ValueError(f"{path.name}: {exc}") from None
 
 
+# ---------------------------------------------------------------------- reading helpers
+def _refuse_constant(name):
+    raise ValueError(f"{name} is not a number (JSON has no NaN or Infinity)")
+
+
+def _parse_int(digits: str) -> int:
+    # beyond 309 digits a number overflows a double; the caller's check names the key up to
+    # 1000 digits, longer ones are refused here (Python's own limit is a 4300-digit error)
+    if len(digits.lstrip("-")) > 1000:
+        raise ValueError(f"an integer of {len(digits.lstrip('-'))} digits is not a usable number")
+    return int(digits)
+
+
+def _no_duplicates(pairs):
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"duplicate key {key!r}")
+        out[key] = value
+    return out
+
+
+def _depth(text: str) -> int:
+    """Deepest bracket nesting of a JSON text, outside strings."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for ch in text:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
+
+def strict_json(text: str, *, max_depth: int):
+    """Parse JSON text, refusing duplicate keys, NaN/Infinity and nesting deeper than ``max_depth``.
+
+    Every problem is a :class:`ValueError` (never a RecursionError or OverflowError).
+
+    Examples
+    --------
+    >>> strict_json('{"a": [1, 2.5]}', max_depth=2)
+    {'a': [1, 2.5]}
+    >>> strict_json('{"a": 1, "a": 2}', max_depth=2)
+    Traceback (most recent call last):
+    ...
+    ValueError: duplicate key 'a'
+    """
+    max_depth = v.integer("max_depth", max_depth, low=1)
+    if _depth(text) > max_depth:
+        raise ValueError(f"JSON nested deeper than {max_depth} levels (not this kind of file)")
+    try:
+        return json.loads(text, object_pairs_hook=_no_duplicates, parse_constant=_refuse_constant,
+                          parse_int=_parse_int)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:  # pragma: no cover - the depth check comes first
+        raise ValueError("JSON nested too deeply") from None
+
+
+def _text(name, x) -> str:
+    v.text(name, x)
+    if len(x) > _MAX_TEXT:
+        raise ValueError(f"{name}: longer than {_MAX_TEXT} characters")
+    return x
+
+
+def _friction(fr) -> FrictionModel:
+    if not isinstance(fr, dict):
+        raise ValueError("friction: must be an object of FrictionModel fields")
+    unknown = sorted(set(fr) - set(FRICTION_FIELDS))
+    if unknown:
+        raise ValueError(f"friction: unknown field(s) {', '.join(map(repr, unknown))}")
+    values = {k: v.real(f"friction.{k}", x) for k, x in fr.items()}
+    try:
+        return FrictionModel(**values)
+    except ValueError as exc:
+        field_first = str(exc).split(" ", 1)[0] in FRICTION_FIELDS
+        raise ValueError(f"friction.{exc}" if field_first else f"friction: {exc}") from None
+
+
+def _provenance(prov) -> dict:
+    if not isinstance(prov, dict):
+        raise ValueError("provenance: must be an object {name: {source, std, note}}")
+    allowed = provenance_keys()
+    out = {}
+    for key, entry in prov.items():
+        if key not in allowed:
+            raise ValueError(f"provenance: unknown value name {key!r} (one of inertia, offset, "
+                             f"..., friction.<field>)")
+        if not isinstance(entry, dict):
+            raise ValueError(f"provenance.{key}: must be an object {{source, std, note}}")
+        extra = sorted(set(entry) - {"source", "std", "note"})
+        if extra:
+            raise ValueError(f"provenance.{key}: unknown key(s) {', '.join(map(repr, extra))}")
+        if "source" not in entry:
+            raise ValueError(f"provenance.{key}: missing key 'source'")
+        try:
+            std = entry.get("std")
+            out[key] = Provenance(source=entry["source"],
+                                  std=None if std is None else v.real("std", std),
+                                  note=_text("note", entry.get("note", "")))
+        except ValueError as exc:
+            raise ValueError(f"provenance.{key}.{exc}") from None
+    return out
