@@ -1,58 +1,64 @@
-"""Records with one hidden effect, made on the virtual bench (seeded).
+"""Records with hidden effects, made on the virtual bench (seeded).
 
 :func:`hidden_effect_record` builds a measured record (:class:`~fricctl.datasets.Run`)
 of a randomly drawn actuator (baseline: rigid joint, viscous + Coulomb friction with
 stiction at the Coulomb level, the model :func:`fricctl.diagnose.diagnose` fits)
-with **one** effect added from :data:`HIDDEN_CAUSES`, under a randomly drawn
-excitation.  It is the test bench of the diagnosis: tests hand the record (and, for
-the nominal-model causes, the nominal model an engineer would have) to
-``diagnose`` and require it to name the effect; they never read the answer from
-the returned metadata.
+with one effect from :data:`HIDDEN_CAUSES` (or two, a :func:`compatible` pair) added,
+under a randomly drawn excitation.  It is the test bench of the diagnosis: tests hand
+the record (and, for the nominal-model causes, the nominal model an engineer would
+have) to ``diagnose`` and require it to name the effects; they never read the answer
+from the returned metadata.
 
-Baseline actuator (drawn per record, load side, around the paper's actuator)
------------------------------------------------------------------------------
+Baseline actuator (drawn per record, load side)
+-----------------------------------------------
 =====================  ===========================  ==============================
-quantity               range (uniform)              note
+quantity               rotary joint (default)       linear axis (``axis="linear"``)
 =====================  ===========================  ==============================
-actuator inertia       1.5e-3 .. 4.5e-3 kg*m^2      paper: 2.87e-3 (derived)
-link inertia           0 .. 6e-3 kg*m^2             paper's SCARA link: 4.6e-3
-viscous b              0.008 .. 0.030 N*m*s/rad     paper: 0.0169
-Coulomb Fc             0.08 .. 0.25 N*m             paper: 0.144 (assumed 0.8*Fs)
-torque noise (joint)   1 .. 3 % of Fc (std)         white, N*m
-encoder                3.14e-5 rad per count        paper actuator (2000 counts, n=100)
-torque limit           12 * Fc                      paper: Fs = 12.7 % of Tmax
+actuator inertia/mass  1.5e-3 .. 4.5e-3 kg*m^2      20 .. 120 kg
+link inertia/payload   0 .. 6e-3 kg*m^2             0 .. 80 kg
+viscous b              0.008 .. 0.030 N*m*s/rad     50 .. 300 N*s/m
+Coulomb Fc             0.08 .. 0.25 N*m             5 .. 40 N
+torque noise (joint)   1 .. 3 % of Fc (std)         same
+encoder count          3.14e-5 rad (paper)          1e-6 m
+torque limit           12 * Fc                      12 * Fc
 =====================  ===========================  ==============================
+
+The paper's actuator: 2.87e-3 kg*m^2, link 4.6e-3, b 0.0169, Fc 0.144 (assumed 0.8*Fs),
+2000 counts and n = 100; EMPS (a linear axis): 95 kg, 203 N*s/m, 20 N.  With
+``sensors="drawn"`` the encoder count, the process noise and a measurement noise on the
+recorded torque are drawn too (see :func:`hidden_effect_record`).
 
 Hidden effects and their magnitudes
 -----------------------------------
 Each cause module of :mod:`fricctl.diagnose.causes` says how the bench hides its
-effect (its ``inject`` function, ranges in its docstring's "Bench:" line):
+effect (its ``inject`` function, ranges in its docstring's "Bench:" line, times
+``strength``; periods and velocities times the axis's :data:`TRAVEL`):
 :data:`HIDDEN_CAUSES` and :data:`NOMINAL_CAUSES` come from that registry, so a new
-cause module is hidden here without an edit.  ``none`` adds nothing.
-
-The lower ends are the sizes the issue requires to be found (ripple 20 % of Fc,
-Stribeck excess 50 %, delay 4 samples, 25 % drift); each range starts where the
-effect lowers the held-out torque residual or windowed simulation error by well
-over 10 % on these excitations (measured in ``benchmarks/bench_diagnose.py``).
+cause module is hidden here without an edit.  ``none`` adds nothing.  Two effects
+are hidden together by setting each one's changed parameters on the same nominal
+model (:data:`PAIRS` lists the fit-mode pairs).
 
 Excitation (drawn per record)
 -----------------------------
-The record is a random sequence of segments, every kind present once in each
-half of the record (so that blocked cross-validation sees it in more than one
-block), in random order, with random durations and levels: open-loop torque steps in both
-directions (1.3-2.5 x breakaway, with pauses), an open-loop torque sinusoid,
-PD tracking of a slow sinusoid (peak speed 0.03-0.4 rad/s, stick-slip), PD
-tracking of a fast one (peak speed 2-8 rad/s), and PD tracking of a trapezoidal
-(constant speed 0.1-3 rad/s) reference.  PD gains are drawn for a closed-loop
-natural frequency of 2-4.5 Hz, damping 0.7.  The loop has the timing of
-:mod:`fricctl.simulate` (ZOH at Ts, one sample of computation delay, backward
-difference velocity, quantised encoder).
+The record is a random sequence of segments of the kinds of :data:`EXCITATIONS`,
+every kind present once in each half of the record (so that blocked cross-validation
+sees it in more than one block), in random order, with random durations and levels.
+``mixed``: open-loop torque steps in both directions (1.3-2.5 x breakaway, with
+pauses), an open-loop torque sinusoid, PD tracking of a slow sinusoid (peak speed
+0.03-0.4 rad/s, stick-slip), PD tracking of a fast one (peak speed 2-8 rad/s), and
+PD tracking of a trapezoidal (constant speed 0.1-3 rad/s) reference.
+``closed_loop``: the three PD tracking kinds and a PD loop holding position
+(set-point steps of 1.5-4 dead zones Fs/Kp).  ``stuck``: open-loop torque triangles
+peaking at 1.05-1.6 x breakaway, short torque pulses (5-30 ms, 2-4 x breakaway) and
+the PD loop holding position: the joint slides a small part of the time.  PD gains
+are drawn for a closed-loop natural frequency of 2-4.5 Hz, damping 0.7.  The loop
+has the timing of :mod:`fricctl.simulate` (ZOH at Ts, one sample of computation
+delay, backward difference velocity, quantised encoder).
 
 Notes
 -----
-Left out: measurement noise on the recorded torque (only process noise at the
-joint), a position-dependent inertia or gravity, combined effects (exactly one is
-hidden; chapter 08 shows the paper's combined inertia + 0.95 case by hand).
+Left out: a position-dependent inertia or gravity; sub-sample delays (the bench's
+delay is whole samples); more than two effects at once.
 """
 
 from __future__ import annotations
@@ -73,7 +79,8 @@ from ..simulate import Schedule, simulate_schedule
 from ..diagnose import causes
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
-           "ENCODER_RESOLUTION"]
+           "ENCODER_RESOLUTION", "LINEAR_ENCODER_RESOLUTION", "EXCITATIONS", "AXES", "TRAVEL",
+           "PAIRS", "compatible"]
 
 #: Effects the generator hides without a nominal model (``none`` included), from the registry.
 HIDDEN_CAUSES = (causes.NONE,) + tuple(c.name for c in causes.candidates(nominal=False))
@@ -82,6 +89,8 @@ NOMINAL_CAUSES = causes.NOMINAL_ONLY
 
 #: Load-side encoder count of the paper actuator [rad] (2000 counts/rev, n = 100).
 ENCODER_RESOLUTION = 2.0 * math.pi / (2000 * 100)
+#: Encoder count of the bench's linear axis [m] (EMPS: 5e-8 m).
+LINEAR_ENCODER_RESOLUTION = 1e-6
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -96,9 +105,12 @@ class HiddenEffectRecord:
         The nominal model an engineer would hold (the true baseline actuator) for
         the nominal-model causes and ``none`` drawn with ``nominal=True``; else None.
     cause : str
-        The hidden cause (ground truth; tests must not pass it to the diagnosis).
+        The hidden cause (ground truth; tests must not pass it to the diagnosis); the first
+        of :attr:`causes`.
+    causes : tuple of str
+        Every hidden cause, in registry order (``("none",)`` when nothing is hidden).
     magnitude : dict
-        Parameters of the hidden effect (SI units).
+        Parameters of the hidden effect (SI units); for two effects, one dict per cause.
     truth : JointModel
         The complete true model (baseline + effect).
     excitation : tuple of str
@@ -108,22 +120,45 @@ class HiddenEffectRecord:
     run: Run
     nominal: JointModel | None
     cause: str
+    causes: tuple = ()
     magnitude: dict = field(default_factory=dict)
     truth: JointModel
     excitation: tuple = ()
 
 
 # ----------------------------------------------------------------------------- excitation
-_SEGMENTS = ("torque_steps", "torque_sine", "slow_tracking", "fast_tracking", "ramps")
+#: The segment kinds of each excitation (each kind once in each half of the record).
+EXCITATIONS = {
+    "mixed": ("torque_steps", "torque_sine", "slow_tracking", "fast_tracking", "ramps"),
+    "closed_loop": ("slow_tracking", "fast_tracking", "ramps", "hold"),
+    "stuck": ("torque_ramps", "pulses", "hold"),
+}
+#: The two kinds of axis the bench draws.
+AXES = ("rotary", "linear")
+#: Position unit of the motion per axis (speeds, periods as multiples of it) [rad] / [m].
+TRAVEL = {"rotary": 1.0, "linear": 0.04}
 
 
-def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax):
+def _pulse_train(rng, n, ts, width, gap, level):
+    """Open-loop torque: pulses of ``width()`` s and ``level()``, gaps of ``gap()`` s, signs
+    alternating (80 %) -- torque steps, triangles or short pulses."""
+    ff = np.zeros(n)
+    k = 0
+    sign = rng.choice((-1.0, 1.0))
+    while k < n:
+        shape = width()
+        m = min(shape.size, n - k)
+        ff[k:k + m] = sign * level() * shape[:m]
+        sign = -sign if rng.random() < 0.8 else sign
+        k += shape.size + int(gap() / ts)
+    return ff
+
+
+def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax, travel):
     """(kp, kd, ref, ff) arrays of one segment of n samples."""
     t = np.arange(n) * ts
     zeros = np.zeros(n)
-    if kind in ("torque_steps", "torque_sine"):
-        kp = kd = zeros
-        ref = zeros
+    if kind in ("torque_steps", "torque_sine", "torque_ramps", "pulses"):
         if kind == "torque_steps":
             ff = np.zeros(n)
             k = 0
@@ -134,28 +169,46 @@ def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax):
                 ff[k:k + on] = sign * rng.uniform(1.3, 2.5) * breakaway
                 sign = -sign if rng.random() < 0.8 else sign
                 k += on + off
-        else:
+        elif kind == "torque_sine":
             amp = rng.uniform(1.3, 2.5) * breakaway
             f = rng.uniform(0.4, 1.5)
             ff = amp * np.sin(2 * np.pi * f * t) * np.minimum(1.0, t / 0.2)
             ff[-int(0.2 / ts):] = 0.0  # let it coast to rest
-        return kp, kd, ref, ff
+        elif kind == "torque_ramps":  # triangles just above breakaway: short slides, long rests
+            def tri():
+                m = max(int(rng.uniform(0.3, 1.0) / ts), 2)
+                return np.concatenate([np.linspace(0.0, 1.0, m), np.linspace(1.0, 0.0, m)])
+            ff = _pulse_train(rng, n, ts, tri, lambda: rng.uniform(0.1, 0.4),
+                              lambda: rng.uniform(1.05, 1.6) * breakaway)
+        else:  # short pulses: a jerk, a slide, a stop
+            ff = _pulse_train(rng, n, ts, lambda: np.ones(max(int(rng.uniform(0.005, 0.03) / ts), 2)),
+                              lambda: rng.uniform(0.2, 0.6),
+                              lambda: rng.uniform(2.0, 4.0) * breakaway)
+        return zeros, zeros, zeros, np.clip(ff, -0.9 * tmax, 0.9 * tmax)
     wn = 2 * np.pi * rng.uniform(2.0, 4.5)
     kp = np.full(n, inertia * wn ** 2)
     kd = np.full(n, max(2 * 0.7 * wn * inertia - viscous, 0.0))
     ff = zeros
     if kind == "slow_tracking":
-        vpk = rng.uniform(0.03, 0.4)
+        vpk = rng.uniform(0.03, 0.4) * travel
         f = rng.uniform(0.1, 0.4)
         amp = vpk / (2 * np.pi * f)
         ref = amp * (1 - np.cos(2 * np.pi * f * t)) * rng.choice((-1.0, 1.0))
     elif kind == "fast_tracking":
         f = rng.uniform(0.5, 1.5)
-        vpk = rng.uniform(2.0, 8.0)
+        vpk = rng.uniform(2.0, 8.0) * travel
         amax = 0.5 * (tmax - 1.5 * breakaway) / inertia
         vpk = min(vpk, amax / (2 * np.pi * f))
         amp = vpk / (2 * np.pi * f)
         ref = amp * (1 - np.cos(2 * np.pi * f * t)) * rng.choice((-1.0, 1.0))
+    elif kind == "hold":  # holding position: set-point steps of 1.5-4 dead zones (Fs/Kp)
+        ref = np.zeros(n)
+        k, level = 0, 0.0
+        while k < n:
+            m = int(rng.uniform(0.4, 1.2) / ts)
+            level += rng.choice((-1.0, 1.0)) * rng.uniform(1.5, 4.0) * breakaway / kp[0]
+            ref[k:k + m] = level
+            k += m
     else:  # trapezoids: constant-speed plateaus both ways, random speeds
         ref = np.zeros(n)
         v = np.zeros(n)
@@ -163,7 +216,7 @@ def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax):
         sign = rng.choice((-1.0, 1.0))
         while k < n:
             m = int(rng.uniform(0.6, 1.5) / ts)
-            v[k:k + m] = sign * math.exp(rng.uniform(math.log(0.1), math.log(3.0)))
+            v[k:k + m] = sign * math.exp(rng.uniform(math.log(0.1), math.log(3.0))) * travel
             sign = -sign
             k += m
         # smooth the speed steps (0.1 s) so the reference is trackable
@@ -173,18 +226,18 @@ def _segment(kind, rng, n, ts, inertia, breakaway, viscous, tmax):
     return kp, kd, ref, ff
 
 
-def _excitation(rng, n, ts, inertia, breakaway, viscous, tmax):
+def _excitation(rng, n, ts, inertia, breakaway, viscous, tmax, kinds, travel):
     # Every kind twice, once in each half of the record, so that the excitation that reveals an
     # effect never lives in a single block of the blocked cross-validation (a term fitted
     # without that block is then unidentifiable and its held-out error explodes).
-    first, second = list(_SEGMENTS), list(_SEGMENTS)
+    first, second = list(kinds), list(kinds)
     rng.shuffle(first)
     rng.shuffle(second)
     kinds = first + second
     weights = rng.uniform(0.6, 1.4, size=len(kinds))
     lengths = np.floor(weights / weights.sum() * n).astype(int)
     lengths[-1] = n - lengths[:-1].sum()
-    parts = [_segment(k, rng, int(m), ts, inertia, breakaway, viscous, tmax)
+    parts = [_segment(k, rng, int(m), ts, inertia, breakaway, viscous, tmax, travel)
              for k, m in zip(kinds, lengths)]
     kp, kd, ref, ff = (np.concatenate([p[i] for p in parts]) for i in range(4))
     start = np.zeros(n, dtype=np.bool_)
@@ -192,30 +245,103 @@ def _excitation(rng, n, ts, inertia, breakaway, viscous, tmax):
     return tuple(kinds), kp, kd, ref, ff, start
 
 
+# ----------------------------------------------------------------------------- several effects
+def compatible(first: str, second: str) -> bool:
+    """True when the bench can hide ``first`` and ``second`` together: two different causes
+    acting on disjoint model parameters (LuGre bristles exist on the rigid joint only)."""
+    a, b = causes.get(first), causes.get(second)
+    return (a is not b and not set(a.changes) & set(b.changes)
+            and {a.name, b.name} != {"compliance", "presliding"})
+
+
+#: Every pair of fit-mode causes the bench hides together, in registry order.
+PAIRS = tuple((a, b) for i, a in enumerate(HIDDEN_CAUSES[1:]) for b in HIDDEN_CAUSES[2 + i:]
+              if compatible(a, b))
+
+
+def _merge(effects: dict, actuator):
+    """One injection from several (name -> Injection): each effect's changed model parameters
+    set on one nominal model."""
+    items = list(effects.values())
+    nominal = next((e.nominal for e in items if e.nominal != actuator.nominal()),
+                   items[0].nominal)  # compliance redraws the link: its nominal holds it
+    merged = nominal.as_dict()
+    for e in items:
+        got, ref = e.truth.as_dict(), e.nominal.as_dict()
+        for key, value in got.items():
+            if key == "friction":
+                merged["friction"].update({k: x for k, x in value.items() if x != ref[key][k]})
+            elif value != ref[key]:
+                merged[key] = value
+    truth = JointModel.from_dict(merged)
+    return causes.Injection(joint=truth.joint(), truth=truth, nominal=nominal,
+                            magnitude={name: e.magnitude for name, e in effects.items()},
+                            breakaway=max(e.breakaway for e in items),
+                            delay=max(e.delay for e in items),
+                            substeps=max(e.substeps for e in items))
+
+
+def _actuator(rng, axis, ts, duration, strength, sensors):
+    """Draw the baseline actuator, its noise levels and encoder (a fixed sequence of draws)."""
+    if axis == "rotary":
+        jm, jl = rng.uniform(1.5e-3, 4.5e-3), rng.uniform(0.0, 6e-3)
+        b, fc = rng.uniform(0.008, 0.030), rng.uniform(0.08, 0.25)
+        res = ENCODER_RESOLUTION
+    else:  # a ball-screw or belt axis: carriage, payload, viscous, Coulomb (EMPS: 95 kg, 200, 20)
+        jm, jl = rng.uniform(20.0, 120.0), rng.uniform(0.0, 80.0)
+        b, fc = rng.uniform(50.0, 300.0), rng.uniform(5.0, 40.0)
+        res = LINEAR_ENCODER_RESOLUTION
+    process = rng.uniform(0.01, 0.03) * fc
+    measured = 0.0
+    if sensors == "drawn":  # as they come: encoder 0.3-10 counts of the default, noise levels
+        res *= math.exp(rng.uniform(math.log(0.3), math.log(10.0)))
+        process *= rng.uniform(0.3, 2.0)
+        measured = rng.uniform(0.0, 0.03) * fc
+    act = causes.BenchActuator(motor_inertia=jm, link_inertia=jl, viscous=b, coulomb=fc,
+                               sample_time=ts, duration=duration, encoder_resolution=res,
+                               travel=TRAVEL[axis], strength=strength, units=axis)
+    return act, process, measured
+
+
 # ----------------------------------------------------------------------------- generator
-def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
-                         duration: float = 40.0, sample_time: float = 0.002,
-                         nominal: bool = False, noise: bool = True) -> HiddenEffectRecord:
-    """Simulate one record with one hidden effect drawn at random.
+def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: float = 40.0,
+                         sample_time: float = 0.002, nominal: bool = False, noise: bool = True,
+                         axis: str = "rotary", excitation: str = "mixed", strength: float = 1.0,
+                         sensors: str = "fixed") -> HiddenEffectRecord:
+    """Simulate one record with hidden effects (one drawn at random, or the ones named).
 
     Parameters
     ----------
     rng : numpy.random.Generator
         All randomness (actuator, effect, magnitude, excitation, noise).
-    cause : str, optional
-        Force this cause (a name of :data:`HIDDEN_CAUSES` or :data:`NOMINAL_CAUSES`);
-        default: drawn uniformly from :data:`HIDDEN_CAUSES`, or from ``("none",) +
-        NOMINAL_CAUSES`` when ``nominal`` is true.
+    cause : str or tuple of str, optional
+        Force this cause (a name of :data:`HIDDEN_CAUSES` or :data:`NOMINAL_CAUSES`), or
+        two causes hidden together (a :func:`compatible` pair); default: one drawn uniformly
+        from :data:`HIDDEN_CAUSES`, or from ``("none",) + NOMINAL_CAUSES`` when ``nominal``.
     duration : float
         Record length [s], 10 .. 120.
     sample_time : float
-        Ts [s], 0.0005 .. 0.005.
+        Ts [s], 0.0005 .. 0.005 (2 kHz .. 200 Hz).
     nominal : bool
         Also return the nominal model (the true baseline actuator).  Implied by
         the nominal-model causes.
     noise : bool
-        Torque noise at the joint on (default) or off (the draws are made either
-        way, so a seed gives the same record apart from the noise).
+        Torque noise on (default) or off (the draws are made either way, so a seed
+        gives the same record apart from the noise).
+    axis : {"rotary", "linear"}
+        A rotary joint around the paper's actuator, or a linear axis (carriage 20-200 kg,
+        viscous 50-300 N*s/m, Coulomb 5-40 N, 1 um encoder; the motion scaled by
+        :data:`TRAVEL`): the record and the models carry the axis's units.
+    excitation : {"mixed", "closed_loop", "stuck"}
+        The segment kinds of :data:`EXCITATIONS`: open and closed loop mixed (default),
+        closed loop only (PD tracking and holding position), or mostly stuck (torque ramps
+        just above breakaway, short pulses, a PD loop holding position).
+    strength : float
+        Factor on the size of the hidden effect (``BenchActuator.strength``), 0.05 .. 2.
+    sensors : {"fixed", "drawn"}
+        The axis's default encoder and process noise (1-3 % of Fc), or drawn as they come:
+        encoder count 0.3-10 x the default, process noise 0.3-6 % of Fc, and white noise of
+        0-3 % of Fc on the *recorded* torque (a current measurement).
 
     Returns
     -------
@@ -224,51 +350,64 @@ def hidden_effect_record(rng: np.random.Generator, *, cause: str | None = None,
     Notes
     -----
     The draws come in a fixed sequence: the cause (when not forced), the actuator
-    (Jm, Jl, b, Fc, noise level), the effect's magnitudes (the cause module's
-    ``inject``), the excitation, the noise.
+    (Jm, Jl, b, Fc, noise level, then the drawn sensors), each effect's magnitudes (the
+    cause module's ``inject``), the excitation, the noise.  With the defaults a seed
+    gives the record it gave before the options existed.
 
     Examples
     --------
     >>> import numpy as np
     >>> rec = hidden_effect_record(np.random.default_rng(1), cause="none", duration=10.0)
-    >>> rec.run.n_samples, rec.nominal is None
-    (5000, True)
+    >>> rec.run.n_samples, rec.nominal is None, rec.causes
+    (5000, True, ('none',))
     """
     v.rng("rng", rng)
     duration = v.real("duration", duration, low=10.0, high=120.0, unit="s")
     ts = v.real("sample_time", sample_time, low=5e-4, high=5e-3, unit="s")
     nominal = v.flag("nominal", nominal)
     noise = v.flag("noise", noise)
+    axis = v.choice("axis", axis, AXES)
+    kinds = EXCITATIONS[v.choice("excitation", excitation, tuple(EXCITATIONS))]
+    strength = v.real("strength", strength, low=0.05, high=2.0)
+    sensors = v.choice("sensors", sensors, ("fixed", "drawn"))
     if cause is None:
         pool = (causes.NONE,) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
         cause = str(rng.choice(pool))
-    cause = v.choice("cause", cause, HIDDEN_CAUSES + NOMINAL_CAUSES)
-    nominal = nominal or cause in NOMINAL_CAUSES
+    names = (cause,) if isinstance(cause, str) else tuple(cause)
+    if not 1 <= len(names) <= 2:
+        raise ValueError(f"cause must be one name or a pair of names, got {cause!r}")
+    names = tuple(v.choice("cause", c, HIDDEN_CAUSES + NOMINAL_CAUSES) for c in names)
+    if len(names) == 2 and not (causes.NONE not in names and compatible(*names)):
+        raise ValueError(f"cause: the bench cannot hide {names[0]!r} and {names[1]!r} together "
+                         f"(see compatible())")
+    nominal = nominal or any(c in NOMINAL_CAUSES for c in names)
 
     n = int(round(duration / ts))
-    jm = rng.uniform(1.5e-3, 4.5e-3)
-    jl = rng.uniform(0.0, 6e-3)
-    b = rng.uniform(0.008, 0.030)
-    fc = rng.uniform(0.08, 0.25)
-    noise_std = rng.uniform(0.01, 0.03) * fc
+    actuator, noise_std, meas_std = _actuator(rng, axis, ts, duration, strength, sensors)
+    b, fc = actuator.viscous, actuator.coulomb
     tmax = 12.0 * fc
-    actuator = causes.BenchActuator(motor_inertia=jm, link_inertia=jl, viscous=b, coulomb=fc,
-                                     sample_time=ts, duration=duration,
-                                     encoder_resolution=ENCODER_RESOLUTION)
-    effect = causes.inject(cause, rng, actuator)
+    effects = [causes.inject(c, rng, actuator) for c in names]
+    effect = _merge(dict(zip(names, effects)), actuator) if len(effects) > 1 else effects[0]
 
     # the excitation is sized for the heavier of the true and the nominal inertia
-    kinds, kp, kd, ref, ff, start = _excitation(
-        rng, n, ts, max(effect.truth.inertia, effect.nominal.inertia), effect.breakaway, b, tmax)
+    segs, kp, kd, ref, ff, start = _excitation(
+        rng, n, ts, max(effect.truth.inertia, effect.nominal.inertia), effect.breakaway, b, tmax,
+        kinds, actuator.travel)
     torque_noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
     sim = simulate_schedule(effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
                                                    segment_start=start),
-                            sample_time=ts, max_torque=tmax, encoder_resolution=ENCODER_RESOLUTION,
+                            sample_time=ts, max_torque=tmax,
+                            encoder_resolution=actuator.encoder_resolution,
                             substeps=int(effect.substeps), delay=int(effect.delay),
                             noise=torque_noise)
     if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
-    run = Run(t=sim.t, torque=sim.torque_motor, position=sim.q_meas, reference=sim.reference,
+    recorded = sim.torque_motor
+    if meas_std > 0:
+        recorded = recorded + rng.normal(0.0, meas_std, n) * (1.0 if noise else 0.0)
+    run = Run(t=sim.t, torque=recorded, position=sim.q_meas, reference=sim.reference, units=axis,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
-    return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None, cause=cause,
-                              magnitude=effect.magnitude, truth=effect.truth, excitation=kinds)
+    ordered = tuple(c for c in causes.CAUSES if c in names)
+    return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,
+                              cause=ordered[0], causes=ordered, magnitude=effect.magnitude,
+                              truth=effect.truth, excitation=segs)

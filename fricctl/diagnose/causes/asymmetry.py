@@ -55,15 +55,15 @@ def _inject(rng, act):
     b, fc = act.viscous, act.coulomb
     which = str(rng.choice(("coulomb", "viscous", "offset")))
     if which == "coulomb":
-        r = _either_way(rng, 1.3, 1.7)
+        r = act.weaker(_either_way(rng, 1.3, 1.7))
         friction = Viscous(b) + Coulomb(pos=fc * math.sqrt(r), neg=fc / math.sqrt(r))
         mag = dict(kind=which, coulomb_pos=fc * math.sqrt(r), coulomb_neg=fc / math.sqrt(r))
     elif which == "viscous":
-        r = _either_way(rng, 1.5, 2.2)
+        r = act.weaker(_either_way(rng, 1.5, 2.2))
         friction = Viscous(pos=b * math.sqrt(r), neg=b / math.sqrt(r)) + Coulomb(fc)
         mag = dict(kind=which, viscous_pos=b * math.sqrt(r), viscous_neg=b / math.sqrt(r))
     else:
-        off = rng.uniform(0.2, 0.4) * fc * rng.choice((-1.0, 1.0))
+        off = rng.uniform(0.2, 0.4) * fc * rng.choice((-1.0, 1.0)) * act.strength
         # a constant resistive torque c is Coulomb fc+c one way, fc-c the other
         # (identical sliding torque and identical breakaway band)
         friction = Viscous(b) + Coulomb(pos=fc + off, neg=fc - off)

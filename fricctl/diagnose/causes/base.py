@@ -227,13 +227,23 @@ class BenchActuator:
     """Length of the record [s]."""
     encoder_resolution: float
     """One encoder count [rad]."""
+    travel: float = 1.0
+    """Position unit of the bench's motion [rad] ([m] on a linear axis): speeds, ripple periods
+    and Stribeck velocities are drawn as multiples of it (1 rad on a rotary joint; a linear
+    axis moves some centimetres where a joint turns a radian)."""
+    strength: float = 1.0
+    """Factor on the size of the hidden effect (1: as drawn; 0.3: about a third of its torque),
+    for records near the 10 % line [-]."""
+    units: str = "rotary"
+    """``"rotary"`` or ``"linear"`` (labels of the models the bench returns)."""
 
     def __post_init__(self):
         for name in ("motor_inertia", "viscous", "coulomb", "sample_time", "duration",
-                     "encoder_resolution"):
+                     "encoder_resolution", "travel", "strength"):
             object.__setattr__(self, name, v.real(name, getattr(self, name), positive=True))
         object.__setattr__(self, "link_inertia", v.real("link_inertia", self.link_inertia,
                                                           nonneg=True))
+        v.choice("units", self.units, ("rotary", "linear"))
 
     @property
     def inertia(self) -> float:
@@ -246,7 +256,11 @@ class BenchActuator:
 
     def nominal(self) -> JointModel:
         """The model an engineer would hold: the true baseline actuator."""
-        return JointModel(inertia=self.inertia, friction=self.friction())
+        return JointModel(inertia=self.inertia, friction=self.friction(), units=self.units)
+
+    def weaker(self, ratio: float) -> float:
+        """A ratio of the effect (1.3 = 30 % more) at :attr:`strength` (``ratio**strength``)."""
+        return float(ratio) ** self.strength
 
     def rigid(self, *, magnitude: Mapping, friction=None, breakaway: float | None = None,
               delay: int = 0, inertia: float | None = None, substeps: int = 4) -> "Injection":
@@ -272,7 +286,7 @@ class BenchActuator:
         true_inertia = self.inertia if inertia is None else inertia
         return Injection(joint=RigidJoint(inertia=true_inertia, friction=fr),
                          truth=JointModel(inertia=true_inertia, friction=fr,
-                                          delay=delay * self.sample_time),
+                                          delay=delay * self.sample_time, units=self.units),
                          nominal=self.nominal(), magnitude=dict(magnitude),
                          breakaway=self.coulomb if breakaway is None else breakaway,
                          delay=delay, substeps=substeps)

@@ -50,7 +50,7 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     jm = act.motor_inertia
-    jl = rng.uniform(0.5, 1.5) * jm
+    jl = rng.uniform(0.5, 1.5) * jm * act.strength
     act = replace(act, link_inertia=jl)  # the link is redrawn: it now sits behind the spring
     fr = rng.uniform(12.0, 40.0)
     kst = (2 * math.pi * fr) ** 2 / (1.0 / jm + 1.0 / jl)
@@ -61,7 +61,7 @@ def _inject(rng, act):
         joint=FlexibleJoint(motor_inertia=jm, load_inertia=jl, stiffness=kst, damping=dmp,
                             friction=friction),
         truth=JointModel(inertia=jm + jl, friction=friction, load_inertia=jl, stiffness=kst,
-                         damping=dmp),
+                         damping=dmp, units=act.units),
         nominal=act.nominal(), breakaway=act.coulomb, substeps=10,
         magnitude=dict(stiffness=kst, damping=dmp, motor_inertia=jm, load_inertia=jl,
                        resonance_hz=fr))

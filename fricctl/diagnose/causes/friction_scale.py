@@ -27,6 +27,7 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     f = rng.uniform(0.80, 0.93) if rng.random() < 0.5 else rng.uniform(1.07, 1.20)
+    f = 1.0 + (f - 1.0) * act.strength
     return act.rigid(magnitude=dict(factor=f), friction=act.friction().scaled(f),
                      breakaway=act.coulomb * max(f, 1.0))
 

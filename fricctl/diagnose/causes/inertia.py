@@ -28,6 +28,7 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     f = rng.uniform(1.3, 2.6) if rng.random() < 0.7 else rng.uniform(0.6, 0.8)
+    f = 1.0 + (f - 1.0) * act.strength
     return act.rigid(magnitude=dict(factor=f, nominal=act.inertia, true=act.inertia * f),
                      inertia=act.inertia * f)
 

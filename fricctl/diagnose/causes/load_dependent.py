@@ -40,7 +40,7 @@ def _evidence(base, term, extended):
 
 
 def _inject(rng, act):
-    mag = dict(coefficient=rng.uniform(0.08, 0.20))
+    mag = dict(coefficient=rng.uniform(0.08, 0.20) * act.strength)
     return act.rigid(magnitude=mag, friction=act.friction() + LoadDependent(mag["coefficient"]))
 
 

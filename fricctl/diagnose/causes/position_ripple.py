@@ -87,8 +87,8 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     fc = act.coulomb
-    mag = dict(amplitude=rng.uniform(0.2, 0.5) * fc,
-               period=math.exp(rng.uniform(math.log(0.04), math.log(0.5))),
+    mag = dict(amplitude=rng.uniform(0.2, 0.5) * fc * act.strength,
+               period=math.exp(rng.uniform(math.log(0.04), math.log(0.5))) * act.travel,
                phase=rng.uniform(0, 2 * math.pi))
     ripple = PositionRipple(mag["amplitude"], mag["period"], mag["phase"])
     return act.rigid(magnitude=mag, friction=act.friction() + ripple, breakaway=fc + mag["amplitude"])

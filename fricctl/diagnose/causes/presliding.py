@@ -56,11 +56,11 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     fc = act.coulomb
-    xc = rng.uniform(6.0, 20.0) * act.encoder_resolution
+    xc = rng.uniform(6.0, 20.0) * act.encoder_resolution * act.strength
     sigma0 = fc / xc
     sigma1 = rng.uniform(0.3, 1.0) * 2.0 * math.sqrt(sigma0 * act.inertia)
     # RK4 on z' = w - |w| z / xc needs h*|w|/xc < ~2.5 at the highest speed (~10 rad/s)
-    nsub = int(min(max(40, math.ceil(act.sample_time * 12.0 / xc / 1.5)), 2000))
+    nsub = int(min(max(40, math.ceil(act.sample_time * 12.0 * act.travel / xc / 1.5)), 2000))
     return act.rigid(magnitude=dict(sigma0=sigma0, sigma1=sigma1, presliding_length=xc),
                      friction=act.friction() + LuGre(sigma0, sigma1), substeps=nsub)
 

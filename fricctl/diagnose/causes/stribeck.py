@@ -44,7 +44,8 @@ def _evidence(base, term, extended):
 
 def _inject(rng, act):
     fc = act.coulomb
-    mag = dict(excess=rng.uniform(0.5, 1.0) * fc, velocity=rng.uniform(0.02, 0.1))
+    mag = dict(excess=rng.uniform(0.5, 1.0) * fc * act.strength,
+               velocity=rng.uniform(0.02, 0.1) * act.travel)
     return act.rigid(magnitude=mag, friction=act.friction() + Stribeck(mag["excess"], mag["velocity"]),
                      breakaway=fc + mag["excess"])
 

@@ -46,7 +46,7 @@ def _evidence(base, term, extended):
 
 
 def _inject(rng, act):
-    change = rng.uniform(0.25, 0.5) * rng.choice((-1.0, 1.0))
+    change = rng.uniform(0.25, 0.5) * rng.choice((-1.0, 1.0)) * act.strength
     return act.rigid(magnitude=dict(change=change, rate=change / act.duration),
                      friction=act.friction().with_drift(change / act.duration),
                      breakaway=act.coulomb * max(1.0, 1.0 + change))

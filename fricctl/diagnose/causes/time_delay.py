@@ -38,7 +38,7 @@ def _evidence(base, term, extended):
 
 
 def _inject(rng, act):
-    delay = int(rng.integers(4, 9))
+    delay = max(int(round(int(rng.integers(4, 9)) * act.strength)), 1)
     return act.rigid(magnitude=dict(samples=delay, seconds=delay * act.sample_time), delay=delay)
 
 
