@@ -515,3 +515,40 @@ def test_sampled_prediction_equals_core_simulator_with_viscous_friction(key):
     np.testing.assert_allclose(res.q, q, atol=1e-9)
     # the continuous prediction is close but not equal: the delay and ZOH matter (> 1 mrad)
     assert np.max(np.abs(res.q - linear_response(d, res.t, res.reference))) > 1e-3
+
+
+@pytest.mark.parametrize("wn,zeta,definition", [(10.0, 0.5, "0-100"), (10.0, 0.3, "0-100"),
+                                                (3.0, 0.9, "0-100"), (3.0, 1.0, "10-90"),
+                                                (3.0, 2.5, "10-90"), (7.0, 0.05, "10-90")])
+def test_closed_form_metrics_equal_step_info_on_a_fine_grid(wn, zeta, definition):
+    # independent implementation: python-control's step_info on a 200 000-point grid (its
+    # resolution, 60/(zeta*wn)/2e5, bounds the agreement)
+    from fricctl.design.second_order import second_order_metrics
+
+    m = second_order_metrics(wn, zeta, definition)
+    sys = control.tf([wn * wn], [1.0, 2 * zeta * wn, wn * wn])
+    t = np.linspace(0.0, 60.0 / (zeta * wn), 200_001)
+    limits = {"0-100": (0.0, 1.0), "10-90": (0.1, 0.9)}[definition]
+    info = control.step_info(sys, T=t, RiseTimeLimits=limits)
+    dt = t[1]
+    assert m.rise_time == pytest.approx(info["RiseTime"], abs=2 * dt)
+    assert m.settling_time == pytest.approx(info["SettlingTime"], abs=2 * dt)
+    assert m.overshoot_percent == pytest.approx(info["Overshoot"], rel=1e-4, abs=1e-9)
+
+
+@pytest.mark.parametrize("law,spec", [
+    ("p", dict(rise_time=1e-5)),            # took 22 GB: a grid of tr/2000 over the slow decay
+    ("p", dict(rise_time=100.0)),           # IndexError inside step_info (never reaches 100 %)
+    ("pd", dict(rise_time=0.3, damping=100.0)),
+    ("pd", dict(rise_time=0.3, damping=0.999999999)),
+    ("pd", dict(rise_time=1e-6, damping=0.5)),
+    ("pd", dict(rise_time=0.3, damping=1e6)),
+])
+def test_extreme_specs_give_a_design_or_a_clear_error_quickly(law, spec):
+    # issue 15: these exhausted memory or raised inside python-control; the continuous
+    # metrics are closed forms now and the sampled check is bounded (MAX_POINTS)
+    fn = design_p if law == "p" else design_pd
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DesignWarning)
+        d = fn(paper_actuator(), **spec)
+    assert math.isfinite(d.kp) and math.isfinite(d.achieved.settling_time)

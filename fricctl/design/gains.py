@@ -51,7 +51,11 @@ def _finish(*, law, kp, kd, params, rise_time, damping, priority, definition, ex
     inertia, viscous, ts = loop.inertia, loop.viscous, loop.sample_time
     wn, zeta = loop.wn, loop.zeta
     achieved = loop.continuous_metrics(definition)
-    t_end = max(3.0 * achieved.settling_time, 3.0 * achieved.rise_time)
+    # horizon of the sampled check: three settling times, or three rise times when the step
+    # rises slower than it settles (an overdamped 10-90 % rise); a 0-100 % rise time far
+    # beyond the settling time (zeta -> 1, overshoot -> 0) is ill-conditioned and not waited for
+    rise = achieved.rise_time if math.isfinite(achieved.rise_time) else 0.0
+    t_end = 3.0 * max(achieved.settling_time, rise if rise <= 5.0 * achieved.settling_time else 0.0)
     sampled = loop.sampled_metrics(definition, t_end)
     msgs = list(extra_warnings)
     if not math.isfinite(sampled.damping):

@@ -25,14 +25,17 @@ import numpy as np
 from .. import _validate as v
 from ..params import ActuatorParams
 from .result import Design
-from .second_order import StepMetrics, dominant_damping, metrics_from_response, normalized_rise_time
+from .second_order import StepMetrics, dominant_damping, metrics_from_response, second_order_metrics
 
 __all__ = ["plant_tf", "LinearLoop", "SampledResponse", "sampled_loop", "linear_response"]
 
-#: Time-grid points per rise time for the continuous step metrics [-].
-POINTS_PER_RISE = 2000
 #: Sub-steps per sample used to evaluate the sampled loop between samples [-].
 SUBSTEPS = 20
+#: Largest number of samples the sampled-loop check simulates (about 11 min at 500 Hz).
+MAX_SAMPLED = 1_000_000
+#: Largest number of evaluation points of the sampled-loop check (samples x sub-steps):
+#: python-control's discrete forced_response costs ~10 us a point.
+MAX_POINTS = 1_000_000
 
 
 def _check_params(params) -> ActuatorParams:
@@ -207,24 +210,13 @@ class LinearLoop:
         return SampledResponse(t=np.arange(n * substeps) * h, q=np.asarray(resp_f.outputs))
 
     def continuous_metrics(self, definition: str) -> StepMetrics:
-        """Step metrics of :meth:`continuous`, on a grid of 2000 points per rise time.
+        """Exact step metrics of :meth:`continuous` (:func:`second_order_metrics`).
 
-        The grid is extended (up to 8x) until the step settles.
+        The continuous loop is the standard second-order system without a zero, so its
+        metrics have closed forms; ``tests/test_design.py`` checks them against
+        :func:`control.step_info` on fine grids.
         """
-        wn, zeta = self.wn, self.zeta
-        tr = normalized_rise_time(zeta, definition) / wn
-        sys = self.continuous()
-        slow = wn * (zeta - math.sqrt(zeta * zeta - 1.0)) if zeta > 1.0 else zeta * wn
-        t_end = max(3.0 * tr, 10.0 / slow)
-        dt = tr / POINTS_PER_RISE
-        for _ in range(4):
-            t = np.arange(0.0, t_end + dt, dt)
-            y = np.asarray(control.step_response(sys, t).outputs)
-            m = metrics_from_response(t, y, final=1.0, definition=definition, damping=zeta)
-            if math.isfinite(m.settling_time):
-                return m
-            t_end *= 2.0
-        return m
+        return second_order_metrics(self.wn, self.zeta, definition)
 
     def sampled_metrics(self, definition: str, t_end: float) -> StepMetrics:
         """Step metrics of :meth:`sampled`, evaluated 20 times per sample interval.
@@ -242,7 +234,13 @@ class LinearLoop:
         damping = dominant_damping(np.log(nz.astype(complex)) / ts)
         for _ in range(4):
             n = int(math.ceil(t_end / ts)) + 1
-            resp = self.sampled_response(np.ones(n), substeps=SUBSTEPS)
+            if n > MAX_SAMPLED:
+                raise ValueError(
+                    f"checking this design on the sampled loop needs {n} samples of Ts = {ts:g} s "
+                    f"(it settles after about {t_end:.3g} s), more than {MAX_SAMPLED}: the loop is "
+                    "too slow for its sample time")
+            # 20 evaluations per sample interval, fewer on long horizons (at most MAX_POINTS)
+            resp = self.sampled_response(np.ones(n), substeps=max(1, min(SUBSTEPS, MAX_POINTS // n)))
             m = metrics_from_response(resp.t, resp.q, final=1.0, definition=definition,
                                       damping=damping)
             if math.isfinite(m.settling_time):
