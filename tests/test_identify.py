@@ -219,3 +219,33 @@ def test_linear_prediction_is_the_regressor_product():
     f = ca.Function("f", [th, *rows], [I.linear_prediction(th, rows)])
     out = np.asarray(f(theta, *[X[:, j][None, :] for j in range(X.shape[1])])).ravel()
     np.testing.assert_allclose(out, X @ theta, rtol=1e-12, atol=1e-15)
+
+
+def test_a_record_pushing_a_coefficient_negative_leaves_it_at_its_bound_flagged():
+    # issue 15: bounds were applied in scaled space and relaxed by IPOPT, so inertia and viscous
+    # came out negative.  Data whose least-squares viscous term is negative (-0.02): the
+    # estimate must stay at 0, flagged as at its bound and not identified, and the JSON says so.
+    import json
+
+    from fricctl.identify import fit_friction
+
+    rng = np.random.default_rng(7)
+    w = rng.uniform(-2, 2, 3000)
+    a = rng.normal(0, 5, 3000)
+    y = 0.003 * a - 0.02 * w + 0.1 * np.sign(w) + rng.normal(0, 0.002, 3000)
+    res = fit_friction(w, a, y, model="coulomb_viscous")
+    p = res.parameters
+    assert p["viscous"] == 0.0 and p["inertia"] > 0 and p["coulomb"] > 0
+    i = res.names.index("viscous")
+    assert res.at_bound[i] and not res.identified[i] and "bound" in res.notes()[i]
+    d = json.loads(res.to_json())
+    assert d["parameters"]["viscous"]["at_bound"] is True
+    assert d["parameters"]["coulomb"]["identified"] is True
+
+
+def test_a_constant_torque_record_is_refused():
+    from fricctl.identify import fit_friction
+
+    w = np.linspace(-1, 1, 200)
+    with pytest.raises(ValueError, match="constant"):
+        fit_friction(w, np.cos(w), np.zeros_like(w), model="coulomb_viscous")

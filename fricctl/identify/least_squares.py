@@ -12,6 +12,7 @@ observation (Jacobian) matrix, relative error ``100*||y - yhat|| / ||y||``.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -59,8 +60,17 @@ class IdentificationResult:
     """IPOPT iterations."""
     recipe: "IdimRecipe | None" = None  # noqa: F821 (fricctl.identify.idim.IdimRecipe)
     """Signal recipe of :func:`~fricctl.identify.idim_ls`, or None."""
+    at_bound: np.ndarray = None
+    """Per parameter: the estimate sits on one of its bounds (e.g. a friction coefficient
+    held at 0): the record pushes it beyond what is physical, so it is not identified by
+    this record.  Default: none."""
 
     def __post_init__(self):
+        if self.at_bound is None:
+            object.__setattr__(self, "at_bound", np.zeros(len(self.names), dtype=bool))
+        ab = np.array(self.at_bound, dtype=bool)
+        ab.setflags(write=False)
+        object.__setattr__(self, "at_bound", ab)
         for name in ("estimates", "std", "abs_diag_r", "measured", "predicted"):
             x = np.array(getattr(self, name), dtype=float)
             x.setflags(write=False)
@@ -79,6 +89,28 @@ class IdentificationResult:
         """``100 * std / |estimate|`` [%]."""
         with np.errstate(divide="ignore"):
             return 100.0 * self.std / np.abs(self.estimates)
+
+    @property
+    def identified(self) -> np.ndarray:
+        """Per parameter: not at a bound and its standard deviation below its magnitude.
+
+        A parameter whose 1-sigma interval contains 0, or that sits on a bound, is not
+        identified by this record (the record does not excite it, or contradicts the model).
+        """
+        with np.errstate(invalid="ignore"):
+            return (~self.at_bound) & (self.std < np.abs(self.estimates))
+
+    def notes(self) -> tuple:
+        """Per parameter: why it is not identified by this record, or ``""``."""
+        out = []
+        for ab, ok, s, x in zip(self.at_bound, self.identified, self.std, self.estimates):
+            if ab:
+                out.append("at its bound: not identified by this record")
+            elif not ok:
+                out.append(f"std {s:.3g} >= |value| {abs(x):.3g}: not identified by this record")
+            else:
+                out.append("")
+        return tuple(out)
 
     @property
     def residual(self) -> np.ndarray:
@@ -112,8 +144,12 @@ class IdentificationResult:
 
     @property
     def fit_percent(self) -> float:
-        """``100 * (1 - ||y - yhat|| / ||y - mean(y)||)`` [%] (normalised RMSE fit)."""
-        return float(100.0 * (1.0 - self.error_norm / np.linalg.norm(self.measured - self.measured.mean())))
+        """``100 * (1 - ||y - yhat|| / ||y - mean(y)||)`` [%] (normalised RMSE fit); NaN for a
+        constant measurement (no variation to explain)."""
+        spread = float(np.linalg.norm(self.measured - self.measured.mean()))
+        if spread == 0.0:
+            return math.nan
+        return float(100.0 * (1.0 - self.error_norm / spread))
 
     # presentation -------------------------------------------------------------
     def report(self) -> str:
@@ -121,9 +157,11 @@ class IdentificationResult:
         w = max(len(n) for n in self.names)
         lines = [f"IDIM-LS: model {self.model or 'custom'}, {self.n_samples} samples",
                  f"{'':<10}{'':<{w}}   {'estimate':>12} {'std':>10} {'rel. std':>9}"]
-        for n, x, s, r in zip(self.names, self.estimates, self.std, self.relative_std):
+        for n, x, s, r, note in zip(self.names, self.estimates, self.std, self.relative_std,
+                                    self.notes()):
             unit = parameter_unit(n, self.units)
-            lines.append(f"Parameter {n:<{w}} : {x:12.4f} {s:10.4f} {r:8.4f} %   [{unit}]")
+            tail = f"   ({note})" if note else ""
+            lines.append(f"Parameter {n:<{w}} : {x:12.4f} {s:10.4f} {r:8.4f} %   [{unit}]{tail}")
         lines += ["", "Absolute value of the diagonal element of R"]
         lines += [f"Parameter {n:<{w}} : {d:12.4f}" for n, d in zip(self.names, self.abs_diag_r)]
         lines += [f"Condition number of the observation matrix: {self.condition_number:.4f}", "",
@@ -145,10 +183,13 @@ class IdentificationResult:
             "model": self.model,
             "units": self.units,
             "n_samples": self.n_samples,
-            "parameters": {n: {"value": float(x), "std": float(s),
-                               "unit": parameter_unit(n, self.units)}
-                           for n, x, s in zip(self.names, self.estimates, self.std)},
-            "fit_percent": self.fit_percent,
+            "parameters": {n: {"value": float(x), "std": _finite_or_none(s),
+                               "unit": parameter_unit(n, self.units), "at_bound": bool(ab),
+                               "identified": bool(ok), "note": note}
+                           for n, x, s, ab, ok, note in zip(self.names, self.estimates, self.std,
+                                                            self.at_bound, self.identified,
+                                                            self.notes())},
+            "fit_percent": _finite_or_none(self.fit_percent),
             "relative_error_percent": self.relative_error,
             "residual_rms": self.residual_rms,
             "condition_number": self.condition_number,
@@ -156,8 +197,13 @@ class IdentificationResult:
         }
 
     def to_json(self) -> str:
-        """:meth:`as_dict` as a JSON string."""
-        return json.dumps(self.as_dict(), indent=2)
+        """:meth:`as_dict` as a JSON string (standard JSON: undefined values are null)."""
+        return json.dumps(self.as_dict(), indent=2, allow_nan=False)
+
+
+def _finite_or_none(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
 
 
 def linear_prediction(theta, rows):
@@ -256,6 +302,9 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
         raise ValueError(f"data: expected shape (N, m), got {data.shape}")
     n, m = data.shape
     y = v.array("y", y, size=n)
+    if np.ptp(y) == 0:
+        raise ValueError("y is constant over the record (e.g. a torque that is zero throughout): "
+                         "nothing to identify")
     if n <= p:
         raise ValueError(f"need more samples ({n}) than parameters ({p})")
     x0 = v.array("initial", initial, size=p)
@@ -285,7 +334,10 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
     pred = pred * ca.DM.ones(1, n) if pred.shape == (1, 1) else pred
     ynorm2 = float(y @ y) or 1.0
     obj = 0.5 * ca.sumsqr(ysym - pred) / ynorm2
-    opts = {"print_level": 0, "tol": 1e-12, "max_iter": 500, "sb": "yes"}
+    # IPOPT relaxes bounds by a factor 1e-8 of the *scaled* variable by default; with a large
+    # scale that let inertia and viscous come out negative: the bounds are kept exactly
+    opts = {"print_level": 0, "tol": 1e-12, "max_iter": 500, "sb": "yes",
+            "bound_relax_factor": 0.0, "honor_original_bounds": "yes"}
     opts.update(solver_options or {})
     psym = ca.vertcat(*[ca.vec(r) for r in rows], ca.vec(ysym))
     solver = ca.nlpsol("idim", "ipopt", {"x": z, "f": obj, "p": psym},
@@ -296,7 +348,12 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
     status = str(stats.get("return_status", ""))
     if not stats.get("success", False) and status not in ("Solved_To_Acceptable_Level",):
         raise ValueError(f"IPOPT did not converge: {status}")
-    est = np.asarray(sol["x"]).ravel() * sc
+    est = np.clip(np.asarray(sol["x"]).ravel() * sc, lb, ub)
+    # on a bound to IPOPT's tolerance (1e-8 of the scaled variable): held exactly there
+    at_lb = np.isfinite(lb) & (est - lb <= 1e-7 * sc)
+    at_ub = np.isfinite(ub) & (ub - est <= 1e-7 * sc)
+    est = np.where(at_lb, lb, np.where(at_ub, ub, est))
+    at_bound = at_lb | at_ub
     # Jacobian of the prediction w.r.t. theta (not z): d pred/d theta = d pred/d z / sc
     evaluate = ca.Function("pred_jac", [z, psym], [pred, ca.jacobian(ca.vec(pred), z)])
     yh, jac = evaluate(est / sc, pval)
@@ -314,4 +371,4 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
     return IdentificationResult(names=names, estimates=est, std=std, condition_number=cond,
                                 abs_diag_r=rdiag, measured=y, predicted=yh, model=model,
                                 units=units, solver_status=status,
-                                iterations=int(stats.get("iter_count", 0)))
+                                iterations=int(stats.get("iter_count", 0)), at_bound=at_bound)
