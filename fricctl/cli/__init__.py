@@ -18,15 +18,28 @@ import warnings
 SUBCOMMANDS = ("simulate", "design", "identify", "train", "reproduce", "diagnose")
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line on stderr and exit code 2.
+
+    argparse prints the whole usage block before the message; a wrong option of a
+    sub-command then fills the terminal.  The message names the option and the
+    sub-command; ``fricctl COMMAND --help`` gives the usage.
+    """
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message.splitlines()[0] if message else 'bad arguments'}"
+                     f" (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="fricctl",
         description="Friction in a geared robot drive joint: simulate, identify, "
                     "learn with a 2-4-1 network, compensate, diagnose.")
     parser.add_argument("--version", action="version", version=f"fricctl {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     for name in SUBCOMMANDS:
         importlib.import_module(f".{name}", __name__).register(sub)
     return parser
@@ -36,7 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if getattr(args, "func", None) is None:
-        parser.print_help(sys.stderr)
+        print(f"fricctl: error: a command is required, one of {', '.join(SUBCOMMANDS)} "
+              "(see fricctl --help)", file=sys.stderr)
         return 2
     def one_line_warning(message, category, filename, lineno, file=None, line=None):
         text = str(message).splitlines()[0] if str(message) else category.__name__
