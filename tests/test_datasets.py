@@ -146,3 +146,151 @@ def test_emps_loader(data_dir, monkeypatch):
     # the env variable gives the same as the argument
     monkeypatch.setenv("FRICCTL_DATA", str(data_dir))
     np.testing.assert_array_equal(emps().run.position, d.run.position)
+
+
+# -- records from .mat files, the encoder grid ----------------------------------------------
+def test_load_record_mat_and_csv(data_dir, tmp_path):
+    from fricctl.datasets import emps_file, load_record
+
+    mat = data_dir / "emps" / "DATA_EMPS.mat"
+    run = load_record(mat)
+    # the same record as the EMPS loader (one reader behind both)
+    np.testing.assert_array_equal(run.torque, emps(data_dir).run.torque)
+    assert emps_file(mat).kind == "estimation"
+    assert emps_file(data_dir / "emps" / "DATA_EMPS_PULSES.mat").kind == "validation"
+    # the data README: one count = 5e-8 m on the load; the PULSES positions are filtered
+    assert run.encoder_grid() == pytest.approx(5e-8, rel=1e-9)
+    assert emps(data_dir, kind="validation").run.encoder_grid() is None
+    with pytest.raises(ValueError, match="linear axis, not 'rotary'"):
+        load_record(mat, units="rotary")
+    csv = run.to_csv(tmp_path / "r.csv")
+    np.testing.assert_array_equal(load_record(csv).position, run.position)
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"\x00garbage" * 50, "not a MATLAB .mat file"),
+    (b"", "not a MATLAB .mat file"),
+])
+def test_load_record_bad_mat(tmp_path, content, message):
+    from fricctl.datasets import load_record
+
+    p = tmp_path / "x.mat"
+    p.write_bytes(content)
+    with pytest.raises(ValueError, match=message):
+        load_record(p)
+
+
+def test_load_record_mat_missing_variables_and_folder(tmp_path):
+    from scipy.io import savemat
+
+    from fricctl.datasets import load_record
+
+    savemat(tmp_path / "y.mat", {"t": np.arange(20.0)})
+    with pytest.raises(ValueError, match="missing variable.*qm, qg, vir, gtau, kp, kv"):
+        load_record(tmp_path / "y.mat")
+    with pytest.raises(IsADirectoryError):
+        load_record(tmp_path)
+
+
+def test_encoder_grid():
+    t = np.arange(50) * 0.001
+    counts = np.cumsum(np.random.default_rng(3).integers(0, 4, 50))  # steps of 0..3 counts
+    on_grid = Run(t=t, torque=np.zeros(50), position=1e-4 * counts + 0.3)
+    assert on_grid.encoder_grid() == pytest.approx(1e-4, rel=1e-9)
+    assert _run(position=np.sin(np.arange(100) * 0.002)).encoder_grid() is None
+
+
+# -- patterns ---------------------------------------------------------------------------------
+def _pattern_set(**kw):
+    from fricctl.datasets import PatternSet
+
+    args = dict(tm=[0.1, 0.2, 0.3], omega=[0.0, 1.0, -1.0], friction=[0.1, 0.5, -0.5],
+                at_rest=np.array([True, False, False]), units="linear", velocity_quantum=5e-5,
+                meta={"source": "by hand"})
+    args.update(kw)
+    return PatternSet(**args)
+
+
+def test_patterns_round_trip_exact(tmp_path):
+    from fricctl.datasets import write_patterns
+
+    rng = np.random.default_rng(1)
+    ps = _pattern_set(tm=rng.normal(size=40), omega=rng.normal(size=40),
+                      friction=rng.normal(size=40), at_rest=rng.random(40) < 0.3)
+    path = write_patterns(tmp_path / "p.csv", ps)
+    tab = read_patterns(path)
+    back = tab.patterns
+    for name in ("tm", "omega", "friction", "at_rest"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(ps, name))  # %.17g: exact
+    assert back.units == "linear" and back.velocity_quantum == 5e-5 and tab.has_at_rest
+    assert back.meta["source"] == "by hand"
+    assert "# columns: tm [N], omega [m/s], friction [N], at_rest [0/1]" in path.read_text()
+    with pytest.raises(FileExistsError):
+        write_patterns(path, ps, overwrite=False)
+
+
+def test_three_column_patterns_still_read(tmp_path):
+    p = tmp_path / "old.csv"
+    p.write_text("tm,omega,friction\n1,2,3\n4,5,6\n")
+    tab = read_patterns(p)
+    assert not tab.has_at_rest and not tab.patterns.at_rest.any()
+    assert tab.patterns.units == "rotary" and tab.patterns.velocity_quantum is None
+    np.testing.assert_array_equal(tab["friction"], [3, 6])
+
+
+@pytest.mark.parametrize("text, message", [
+    ("tm,omega,friction,at_rest\n1,2,3,0\n4,5,6,0.5\n", "'at_rest' must hold 0 or 1, got 0.5 in data row 2"),
+    ("# units: metric\ntm,omega,friction\n1,2,3\n4,5,6\n", "# units: must be one of rotary, linear"),
+    ("# velocity_quantum: fast\ntm,omega,friction\n1,2,3\n4,5,6\n", "velocity_quantum: not a number"),
+    ("# velocity_quantum: -1\ntm,omega,friction\n1,2,3\n4,5,6\n", "velocity_quantum must be > 0"),
+    ("# velocity_quantum: nan\ntm,omega,friction\n1,2,3\n4,5,6\n", "velocity_quantum must be finite"),
+    ("tm,omega,friction,at_rst\n1,2,3,0\n4,5,6,1\n", "unknown column 'at_rst'"),
+])
+def test_bad_patterns_file(tmp_path, text, message):
+    p = tmp_path / "bad.csv"
+    p.write_text(text)
+    with pytest.raises(ValueError, match="bad.csv") as err:
+        read_patterns(p)
+    assert message in str(err.value)
+
+
+def test_pattern_set_checks():
+    with pytest.raises(ValueError, match="at_rest must be a boolean array"):
+        _pattern_set(at_rest=np.array([1, 0, 0]))
+    with pytest.raises(ValueError, match="omega must have 3 elements"):
+        _pattern_set(omega=[0.0, 1.0])
+    with pytest.raises(ValueError, match="velocity_quantum must be > 0"):
+        _pattern_set(velocity_quantum=0.0)
+    with pytest.raises(ValueError, match="cannot be a free"):
+        _pattern_set(meta={"units": "rotary"})
+    with pytest.raises(ValueError, match="friction holds NaN"):
+        _pattern_set(friction=[0.0, np.nan, 1.0])
+
+
+def test_record_patterns_by_hand():
+    from fricctl.datasets import record_patterns
+
+    # at rest for 200 samples, then a = 2 rad/s^2 under Tm = 1 N*m: with I = 0.25 the
+    # friction is Tm - I*a = 0.5 N*m while moving and Tm = 1 N*m (the reaction) at rest
+    n, ts = 600, 0.002
+    t = np.arange(n) * ts
+    tau = np.r_[np.full(200, 0.3), np.full(n - 200, 1.0)]
+    q = np.where(np.arange(n) < 200, 0.0, (t - t[199]) ** 2)
+    run = Run(t=t, torque=tau, position=q)
+    p = record_patterns([run, run], inertia=0.25, estimator="savitzky_golay",
+                        estimator_options=dict(window_length=11), border=5, guard=2)
+    per = n - 10
+    assert len(p) == 2 * per
+    # at rest by hand: samples 2..197 have 2 equal neighbours each side; after the border, 5..197
+    assert int(p.at_rest.sum()) == 2 * 193
+    rest = p.at_rest[:per]
+    np.testing.assert_array_equal(np.flatnonzero(rest) + 5, np.arange(5, 198))
+    # well inside the motion the quadratic is exact for a cubic Savitzky-Golay filter
+    inner = slice(300, per - 10)
+    np.testing.assert_allclose(p.friction[:per][inner], 0.5, atol=1e-9)
+    # at rest, away from the filter's reach of the start (5 samples): Tat = Tm exactly
+    np.testing.assert_allclose(p.friction[:per][5:185], 0.3, atol=1e-9)
+    with pytest.raises(ValueError, match="share their units"):
+        record_patterns([run, _run(units="linear")], inertia=1.0)
+    with pytest.raises(ValueError, match="inertia must be > 0"):
+        record_patterns(run, inertia=-1.0)

@@ -1,0 +1,204 @@
+"""The EMPS benchmark records (Janot, Gautier & Brunot 2019) and :func:`load_record`.
+
+The EMPS data are *not* shipped: :func:`emps` loads them from a folder given as
+argument or by the ``FRICCTL_DATA`` environment variable (the folder that holds
+``emps/DATA_EMPS.mat``); :func:`emps_file` reads any MATLAB file in the EMPS
+layout, and :func:`load_record` a record from a CSV file or such a ``.mat`` file.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .. import _validate as v
+from .run import Run
+
+__all__ = ["EmpsData", "emps", "emps_file", "load_record", "EMPS_SOURCE_HINT", "EMPS_VARIABLES"]
+
+#: Where to get the EMPS data when they are missing.
+EMPS_SOURCE_HINT = (
+    "the EMPS benchmark (A. Janot, M. Gautier, M. Brunot, 'Data Set and Reference Models "
+    "of EMPS', Workshop on Nonlinear System Identification Benchmarks, 2019; "
+    "https://www.nonlinearbenchmark.org/benchmarks/emps, also in the GitHub repository "
+    "forgi86/sysid-neural-continuous under examples/EMPS/data/); put DATA_EMPS.mat and "
+    "DATA_EMPS_PULSES.mat in <folder>/emps/ and set FRICCTL_DATA=<folder> "
+    "(see ../shared/data/emps/README.md)"
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class EmpsData:
+    """One EMPS record: the :class:`Run` plus the raw fields of the .mat file.
+
+    Notes
+    -----
+    ``run.torque`` is the motor force ``gtau * vir`` [N]; ``run.position`` is
+    ``qm`` [m], ``run.reference`` is ``qg`` [m].  ``pulses`` is only present in
+    the validation file (0/5 square wave, dimensionless).
+    """
+
+    run: Run
+    """The record (linear axis): force gtau*vir [N], position qm [m], reference qg [m]."""
+    vir: np.ndarray = field(metadata={"unit": "V"})
+    """Controller output [V]."""
+    gtau: float = field(metadata={"unit": "N/V"})
+    """Drive gain [N/V] (35.15 in the published data)."""
+    kp: float = field(metadata={"unit": "1/s"})
+    """Outer (position) loop gain [1/s]."""
+    kv: float = field(metadata={"unit": "V/(m/s)"})
+    """Inner (velocity) loop gain [V/(m/s)]."""
+    kind: str
+    """``"estimation"`` (DATA_EMPS.mat) or ``"validation"`` (DATA_EMPS_PULSES.mat)."""
+    pulses: np.ndarray | None = None
+    """``pulses_N`` of the validation file (0/5 square wave) [-], else None."""
+
+
+_EMPS_FILES = {"estimation": "DATA_EMPS.mat", "validation": "DATA_EMPS_PULSES.mat"}
+
+
+def _emps_folder(data_dir) -> Path:
+    if data_dir is None:
+        env = os.environ.get("FRICCTL_DATA")
+        if not env:
+            raise FileNotFoundError(
+                "EMPS data: no folder given and FRICCTL_DATA is not set; get " + EMPS_SOURCE_HINT)
+        data_dir = env
+    d = Path(data_dir)
+    # Accept either the folder holding emps/ or the emps/ folder itself.
+    if (d / "emps").is_dir():
+        d = d / "emps"
+    return d
+
+
+def emps(data_dir=None, *, kind: str = "estimation") -> EmpsData:
+    """Load one EMPS record (real electro-mechanical positioning system).
+
+    Parameters
+    ----------
+    data_dir : str or os.PathLike, optional
+        Folder holding ``emps/`` (or the ``emps`` folder itself); default: the
+        ``FRICCTL_DATA`` environment variable.
+    kind : {"estimation", "validation"}
+        ``DATA_EMPS.mat`` (identification) or ``DATA_EMPS_PULSES.mat``
+        (cross-validation, with force pulses).
+
+    Returns
+    -------
+    EmpsData
+        The :class:`Run` (linear axis; force ``gtau*vir`` [N], position ``qm`` [m],
+        reference ``qg`` [m]) and the raw fields.
+
+    Raises
+    ------
+    FileNotFoundError
+        The folder or file is missing; the message says where to get the data.
+
+    Notes
+    -----
+    Cite Janot, Gautier & Brunot (2019) wherever the data are used.  ``vir`` is
+    the controller output in volts, not a force (the benchmark PDF's variable list
+    is wrong on that).  In the validation file ``qm`` looks low-pass filtered after
+    acquisition; use it for validation only.
+    """
+    v.choice("kind", kind, tuple(_EMPS_FILES))
+    path = _emps_folder(data_dir) / _EMPS_FILES[kind]
+    if not path.is_file():
+        raise FileNotFoundError(f"EMPS data: {path} not found; get " + EMPS_SOURCE_HINT)
+    return emps_file(path)
+
+
+#: Variables of a MATLAB file in the EMPS layout (``pulses_N`` only in the validation file).
+EMPS_VARIABLES = ("t", "qm", "qg", "vir", "gtau", "kp", "kv")
+
+
+def emps_file(path) -> EmpsData:
+    """Read a MATLAB file in the EMPS layout (``t, qm, qg, vir, gtau, kp, kv[, pulses_N]``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.mat`` file (``DATA_EMPS.mat``, ``DATA_EMPS_PULSES.mat`` or a record of
+        your own axis saved with the same variables).
+
+    Returns
+    -------
+    EmpsData
+        ``kind`` is ``"validation"`` when the file has ``pulses_N``, else ``"estimation"``.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    ValueError
+        Not a MATLAB file, a variable missing or of the wrong size, or the record
+        invalid (:class:`Run`); the message names the file.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(21, "a folder, not a record file", str(path))
+    if not path.is_file():
+        raise FileNotFoundError(2, "no such file", str(path))
+    from scipy.io import loadmat
+    from scipy.io.matlab import MatReadError
+
+    try:
+        raw = loadmat(path)
+    except (MatReadError, ValueError, TypeError, OSError) as exc:  # what scipy raises on junk
+        raise ValueError(f"{path}: not a MATLAB .mat file ({str(exc).splitlines()[0][:80]})") from None
+    missing = [n for n in EMPS_VARIABLES if n not in raw]
+    if missing:
+        raise ValueError(f"{path}: missing variable(s) {', '.join(missing)} (the EMPS layout has "
+                         f"{', '.join(EMPS_VARIABLES)})")
+
+    def col(name):
+        x = np.asarray(raw[name])
+        if x.dtype.kind not in "iuf":
+            raise ValueError(f"{path}: variable {name} must hold real numbers, not {x.dtype}")
+        return np.asarray(x, dtype=float).ravel()
+
+    def scalar(name):
+        x = col(name)
+        if x.size != 1:
+            raise ValueError(f"{path}: variable {name} should be a scalar, has {x.size} values")
+        return v.real(f"{path.name}: {name}", x[0])
+
+    gtau = scalar("gtau")
+    vir = col("vir")
+    try:
+        run = Run(t=col("t"), torque=gtau * vir, position=col("qm"), reference=col("qg"),
+                  source=f"EMPS {path.name} (Janot, Gautier & Brunot 2019)", units="linear")
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    vir.setflags(write=False)
+    pulses = col("pulses_N") if "pulses_N" in raw else None
+    return EmpsData(run=run, vir=vir, gtau=gtau, kp=scalar("kp"), kv=scalar("kv"),
+                    kind="estimation" if pulses is None else "validation", pulses=pulses)
+
+
+def load_record(path, *, units: str | None = None) -> Run:
+    """A record from a CSV file (:meth:`Run.from_csv`) or a MATLAB file in the EMPS layout.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``*.mat``: :func:`emps_file` (a linear axis: force ``gtau*vir`` [N], position
+        ``qm`` [m]); anything else: CSV with header ``t,torque,position[,reference]``.
+    units : {"rotary", "linear"}, optional
+        Overrides the CSV's ``# units:`` line; for a ``.mat`` file it must be
+        ``"linear"`` (the EMPS layout is a linear axis).
+    """
+    path = Path(path)
+    if units is not None:
+        v.choice("units", units, ("rotary", "linear"))
+    if path.suffix.lower() == ".mat":
+        if units not in (None, "linear"):
+            raise ValueError(f"{path}: a .mat record in the EMPS layout is a linear axis, "
+                             f"not {units!r}")
+        return emps_file(path).run
+    if path.is_dir():
+        raise IsADirectoryError(21, "a folder, not a record file", str(path))
+    return Run.from_csv(path, units=units)

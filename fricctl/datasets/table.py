@@ -1,0 +1,163 @@
+"""The one CSV reader of fricctl: :func:`read_columns` -> :class:`Table`.
+
+Every CSV file fricctl reads (records, training patterns) goes through
+:func:`read_columns`: optional ``# key: value`` lines, a header naming the
+columns (in any order), one row of numbers per line.  Its errors name the file,
+the line and the column.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import types
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from .. import _validate as v
+
+__all__ = ["Table", "read_columns"]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Table:
+    """The columns of a CSV file, by header name (what :func:`read_columns` returns)."""
+
+    path: Path
+    """The file read."""
+    columns: Mapping[str, np.ndarray]
+    """Each column of the header, as a read-only float array (read-only mapping)."""
+    meta: Mapping[str, str]
+    """``# key: value`` lines before the header (read-only mapping)."""
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[v.choice("column", name, tuple(self.columns))]
+
+    @property
+    def n_rows(self) -> int:
+        """Number of data rows."""
+        return int(next(iter(self.columns.values())).size)
+
+
+def _expected(required, optional) -> str:
+    return ", ".join(required) + "".join(f"[, {o}]" for o in optional)
+
+
+def _header(path, cells, required, optional) -> list[str]:
+    header = [h.strip() for h in cells]
+    want = _expected(required, optional)
+    unknown = [h for h in header if h not in required + optional]
+    if unknown:
+        s = "" if len(unknown) == 1 else "s"
+        raise ValueError(f"{path}: unknown column{s} {', '.join(map(repr, unknown))} in the "
+                         f"header; expected {want}")
+    for name in header:
+        if header.count(name) > 1:
+            raise ValueError(f"{path}: duplicate column {name!r} in the header")
+    for name in required:
+        if name not in header:
+            raise ValueError(f"{path}: missing column {name!r} in the header; expected {want}")
+    return header
+
+
+def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
+                 min_rows: int = 0) -> Table:
+    r"""Read a CSV file whose header names its columns (in any order).
+
+    Layout: optional ``# key: value`` lines, a header line, then one row of numbers
+    per line (blank lines are skipped).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    required : tuple of str
+        Columns the header must name.
+    optional : tuple of str
+        Columns the header may name; any other column is an error.
+    min_rows : int
+        Fewest data rows accepted.
+
+    Returns
+    -------
+    Table
+        The columns by name and the ``#`` metadata.
+
+    Raises
+    ------
+    FileNotFoundError
+        The file does not exist.
+    ValueError
+        Not UTF-8 text, no header, an unknown, missing or duplicate column, a row
+        with another number of fields, a cell that is not a finite number (the
+        message names the file, the line and the column), or fewer than
+        ``min_rows`` rows.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "p.csv"
+    ...     _ = p.write_text("# source: by hand\nb,a\n1,2\n3,4\n")
+    ...     tab = read_columns(p, required=("a", "b"))
+    >>> tab["a"].tolist(), tab.meta["source"]
+    ([2.0, 4.0], 'by hand')
+    """
+    path = Path(path)
+    required, optional = tuple(required), tuple(optional)
+    min_rows = v.integer("min_rows", min_rows, low=0)
+    want = _expected(required, optional)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    try:
+        with path.open(newline="", encoding="utf-8") as fh:
+            lines = fh.read().splitlines()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a UTF-8 text file (expected a CSV with a header "
+                         f"{want})") from None
+    meta: dict[str, str] = {}
+    header = None
+    rows = []
+    for line_no, line in enumerate(lines, start=1):
+        if header is None and line.startswith("#"):
+            key, sep, value = line[1:].partition(":")
+            if sep:
+                meta[key.strip()] = value.strip()
+            continue
+        cells = next(csv.reader([line]), [])
+        if not cells or all(not c.strip() for c in cells):
+            continue
+        if header is None:
+            header = _header(path, cells, required, optional)
+            continue
+        if len(cells) != len(header):
+            raise ValueError(f"{path}, line {line_no}: {len(cells)} fields, the header has "
+                             f"{len(header)}")
+        row = []
+        for name, cell in zip(header, cells):
+            try:
+                x = float(cell)
+            except ValueError:
+                raise ValueError(f"{path}, line {line_no}, column {name!r}: not a number: "
+                                 f"{cell.strip()!r}") from None
+            if not math.isfinite(x):
+                raise ValueError(f"{path}, line {line_no}, column {name!r}: "
+                                 f"{'NaN' if math.isnan(x) else 'inf'} (not a finite number)")
+            row.append(x)
+        rows.append(row)
+    if header is None:
+        what = "no header line after the '#' lines" if meta or lines else "empty file"
+        raise ValueError(f"{path}: {what}, expected a header {want}")
+    if len(rows) < min_rows:
+        raise ValueError(f"{path}: need at least {min_rows} data rows, got {len(rows)}")
+    data = np.array(rows, dtype=float).reshape(-1, len(header))
+    columns = {}
+    for j, name in enumerate(header):
+        col = data[:, j].copy()
+        col.setflags(write=False)
+        columns[name] = col
+    return Table(path=path, columns=types.MappingProxyType(columns),
+                 meta=types.MappingProxyType(meta))
