@@ -80,6 +80,16 @@ _REQUIRED = ("format", "version", "units", "inertia", "friction")
 _KEYS_V1 = ("format", "version", "units", "inertia", "friction", "offset", "delay",
             "load_inertia", "stiffness", "damping", "source")
 _KEYS_V2 = _KEYS_V1 + tuple(n for n, _ in _OPTIONAL) + ("provenance",)
+#: Identified parameter names (fricctl.identify.MODELS) -> the model values they set.
+_ESTIMATE_FIELDS = {
+    "inertia": ("inertia",), "offset": ("offset",),
+    "viscous": ("friction.viscous_pos", "friction.viscous_neg"),
+    "coulomb": ("friction.coulomb_pos", "friction.coulomb_neg"),
+    "viscous_pos": ("friction.viscous_pos",), "viscous_neg": ("friction.viscous_neg",),
+    "coulomb_pos": ("friction.coulomb_pos",), "coulomb_neg": ("friction.coulomb_neg",),
+    "static": ("friction.stribeck_pos", "friction.stribeck_neg"),
+    "stribeck_velocity": ("friction.stribeck_velocity",),
+}
 #: Deepest nesting a model file has (object > provenance > entry); deeper is refused.
 _MAX_DEPTH = 4
 #: Longest text a model file holds (a note, a source) [characters].
@@ -315,6 +325,67 @@ class JointModel:
                    units="rotary", source=source, sample_time=params.sample_time,
                    encoder_resolution=params.encoder_resolution, max_torque=params.max_torque,
                    provenance=prov, **elastic)
+
+    @classmethod
+    def from_estimates(cls, estimates: Mapping[str, float], *, units: str, source: str,
+                       std: Mapping[str, float] | None = None, note: str = "",
+                       sample_time: float | None = None, encoder_resolution: float | None = None,
+                       max_torque: float | None = None,
+                       provenance: Mapping[str, Provenance] | None = None) -> "JointModel":
+        """The rigid-joint model of identified parameters, each with its standard deviation.
+
+        Parameters
+        ----------
+        estimates : mapping
+            Parameter name -> value, with the names of :data:`fricctl.identify.MODELS`:
+            ``inertia`` (required), ``offset``, ``viscous`` and ``coulomb`` (both
+            directions), ``viscous_pos``/``_neg``, ``coulomb_pos``/``_neg``, ``static``
+            and ``stribeck_velocity`` (a Gaussian Stribeck excess ``static - coulomb``).
+        units : {"rotary", "linear"}
+        source : str
+            The model's ``source`` text.
+        std : mapping, optional
+            Name -> standard deviation (same names).
+        note : str
+            Provenance note of every identified value (how it was identified).
+        sample_time, encoder_resolution, max_torque : float, optional
+            [s], [rad] or [m], [N*m] or [N]; None = unknown.
+        provenance : mapping, optional
+            Provenance of ``sample_time``, ``encoder_resolution``, ``max_torque``.
+
+        Examples
+        --------
+        >>> m = JointModel.from_estimates({"inertia": 95.1, "viscous": 203.5, "coulomb": 20.4,
+        ...                                "offset": -3.2}, std={"coulomb": 0.1}, units="linear",
+        ...                                source="EMPS")
+        >>> m.friction.coulomb_neg, m.provenance["friction.coulomb_neg"].std
+        (20.4, 0.1)
+        """
+        v.instance("estimates", estimates, Mapping, "a mapping of parameter names to values")
+        std = {} if std is None else dict(v.instance("std", std, Mapping, "a mapping"))
+        unknown = sorted(set(estimates) - set(_ESTIMATE_FIELDS))
+        if unknown or "inertia" not in estimates:
+            raise ValueError(f"estimates: need 'inertia', may have {', '.join(_ESTIMATE_FIELDS)}; "
+                             f"unknown {unknown}")
+        x = {k: v.real(f"estimates[{k!r}]", val) for k, val in estimates.items()}
+        if "static" in x:
+            fc = x.get("coulomb", 0.0)
+            if x["static"] < fc:
+                raise ValueError(f"static: the identified breakaway level {x['static']:.4g} lies "
+                                 f"below the Coulomb level {fc:.4g}")
+            x["static"] -= fc  # the Stribeck excess over the Coulomb level
+        fr, prov = {}, dict(provenance or {})
+        for name, value in x.items():
+            for key in _ESTIMATE_FIELDS[name]:
+                s = std.get(name) if name != "static" else None
+                n = note + (" (static - coulomb; the std of static is "
+                            f"{std['static']:.4g})" if name == "static" and "static" in std else "")
+                prov[key] = Provenance(source="identified", std=s, note=n)
+                if key.startswith("friction."):
+                    fr[key[len("friction."):]] = value
+        return cls(inertia=x["inertia"], offset=x.get("offset", 0.0), friction=FrictionModel(**fr),
+                   units=units, source=source, sample_time=sample_time,
+                   encoder_resolution=encoder_resolution, max_torque=max_torque, provenance=prov)
 
     # ------------------------------------------------------------------ file
     def as_dict(self) -> dict:
