@@ -77,3 +77,60 @@ def test_invalid_input_exits_2_with_one_line(capsys, argv, match):
     assert code == 2 and out == ""
     assert err.startswith("fricctl design: error:") and match in err
     assert err.count("\n") == 1
+
+
+# -- --model: your own actuator ------------------------------------------------------------
+def _model_file(tmp_path, **kw):
+    from fricctl.friction import Coulomb, Viscous
+    from fricctl.plant import JointModel
+
+    args = dict(inertia=95.1089, friction=(Viscous(203.5034) + Coulomb(20.3935)).model(),
+                units="linear", sample_time=0.001)
+    args.update(kw)
+    return JointModel(**args).save(tmp_path / "axis.json")
+
+
+def test_pd_on_a_linear_model(tmp_path, capsys):
+    path = _model_file(tmp_path)
+    code, out, _ = run(capsys, "pd", "--model", str(path), "--rise-time", "0.05", "--damping", "0.7")
+    assert code == 0
+    # closed form: wn = (pi - acos(zeta)) / (tr sqrt(1 - zeta^2)), Kp = M wn^2, Kd = 2 zeta wn M - b
+    wn = (math.pi - math.acos(0.7)) / (0.05 * math.sqrt(1 - 0.49))
+    kp, kd = 95.1089 * wn ** 2, 2 * 0.7 * wn * 95.1089 - 203.5034
+    assert f"I = 95.1089 kg, b = 203.503 N*s/m" in out
+    assert f"Kp = {kp:.6g} N/m, Kd = {kd:.6g} N*s/m" in out
+    assert "Ts=0.001 s" in out
+    code, out, _ = run(capsys, "pd", "--model", str(path), "--rise-time", "0.05", "--damping", "0.7",
+                       "--json")
+    obj = json.loads(out)
+    assert obj["units"] == "linear" and obj["sample_time"] == 0.001
+    assert obj["kp"] == pytest.approx(kp, rel=1e-12) and obj["kd"] == pytest.approx(kd, rel=1e-12)
+
+
+def test_model_viscous_is_the_mean_of_both_directions(tmp_path, capsys):
+    from fricctl.friction import FrictionModel
+
+    # EMPS's direction-dependent fit (data README): b+ = 166.7061, b- = 240.4236 N*s/m
+    path = _model_file(tmp_path, friction=FrictionModel(viscous_pos=166.7061, viscous_neg=240.4236))
+    code, out, _ = run(capsys, "p", "--model", str(path), "--damping", "0.5", "--json")
+    assert code == 0 and json.loads(out)["viscous"] == pytest.approx((166.7061 + 240.4236) / 2)
+
+
+@pytest.mark.parametrize("kw,argv,match", [
+    (dict(sample_time=None), [], "sample_time: the model has none"),
+    ({}, ["--link"], "--link has no effect with --model"),
+])
+def test_model_errors_one_line(tmp_path, capsys, kw, argv, match):
+    path = _model_file(tmp_path, **kw)
+    code, out, err = run(capsys, "pd", "--model", str(path), "--rise-time", "0.05",
+                         "--damping", "0.7", *argv)
+    assert code == 2 and out == "" and match in err and err.count("\n") == 1
+
+
+def test_shipped_paper_model_designs_like_the_paper_actuator(capsys):
+    from fricctl.data import paper_actuator_file
+
+    _, a, _ = run(capsys, "pd", "--rise-time", "0.22", "--damping", "0.5", "--json")
+    _, b, _ = run(capsys, "pd", "--rise-time", "0.22", "--damping", "0.5", "--json",
+                  "--model", str(paper_actuator_file()))
+    assert json.loads(a) == json.loads(b)

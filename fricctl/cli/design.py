@@ -1,10 +1,14 @@
 """``fricctl design {p,pd}``: gains from rise time and damping, verified.
 
 Designs on the linear viscous model ``1/(s (I s + b))`` of the paper actuator
-(``--link`` adds the 0.0046 kg*m^2 SCARA link) and prints the gains with the
-achieved step metrics of the continuous loop and of the sampled loop at
-Ts = 0.002 s.  ``--json`` prints one JSON object (:meth:`fricctl.design.Design.as_dict`):
-``law, kp, kd, inertia, viscous, sample_time, requested{rise_time, damping, priority},
+(``--link`` adds the 0.0046 kg*m^2 SCARA link), or of your own actuator with
+``--model MODEL.json`` (a ``fricctl.joint_model`` file, e.g. from ``fricctl
+identify --out``: its inertia, the mean viscous coefficient of both directions,
+its sample time and units: a linear axis prints kg, N*s/m, N/m), and prints the
+gains with the achieved step metrics of the continuous loop and of the sampled
+loop at the sample time.  ``--json`` prints one JSON object
+(:meth:`fricctl.design.Design.as_dict`):
+``law, units, kp, kd, inertia, viscous, sample_time, requested{rise_time, damping, priority},
 rise_time_definition, wn, zeta, achieved{rise_time, damping, overshoot_percent,
 settling_time}, sampled{...same...}, warnings[...]``; missing values are null.
 """
@@ -30,7 +34,9 @@ def register(subparsers) -> None:
     p.add_argument("--damping", type=float, default=None, metavar="Z",
                    help="requested damping ratio [-] (required for pd)")
     p.add_argument("--link", action="store_true",
-                   help="add the SCARA link inertia 0.0046 kg*m^2 to the actuator")
+                   help="add the SCARA link inertia 0.0046 kg*m^2 to the paper's actuator")
+    p.add_argument("--model", metavar="MODEL.json", default=None,
+                   help="design for this model file instead of the paper's actuator")
     p.add_argument("--rise-time-definition", choices=("0-100", "10-90"), default=None,
                    help="default 0-100 for damping < 1, 10-90 otherwise (required for >= 1)")
     p.add_argument("--priority", choices=("rise_time", "damping"), default=None,
@@ -42,10 +48,14 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from ..design import DesignWarning, design_p, design_pd
     from ..params import paper_actuator
+    from ..plant import JointModel
 
-    params = paper_actuator()
-    if args.link:
-        params = params.with_link()
+    if args.model is not None:
+        if args.link:
+            raise ValueError("--link has no effect with --model (the model holds the inertia)")
+        params = JointModel.load(args.model)
+    else:
+        params = paper_actuator().with_link() if args.link else paper_actuator()
     with warnings.catch_warnings():
         # the Design records its warnings; the CLI prints them once, below
         warnings.simplefilter("ignore", DesignWarning)

@@ -6,18 +6,26 @@ simulator (:class:`~fricctl.design.loops.LinearLoop`).  A
 :class:`~fricctl.design.DesignWarning` is issued when the sampled loop's rise
 time or damping differs from the continuous design by more than 10 %, or when a
 P design misses its non-priority specification by more than 10 %.
+
+The plant is an :class:`~fricctl.params.ActuatorParams` (``total_inertia``,
+``viscous``, ``sample_time``; rotary) or a :class:`~fricctl.plant.JointModel` (your
+own actuator: ``inertia``, :attr:`~fricctl.plant.JointModel.viscous`, ``sample_time``,
+and its units: a linear axis gives Kp [N/m] and Kd [N*s/m]).
 """
 
 from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import dataclass
 
 import control
 from scipy.optimize import brentq
 
 from .. import _validate as v
 from ..params import ActuatorParams
+from ..plant.model import JointModel
+from ..units import units as units_of
 from .loops import LinearLoop
 from .result import Design, DesignWarning
 from .second_order import normalized_rise_time, resolve_rise_time_definition
@@ -31,14 +39,36 @@ _PRIORITIES = ("rise_time", "damping")
 _ILL_CONDITIONED_OVERSHOOT = 2.0
 
 
+@dataclass(frozen=True, kw_only=True)
+class _Plant:
+    """What a design reads of its plant."""
+
+    total_inertia: float
+    viscous: float
+    sample_time: float
+    units: str
+
+
+def _plant(params) -> _Plant:
+    v.instance("params", params, (ActuatorParams, JointModel), "an ActuatorParams or a JointModel")
+    if isinstance(params, ActuatorParams):
+        return _Plant(total_inertia=params.total_inertia, viscous=params.viscous,
+                      sample_time=params.sample_time, units="rotary")
+    if params.sample_time is None:
+        raise ValueError("sample_time: the model has none (null); the design's sampled-loop "
+                         "check needs the controller's sample time")
+    return _Plant(total_inertia=params.inertia, viscous=params.viscous,
+                  sample_time=params.sample_time, units=params.units)
+
+
 def _specs(params, rise_time, damping) -> tuple:
-    """Checked (params, rise_time, damping); a spec may be None (not given)."""
-    v.instance("params", params, ActuatorParams, "an ActuatorParams")
+    """Checked (plant, rise_time, damping); a spec may be None (not given)."""
+    plant = _plant(params)
     if rise_time is not None:
         rise_time = v.real("rise_time", rise_time, positive=True, unit="s")
     if damping is not None:
         damping = v.real("damping", damping, positive=True)
-    return rise_time, damping
+    return plant, rise_time, damping
 
 
 def _rel(a, b):
@@ -59,8 +89,9 @@ def _finish(*, law, kp, kd, params, rise_time, damping, priority, definition, ex
     sampled = loop.sampled_metrics(definition, t_end)
     msgs = list(extra_warnings)
     if not math.isfinite(sampled.damping):
-        msgs.append(f"the sampled loop at Ts = {ts:g} s is unstable (Kp = {kp:.4g} N*m/rad, "
-                    f"Kd = {kd:.4g} N*m*s/rad); slow the design down")
+        u = units_of(params.units)
+        msgs.append(f"the sampled loop at Ts = {ts:g} s is unstable (Kp = {kp:.4g} {u.stiffness}, "
+                    f"Kd = {kd:.4g} {u.viscous}); slow the design down")
     else:
         for name, unit in (("rise_time", " s"), ("damping", "")):
             c, s = getattr(achieved, name), getattr(sampled, name)
@@ -85,13 +116,14 @@ def _finish(*, law, kp, kd, params, rise_time, damping, priority, definition, ex
         warnings.warn(msg, DesignWarning, stacklevel=3)
     cl = control.tf([kp], [inertia, viscous + kd, kp])
     return Design(law=law, kp=float(kp), kd=float(kd), inertia=inertia, viscous=viscous,
+                  units=params.units,
                   sample_time=ts, requested_rise_time=rise_time, requested_damping=damping,
                   priority=priority, rise_time_definition=definition, wn=wn, zeta=zeta,
                   closed_loop=cl, sampled_closed_loop=loop.sampled(),
                   achieved=achieved, sampled=sampled, warnings=tuple(msgs))
 
 
-def design_pd(params: ActuatorParams, *, rise_time: float, damping: float,
+def design_pd(params: ActuatorParams | JointModel, *, rise_time: float, damping: float,
               rise_time_definition: str | None = None) -> Design:
     """PD (rate feedback) gains for a rise time and a damping ratio.
 
@@ -102,9 +134,10 @@ def design_pd(params: ActuatorParams, *, rise_time: float, damping: float,
 
     Parameters
     ----------
-    params : ActuatorParams
+    params : ActuatorParams or JointModel
         Plant: ``total_inertia`` (actuator + link), ``viscous``; ``sample_time``
-        for the sampled-data check.
+        for the sampled-data check (a model: ``inertia``, the mean viscous
+        coefficient of both directions, ``sample_time``; its units).
     rise_time : float
         Requested rise time, > 0 [s].
     damping : float
@@ -140,7 +173,7 @@ def design_pd(params: ActuatorParams, *, rise_time: float, damping: float,
     >>> round(d.kp, 4), round(d.kd, 4)
     (0.9021, 0.0652)
     """
-    rise_time, damping = _specs(params, rise_time, damping)
+    params, rise_time, damping = _specs(params, rise_time, damping)
     if rise_time is None or damping is None:
         raise ValueError("a PD design needs both rise_time and damping")
     definition = resolve_rise_time_definition(rise_time_definition, damping)
@@ -150,15 +183,15 @@ def design_pd(params: ActuatorParams, *, rise_time: float, damping: float,
     kd = 2.0 * damping * wn * inertia - viscous
     if kd < 0.0:
         raise ValueError(
-            f"this PD needs a negative Kd = {kd:.4g} N*m*s/rad: the viscous friction "
-            f"b = {viscous:g} N*m*s/rad alone gives damping "
+            f"this PD needs a negative Kd = {kd:.4g} {units_of(params.units).viscous}: the viscous "
+            f"friction b = {viscous:g} {units_of(params.units).viscous} alone gives damping "
             f"{viscous / (2.0 * wn * inertia):.3g} > {damping:g} at wn = {wn:.4g} rad/s; "
             "ask for more damping or a faster rise, or use P")
     return _finish(law="pd", kp=kp, kd=kd, params=params, rise_time=rise_time, damping=damping,
                    priority=None, definition=definition, extra_warnings=())
 
 
-def design_p(params: ActuatorParams, *, rise_time: float | None = None,
+def design_p(params: ActuatorParams | JointModel, *, rise_time: float | None = None,
              damping: float | None = None, priority: str = "rise_time",
              rise_time_definition: str | None = None) -> Design:
     """P gain for a rise time, a damping ratio, or both with a priority.
@@ -170,8 +203,8 @@ def design_p(params: ActuatorParams, *, rise_time: float | None = None,
 
     Parameters
     ----------
-    params : ActuatorParams
-        Plant and sample time.
+    params : ActuatorParams or JointModel
+        Plant and sample time (see :func:`design_pd`).
     rise_time : float, optional
         Requested rise time, > 0 [s].
     damping : float, optional
@@ -198,7 +231,7 @@ def design_p(params: ActuatorParams, *, rise_time: float | None = None,
     >>> round(d.kp, 4), round(d.zeta, 4)
     (0.2769, 0.3)
     """
-    rise_time, damping = _specs(params, rise_time, damping)
+    params, rise_time, damping = _specs(params, rise_time, damping)
     if rise_time is None and damping is None:
         raise ValueError("a P design needs rise_time, damping, or both")
     v.choice("priority", priority, _PRIORITIES)

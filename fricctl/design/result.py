@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import control
 
+from .. import _validate as v
+from ..units import KINDS, units as units_of
 from .second_order import RISE_TIME_DEFINITIONS, StepMetrics
 
 __all__ = ["DesignWarning", "Design"]
@@ -63,6 +65,12 @@ class Design:
     """Step metrics of the sampled-data loop (evaluated between samples too)."""
     warnings: tuple[str, ...] = ()
     """Messages of the :class:`DesignWarning` issued while designing."""
+    units: str = "rotary"
+    """Axis kind: ``"rotary"`` (Kp [N*m/rad], Kd [N*m*s/rad]) or ``"linear"`` (Kp [N/m],
+    Kd [N*s/m], inertia a mass [kg]); the unit labels above are the rotary ones."""
+
+    def __post_init__(self):
+        v.choice("units", self.units, KINDS)
 
     @property
     def rise_time_limits(self) -> tuple[float, float]:
@@ -85,15 +93,16 @@ class Design:
         def spec(x, unit):
             return "-" if x is None else f"{x:.4g} {unit}".rstrip()
 
+        u = units_of(self.units)
         law = {"p": "P: Tc = Kp (r - q)",
                "pd": "PD (rate feedback): Tc = Kp (r - q) - Kd omega_hat"}[self.law]
         lines = [
             f"{law}",
-            f"  plant        I = {self.inertia:.6g} kg*m^2, b = {self.viscous:.6g} N*m*s/rad",
+            f"  plant        I = {self.inertia:.6g} {u.inertia}, b = {self.viscous:.6g} {u.viscous}",
             f"  requested    rise time {spec(self.requested_rise_time, 's')} "
             f"({self.rise_time_definition}), damping {spec(self.requested_damping, '')}"
             + (f", priority {self.priority}" if self.priority else ""),
-            f"  gains        Kp = {self.kp:.6g} N*m/rad, Kd = {self.kd:.6g} N*m*s/rad",
+            f"  gains        Kp = {self.kp:.6g} {u.stiffness}, Kd = {self.kd:.6g} {u.viscous}",
             f"  closed loop  wn = {self.wn:.6g} rad/s, zeta = {self.zeta:.4g}",
             f"  {'':12} {'rise [s]':>10} {'damping':>9} {'OS [%]':>9} {'settle [s]':>11}",
         ]
@@ -109,6 +118,7 @@ class Design:
         """JSON-ready dict (the CLI's ``--json`` object)."""
         return {
             "law": self.law,
+            "units": self.units,
             "kp": self.kp,
             "kd": self.kd,
             "inertia": self.inertia,
