@@ -76,3 +76,162 @@ def test_binary_file_and_negative_seed_are_one_line(tmp_path, capsys):
     pats.write_text("tm,omega,friction\n0.1,0.5,0.2\n0.2,1,0.3\n")
     assert main(["train", str(pats), "--out", str(tmp_path / "n.json"), "--seed", "-1"]) == 2
     assert "--seed must be >= 0" in capsys.readouterr().err
+
+
+# -- --model: your own actuator ------------------------------------------------------------
+import ctypes  # noqa: E402
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+
+from fricctl.data import paper_actuator_file  # noqa: E402
+from fricctl.friction import Coulomb, Viscous  # noqa: E402
+from fricctl.plant import JointModel  # noqa: E402
+
+CC = shutil.which("cc") or shutil.which("gcc")
+
+
+def _linear_model(tmp_path, **kw):
+    args = dict(inertia=2.0, friction=(Viscous(10.0) + Coulomb(3.0)).model(), units="linear",
+                sample_time=0.001, encoder_resolution=1e-6)
+    args.update(kw)
+    return JointModel(**args).save(tmp_path / "axis.json")
+
+
+def test_paper_model_file_simulates_like_the_paper_actuator(tmp_path, capsys):
+    # the shipped model file and the built-in actuator are the same plant: same record, bit for bit
+    common = ["--controller", "pd", "--rise-time", "0.3", "--damping", "0.9", "--duration", "1",
+              "--reference", "step:0.5236", "--compensation", "coulomb"]
+    assert main(["simulate", *common, "--csv", str(tmp_path / "a.csv")]) == 0
+    assert main(["simulate", *common, "--model", str(paper_actuator_file()),
+                 "--csv", str(tmp_path / "b.csv")]) == 0
+    a, b = Run.from_csv(tmp_path / "a.csv"), Run.from_csv(tmp_path / "b.csv")
+    for name in ("torque", "position", "reference"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+
+
+def test_linear_model_offset_and_units(tmp_path, capsys):
+    # open loop, viscous only: I dv/dt = F - offset - b v -> v(inf) = (5 - 1)/10 = 0.4 m/s
+    m = _linear_model(tmp_path, friction=Viscous(10.0).model(), offset=1.0)
+    assert main(["simulate", "--model", str(m), "--torque", "constant:5", "--duration", "3",
+                 "--csv", str(tmp_path / "r.csv"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["units"] == "linear" and out["max_abs_torque"] == 5.0
+    run = Run.from_csv(tmp_path / "r.csv")
+    assert run.units == "linear"
+    # velocity over the last second of encoder counts (1e-6 m): v(t) = 0.4 (1 - exp(-t/0.2)),
+    # at t >= 2 s within 0.4 exp(-10) = 1.8e-5 m/s of 0.4
+    sl = run.t >= 2.0
+    v = np.polyfit(run.t[sl], run.position[sl], 1)[0]
+    assert v == pytest.approx(0.4, abs=3e-5)
+
+
+def test_model_delay_in_samples(tmp_path):
+    from fricctl.controllers import constant, open_loop
+    from fricctl.simulate import simulate_model
+
+    m = JointModel.load(_linear_model(tmp_path, delay=0.0104))
+    plain = simulate_model(JointModel.load(_linear_model(tmp_path / "..", delay=0.0)),
+                           open_loop(constant(5.0)), duration=0.1)
+    late = simulate_model(m, open_loop(constant(5.0)), duration=0.1)
+    # Tm_0 = 0, so the force acts from sample 1; 0.0104 s is 10 samples later
+    assert np.flatnonzero(plain.q)[0] == 2 and np.flatnonzero(late.q)[0] == 12
+    assert late.info.delay == 10
+
+
+def test_model_without_sample_time_or_with_bad_options(tmp_path, capsys):
+    m = JointModel(inertia=1.0, friction=Viscous(1.0).model(), units="linear").save(tmp_path / "m.json")
+    assert main(["simulate", "--model", str(m), "--torque", "constant:1"]) == 2
+    assert "sample_time" in capsys.readouterr().err
+    good = _linear_model(tmp_path)
+    for argv, words in (
+            (["--link", "--torque", "constant:1"], "--link has no effect with --model"),
+            (["--plant", "flexible", "--torque", "constant:1"], "--plant has no effect"),
+            (["--controller", "pd", "--kp", "100", "--kd", "1"], "--model needs --reference"),
+            (["--torque", "constant:1", "--c-source", "x.c"], "applies to --compensation nn"),
+            (["--torque", "constant:1", "--csv", str(good)], "is an input of this command")):
+        assert main(["simulate", "--model", str(good), *argv]) == 2
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1, err
+
+
+def test_existing_output_needs_force(tmp_path, capsys):
+    csv = tmp_path / "r.csv"
+    csv.write_text("keep me")
+    argv = ["simulate", "--torque", "constant:0.3", "--duration", "0.1", "--csv", str(csv)]
+    assert main(argv) == 2
+    assert "exists (use --force" in capsys.readouterr().err and csv.read_text() == "keep me"
+    assert main([*argv, "--force"]) == 0 and Run.from_csv(csv).n_samples == 50
+    assert main(["simulate", "--torque", "constant:0.1", "--csv", str(tmp_path / "x"),
+                 "--figure", str(tmp_path / "x")]) == 2
+    assert "name the same file" in capsys.readouterr().err
+
+
+def test_unstable_loop_without_torque_limit_is_refused(tmp_path, capsys):
+    # Kp = 1e9 N/m on 2 kg at 1 kHz: the sampled loop is unstable; with no max_torque the
+    # state overflows -- refused with one line instead of NaN in the summary
+    m = _linear_model(tmp_path)
+    assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1e9",
+                 "--reference", "step:0.001", "--duration", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "diverged" in err and err.count("\n") == 1
+
+
+@pytest.fixture
+def small_net(tmp_path):
+    from fricctl.nn import FrictionNet, save_net
+
+    rng = np.random.default_rng(5)
+    net = FrictionNet(w1=rng.normal(size=(4, 2)), b1=rng.normal(size=4), w2=rng.normal(size=4),
+                      b2=0.1, input_offset=[0.0, 0.0], input_scale=[20.0, 0.05],
+                      output_offset=0.0, output_scale=3.0, envelope_low=[-30.0, -0.1],
+                      envelope_high=[30.0, 0.1])
+    return net, save_net(net, tmp_path / "net.json")
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
+def test_c_compensator_compiles_and_matches_python(tmp_path, capsys, small_net):
+    net, net_path = small_net
+    m = _linear_model(tmp_path)
+    c = tmp_path / "axis_comp.c"
+    assert main(["simulate", "--model", str(m), "--controller", "pd", "--kp", "2000", "--kd", "80",
+                 "--reference", "step:0.001", "--duration", "0.2", "--compensation", "nn",
+                 "--net", str(net_path), "--scale", "0.95", "--c-source", str(c)]) == 0
+    header = c.with_suffix(".h").read_text()
+    assert "double axis_comp_compensation(double tm, double omega_hat, double s, int clip);" in header
+    assert "motor force tm [N], velocity omega [m/s]" in header
+    assert "output: friction force estimate [N]" in c.read_text()
+    # a small main that includes the header (the compiler checks the prototypes) and prints
+    main_c = tmp_path / "main.c"
+    main_c.write_text('#include <stdio.h>\n#include <stdlib.h>\n#include "axis_comp.h"\n'
+                      "int main(int argc, char **argv) {\n"
+                      "  double s = atof(argv[1]); int clip = atoi(argv[2]);\n"
+                      "  double tm, w;\n"
+                      '  while (scanf("%lf %lf", &tm, &w) == 2)\n'
+                      '    printf("%.17g\\n", axis_comp_compensation(tm, w, s, clip));\n'
+                      "  return 0;\n}\n")
+    exe = tmp_path / "comp"
+    subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Werror", str(main_c), str(c), "-o", str(exe),
+                    "-lm"], check=True, capture_output=True)
+    rng = np.random.default_rng(11)
+    tm = rng.uniform(-60.0, 60.0, 500)  # twice the envelope: the clip matters
+    om = rng.uniform(-0.2, 0.2, 500)
+    stdin = "\n".join(f"{float(a)!r} {float(b)!r}" for a, b in zip(tm, om))
+    for clip in (0, 1):
+        out = subprocess.run([str(exe), "0.95", str(clip)], input=stdin, capture_output=True,
+                             text=True, check=True).stdout.split()
+        # reference: s * net(tm, omega, clip) in numpy; libm tanh and summation order differ
+        # by about 1e-16, the issue asks 1e-12
+        np.testing.assert_allclose(np.array(out, dtype=float),
+                                   0.95 * net(tm, om, clip=bool(clip)), rtol=0, atol=1e-12)
+
+
+def test_c_source_keeps_existing_functions(small_net):
+    from fricctl.nn.c_export import c_header, c_source
+
+    net, _ = small_net
+    src = c_source(net)  # defaults as before: rotary units, the old name
+    assert "double fricctl_friction_net(double tm, double omega, int clip)" in src
+    assert "inputs: tm [N*m], omega [rad/s]" in src
+    assert "fricctl_friction_net_compensation" in c_header(net)
+    with pytest.raises(ValueError, match="units must be one of"):
+        c_source(net, units="metric")

@@ -1,11 +1,25 @@
 """``fricctl simulate``: one run of the virtual bench, as a summary, a CSV record and a figure.
 
+The plant is the paper's actuator (``--link``, ``--plant``), or your own actuator
+with ``--model MODEL.json`` (a ``fricctl.joint_model`` file: its joint, sample time,
+encoder, torque limit, offset, delay and units; references, torques and gains in
+its units, e.g. [m], [N], [N/m] on a linear axis).  With ``--model`` the summary
+keys are ``controller, kp, kd, compensator, compensation_scale, units,
+final_error, steady_state_error, tracking_error_rms, max_abs_error,
+max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (positions in
+the model's unit).  ``--c-source NAME.c`` (with ``--compensation nn``) also writes
+the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
+(:func:`fricctl.nn.c_export.c_source`, functions prefixed ``NAME``).  An existing
+output file is kept unless ``--force``.
+
 Examples::
 
     fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:0.5236 --duration 3
     fricctl simulate --torque sinusoid:0.2,1 --duration 2 --csv run.csv --figure run.png
     fricctl simulate --controller pd --rise-time 0.4 --damping 0.85 --link --reference step:0.08 \\
         --compensation nn --net net.json --scale 0.95 --friction-scale 0.95 --json
+    fricctl simulate --model emps.json --controller pd --rise-time 0.05 --damping 0.7 \\
+        --reference sinusoid:0.05,0.5 --compensation nn --net net.json --c-source emps_comp.c
 """
 
 from __future__ import annotations
@@ -13,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -49,15 +64,23 @@ def register(sub):
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
     p.add_argument("--reference", default=None, help="position reference [rad] (P/PD; default step:0.5236)")
     p.add_argument("--torque", default=None, help="open-loop torque [N*m], e.g. sinusoid:0.2,1")
+    p.add_argument("--model", metavar="MODEL.json", default=None,
+                   help="simulate this model file (your own actuator) instead of the paper's")
     p.add_argument("--link", action="store_true", help="attach the SCARA link (0.0046 kg*m^2)")
-    p.add_argument("--plant", choices=("rigid", "flexible"), default="rigid")
+    p.add_argument("--plant", choices=("rigid", "flexible"), default=None,
+                   help="paper actuator: rigid (default) or flexible joint")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
     p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
+    p.add_argument("--clip", action="store_true",
+                   help="clip the network's inputs to its training envelope")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
     p.add_argument("--csv", help="write the measured record t,torque,position,reference")
     p.add_argument("--figure", help="write a PNG of position and torques")
+    p.add_argument("--c-source", metavar="NAME.c", default=None,
+                   help="with --compensation nn: write the compensator as C (NAME.c, NAME.h)")
+    p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=run)
 
@@ -93,72 +116,146 @@ def _check_combination(args) -> None:
         raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
     if args.compensation == "none":
         refuse(("scale",), "with --compensation none")
+    if args.compensation != "nn" and (args.clip or args.c_source):
+        raise ValueError(f"{'--clip' if args.clip else '--c-source'} applies to --compensation nn")
+    if args.model is not None:
+        bad = [o for o, x in (("--link", args.link), ("--plant", args.plant)) if x]
+        if bad:
+            raise ValueError(f"{', '.join(bad)} has no effect with --model (the model is the plant)")
+        if args.controller != "open" and args.reference is None:
+            raise ValueError("--model needs --reference (in the model's position unit)")
+
+
+def _controller(args, plant):
+    from ..controllers import open_loop, p_control, pd_control
+
+    if args.controller == "open":
+        return open_loop(parse_signal(args.torque))
+    ref = parse_signal(args.reference or "step:0.5236")
+    if args.kp is not None:
+        kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
+    else:
+        if args.rise_time is None or args.damping is None:
+            raise ValueError(f"--controller {args.controller} needs --rise-time and --damping (or --kp)")
+        from ..design import design_p, design_pd
+
+        d = (design_p(plant, rise_time=args.rise_time, damping=args.damping) if args.controller == "p"
+             else design_pd(plant, rise_time=args.rise_time, damping=args.damping))
+        kp, kd = d.kp, d.kd
+    return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
+
+
+def _compensator(args, scale, coulomb_pos, coulomb_neg):
+    from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
+
+    if args.compensation == "none":
+        return NoCompensation()
+    if args.compensation == "coulomb":
+        return CoulombCompensator(coulomb_pos=coulomb_pos, coulomb_neg=coulomb_neg, scale=scale)
+    from ..nn import load_net
+
+    return NNCompensator(load_net(args.net), scale=scale, clip=args.clip)
+
+
+def _outputs(args) -> dict:
+    outs = {"--csv": args.csv, "--figure": args.figure, "--c-source": args.c_source}
+    if args.c_source is not None:
+        c = Path(args.c_source)
+        if c.suffix != ".c" or not (c.stem.isidentifier() and c.stem.isascii()):
+            raise ValueError(f"--c-source must be NAME.c with NAME a C identifier (the functions' "
+                             f"prefix), got {c.name!r}")
+        outs["--c-source (its header)"] = c.with_suffix(".h")
+    return outs
+
+
+def _model_summary(res, model) -> dict:
+    err = res.reference - res.q
+    return {"controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
+            "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
+            "units": model.units, "final_error": float(err[-1]),
+            "steady_state_error": res.steady_state_error(min(0.5, res.t[-1] / 2)),
+            "tracking_error_rms": float(np.sqrt(np.mean(err ** 2))),
+            "max_abs_error": float(np.max(np.abs(err))),
+            "max_abs_position": float(np.max(np.abs(res.q))),
+            "max_abs_torque": float(np.max(np.abs(res.torque_motor))),
+            "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
+
+
+def _figure(res, path, units) -> None:
+    import matplotlib.pyplot as plt
+
+    from .. import figures
+    from ..units import units as units_of
+
+    fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
+    figures.plot_response(res, ax=a, unit="deg" if units is None else "rad")
+    figures.plot_stuck(res, ax=a)
+    figures.plot_torques(res, ax=b)
+    if units is not None:  # the figures label a rotary joint; relabel for the model's units
+        u = units_of(units)
+        a.set_ylabel(f"position q [{u.position}]")
+        b.set_ylabel(f"{'torque' if units == 'rotary' else 'force'} [{u.torque}]")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def run(args) -> int:
-    from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
-    from ..controllers import open_loop, p_control, pd_control
+    from ..datasets import Run
     from ..params import paper_actuator
-    from ..simulate import simulate
+    from ..plant import JointModel
+    from ..simulate import simulate, simulate_model
+    from ._output import check_outputs
 
-    params = paper_actuator()
-    if args.link:
-        params = params.with_link()
     _check_combination(args)
+    outputs = _outputs(args)
+    check_outputs(outputs, [args.model, args.net], force=args.force)
     scale = 1.0 if args.scale is None else args.scale
     for name, v in (("duration", args.duration), ("friction_scale", args.friction_scale), ("scale", scale)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"--{name.replace('_', '-')} must be a finite number > 0, got {v}")
-    if args.controller == "open":
-        ctrl = open_loop(parse_signal(args.torque))
+    if args.model is not None:
+        model = JointModel.load(args.model)
+        fr = model.friction
+        comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
+        res = simulate_model(model, _controller(args, model), comp, duration=args.duration,
+                             friction=fr.scaled(args.friction_scale))
+        summary, units = _model_summary(res, model), model.units
     else:
-        ref = parse_signal(args.reference or "step:0.5236")
-        if args.kp is not None:
-            kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
-        else:
-            if args.rise_time is None or args.damping is None:
-                raise ValueError(f"--controller {args.controller} needs --rise-time and --damping (or --kp)")
-            from ..design import design_p, design_pd
-
-            d = (design_p(params, rise_time=args.rise_time, damping=args.damping) if args.controller == "p"
-                 else design_pd(params, rise_time=args.rise_time, damping=args.damping))
-            kp, kd = d.kp, d.kd
-        ctrl = p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
-    if args.compensation == "none":
-        comp = NoCompensation()
-    elif args.compensation == "coulomb":
-        comp = CoulombCompensator.symmetric(params.coulomb, scale=scale)
-    else:
-        from ..nn import load_net
-
-        comp = NNCompensator(load_net(args.net), scale=scale)
-    res = simulate(params, ctrl, comp, duration=args.duration, plant=args.plant,
-                   friction=params.friction_model().scaled(args.friction_scale))
-    summary = {
-        "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
-        "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-        "final_error_rad": float(res.reference[-1] - res.q[-1]),
-        "steady_state_error_deg": math.degrees(res.steady_state_error(min(0.5, args.duration / 2))),
-        "max_abs_position_rad": float(np.max(np.abs(res.q))),
-        "stuck_intervals": len(res.stuck_intervals()),
-        "stuck_at_end": bool(res.stuck[-1]),
-    }
+        params = paper_actuator().with_link() if args.link else paper_actuator()
+        comp = _compensator(args, scale, params.coulomb, params.coulomb)
+        res = simulate(params, _controller(args, params), comp, duration=args.duration,
+                       plant=args.plant or "rigid",
+                       friction=params.friction_model().scaled(args.friction_scale))
+        summary, units = _paper_summary(res, args.duration), None
     if args.csv:
-        res.to_run(source="fricctl simulate").to_csv(args.csv)
+        Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
+            source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
+            units=units or "rotary").to_csv(args.csv)
     if args.figure:
-        import matplotlib.pyplot as plt
+        _figure(res, args.figure, units)
+    if args.c_source:
+        from ..nn.c_export import c_header, c_source
 
-        from .. import figures
-
-        fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
-        figures.plot_response(res, ax=a)
-        figures.plot_stuck(res, ax=a)
-        figures.plot_torques(res, ax=b)
-        fig.savefig(args.figure, dpi=110)
-        plt.close(fig)
+        c = Path(args.c_source)
+        net = comp.estimator
+        c.write_text(c_source(net, name=c.stem, units=units or "rotary"), encoding="utf-8")
+        c.with_suffix(".h").write_text(c_header(net, name=c.stem, units=units or "rotary"),
+                                       encoding="utf-8")
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(json.dumps(summary, indent=2, allow_nan=False))
     else:
         for k, v in summary.items():
             print(f"{k:26s} {v:.6g}" if isinstance(v, float) else f"{k:26s} {v}")
     return 0
+
+
+def _paper_summary(res, duration) -> dict:
+    return {
+        "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
+        "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
+        "final_error_rad": float(res.reference[-1] - res.q[-1]),
+        "steady_state_error_deg": math.degrees(res.steady_state_error(min(0.5, duration / 2))),
+        "max_abs_position_rad": float(np.max(np.abs(res.q))),
+        "stuck_intervals": len(res.stuck_intervals()),
+        "stuck_at_end": bool(res.stuck[-1]),
+    }

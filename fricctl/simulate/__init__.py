@@ -22,15 +22,17 @@ The loop (:mod:`fricctl.simulate.loop`, written once) runs compiled (numba) for 
 library's controllers and compensators, including a :class:`fricctl.nn.FrictionNet`;
 an arbitrary estimator callable is evaluated in Python between the same compiled
 steps (same results, slower).  :func:`simulate_batch` runs N parameter variants in
-one call; :func:`simulate_schedule` runs per-sample gains and references (the
+one call; :func:`simulate_model` runs the loop on a :class:`~fricctl.plant.JointModel`
+(your own actuator, its units, offset and delay); :func:`simulate_schedule` runs per-sample gains and references (the
 hidden-effect bench); :func:`replay` drives the plant alone with a recorded torque.
 """
 
 from __future__ import annotations
 
 from .api import (DEFAULT_SUBSTEPS, MAX_SAMPLES, Schedule, replay, simulate, simulate_batch,
-                  simulate_schedule)
+                  simulate_model, simulate_schedule)
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
 
 __all__ = ["SimResult", "BatchResult", "SimInfo", "ReplayResult", "Schedule", "simulate",
-           "simulate_batch", "simulate_schedule", "replay", "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
+           "simulate_batch", "simulate_model", "simulate_schedule", "replay", "DEFAULT_SUBSTEPS",
+           "MAX_SAMPLES"]

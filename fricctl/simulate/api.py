@@ -1,9 +1,11 @@
 """Public entry points of the sampled loop: :func:`simulate`, :func:`simulate_batch`,
-:func:`simulate_schedule` and :func:`replay` (see :mod:`fricctl.simulate` for the timing)."""
+:func:`simulate_model`, :func:`simulate_schedule` and :func:`replay` (see
+:mod:`fricctl.simulate` for the timing)."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from numba import njit
@@ -13,14 +15,14 @@ from ..compensators import Compensator, NoCompensation
 from ..controllers import Controller
 from ..friction import NPARAM, FrictionLaw, FrictionModel
 from ..params import ActuatorParams
-from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, RigidJoint
+from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, JointModel, RigidJoint
 from ..plant.joints import checked_state, checked_substeps
 from ..plant.kernels import advance, state_torque
 from .loop import OUTPUTS, run_compiled, run_python
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
 
-__all__ = ["simulate", "simulate_batch", "simulate_schedule", "replay", "Schedule",
-           "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
+__all__ = ["simulate", "simulate_batch", "simulate_model", "simulate_schedule", "replay",
+           "Schedule", "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
 
 #: Internal RK4 sub-intervals per sample, by plant kind.
 DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, LUGRE: 40}
@@ -227,6 +229,118 @@ def simulate(params: ActuatorParams, controller: Controller, compensator: Compen
     return simulate_batch(params, controller, compensator, duration=duration, friction=friction,
                           plant=plant, substeps=substeps, q0=q0, noise_std=noise_std, rng=rng,
                           delay=delay, quantize=quantize)[0]
+
+
+def simulate_model(model: JointModel, controller: Controller,
+                   compensator: Compensator | None = None, *, duration: float,
+                   friction: FrictionModel | None = None, substeps: int | None = None,
+                   q0: float = 0.0, noise_std: float = 0.0, rng: np.random.Generator | None = None,
+                   quantize: bool = True) -> SimResult:
+    """Simulate the sampled loop on a :class:`~fricctl.plant.JointModel` (your own actuator).
+
+    The same compiled loop as :func:`simulate`, with everything taken from the model:
+    the joint (rigid, or elastic when ``load_inertia > 0``), the sample time, the
+    encoder count, the torque limit, the delay (whole samples) and the constant
+    offset (the joint receives ``Tm - offset``).  Units follow the model: on a linear
+    axis positions are [m], torques forces [N], gains [N/m] and [N*s/m].
+
+    Parameters
+    ----------
+    model : JointModel
+        Needs ``sample_time``; ``encoder_resolution`` None means no quantisation and
+        ``max_torque`` None no saturation.
+    controller : Controller
+    compensator : Compensator, optional
+        Any :class:`~fricctl.compensators.Compensator` (default none); a
+        :class:`~fricctl.nn.FrictionNet` runs compiled, any other estimator in Python.
+    duration : float
+        Simulated time [s].
+    friction : FrictionModel, optional
+        The joint's true friction (default ``model.friction``).
+    substeps : int, optional
+        RK4 sub-intervals per sample (default by plant kind).
+    q0 : float
+        Initial position, at rest [rad] or [m].
+    noise_std : float
+        White torque noise at the joint [N*m] or [N]; needs ``rng``.
+    rng : numpy.random.Generator, optional
+    quantize : bool
+        Encoder quantisation (when the model has a resolution).
+
+    Returns
+    -------
+    SimResult
+        ``info.params`` is None; ``info.encoder_resolution`` 0 without quantisation.
+
+    Raises
+    ------
+    ValueError
+        The model has no sample time, or the run diverges (a non-finite state: an
+        unstable loop without a torque limit).
+
+    Examples
+    --------
+    >>> from fricctl.controllers import open_loop, constant
+    >>> from fricctl.data import paper_actuator_model
+    >>> m = paper_actuator_model()
+    >>> r = simulate_model(m, open_loop(constant(0.99 * 0.18)), duration=0.5)
+    >>> float(abs(r.q).max())          # 1 % below breakaway: no motion at all
+    0.0
+    """
+    v.instance("model", model, JointModel, "a fricctl.plant.JointModel")
+    v.instance("controller", controller, Controller)
+    comp = NoCompensation() if compensator is None else v.instance(
+        "compensator", compensator, Compensator)
+    if model.sample_time is None:
+        raise ValueError("sample_time: the model has none (null): set the controller's sample "
+                         "time in the model file")
+    ts = model.sample_time
+    nsamp = _samples(duration, ts, 1)
+    fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
+    joint = (replace(model, friction=fr)).joint()
+    a = joint.kernel_args()
+    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    res = model.encoder_resolution if v.flag("quantize", quantize) and model.encoder_resolution else 0.0
+    noise_std, noise = _noise(noise_std, rng, (1, nsamp))
+    if model.offset != 0.0:  # the joint receives Tm - offset: a constant term of the loop's noise
+        noise = np.broadcast_to(noise, (1, nsamp)) - model.offset
+    _check_drift(fr, 0.0, nsamp * ts)
+    t = np.arange(nsamp) * ts
+    plant_args = dict(kind=a.kind, fps=fr.vector().reshape(1, NPARAM),
+                      jm=np.array([a.motor_inertia]), jl=np.array([a.load_inertia]),
+                      kst=np.array([a.stiffness]), dmp=np.array([a.damping]))
+    loop_args = dict(ts=ts, substeps=substeps, res=np.array([res]),
+                     tmax=np.array([math.inf if model.max_torque is None else model.max_torque]),
+                     q0=np.array([v.real("q0", q0)]), delay=model.delay_samples(ts), noise=noise)
+    control = dict(ref=controller.reference(t)[None, :], ff=controller.feedforward(t)[None, :],
+                   kp=np.array([[controller.kp]]), kd=np.array([[controller.kd]]),
+                   segments=np.zeros((1, 1), dtype=np.bool_))
+    out, stuck = _outputs(1, nsamp)
+    compiled = comp.compiled()
+    if compiled is not None and np.all(np.isfinite(compiled.params)):
+        run_compiled(plant_args, loop_args, control,
+                     dict(kind=compiled.kind, params=compiled.params.reshape(1, -1),
+                          scale=np.array([comp.scale], dtype=float)), out, stuck)
+    elif compiled is not None:
+        raise ValueError("the compensator's parameters contain NaN or inf")
+    else:
+        run_python(plant_args, loop_args, control, [comp], np.array([comp.scale]), out, stuck)
+    # diverged: a non-finite record, or a position beyond what the encoder counts exactly
+    # (2**53 counts; the compiled floor() wraps there and would hide the divergence)
+    bad = ~np.all(np.isfinite(out[:, 0, :]), axis=0)
+    if res > 0:
+        bad |= ~(np.abs(out[0, 0, :]) <= 2.0 ** 53 * res)
+    if bad.any():
+        raise ValueError(f"the simulation diverged at t = {t[np.argmax(bad)]:g} s: the loop is "
+                         f"unstable; give the model a max_torque or change the controller or "
+                         f"the compensator")
+    info = SimInfo(params=None, friction_model=fr, controller=controller.name, kp=controller.kp,
+                   kd=controller.kd, compensator=comp.name, compensation_scale=comp.scale,
+                   plant={RIGID: "rigid", FLEXIBLE: "flexible", LUGRE: "rigid (LuGre)"}[a.kind],
+                   substeps=int(substeps), delay=int(loop_args["delay"]),
+                   noise_std=float(noise_std), encoder_resolution=float(res),
+                   loop="compiled" if compiled is not None else "python")
+    return SimResult(t=t, info=info, **{k: x[0] for k, x in _arrays(out, stuck).items()})
 
 
 class Schedule:
