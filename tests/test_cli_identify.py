@@ -73,3 +73,63 @@ def test_emps_csv_within_one_percent(tmp_path, capsys, data_dir):
     # published IDIM-LS values (Janot, Gautier & Brunot 2019, sec. 3.4), issue 4 asks 1 %
     for name, value in dict(inertia=95.1089, viscous=203.5034, coulomb=20.3935, offset=-3.1648).items():
         assert out["parameters"][name]["value"] == pytest.approx(value, rel=0.01), name
+
+
+# -- --out: the model file -------------------------------------------------------------------
+def test_out_writes_the_model_with_standard_errors(tmp_path, capsys):
+    from fricctl.identify import identify_run
+    from fricctl.plant import JointModel
+
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(path), "--out", str(out), "--max-torque", "1.5"]) == 0
+    assert f"model written to {out}" in capsys.readouterr().out
+    m = JointModel.load(out)
+    res = identify_run(Run.from_csv(path))  # the same fit through the library
+    p, std = res.parameters, dict(zip(res.names, res.std))
+    assert m.inertia == p["inertia"] and m.offset == p["offset"]
+    assert m.friction.viscous_pos == m.friction.viscous_neg == p["viscous"]
+    assert m.friction.coulomb_neg == p["coulomb"]
+    assert m.provenance["inertia"].std == std["inertia"]
+    assert m.provenance["friction.coulomb_pos"].std == std["coulomb"]
+    assert m.provenance["inertia"].source == "identified"
+    assert m.sample_time == pytest.approx(0.002, rel=1e-12) and m.max_torque == 1.5
+    assert m.provenance["max_torque"].source == "datasheet"
+    # the synthetic positions are analytic (no encoder grid): resolution unknown
+    assert m.encoder_resolution is None
+
+
+def test_out_is_refused_when_it_exists_or_is_the_input(tmp_path, capsys):
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    out.write_text("keep")
+    for argv, words in ((["--out", str(out)], "exists (use --force"),
+                        (["--out", str(path)], "is an input of this command"),
+                        (["--recipe", "idim_ls", "--border", "3"], "--border has no effect"),
+                        (["--max-torque", "-1"], "--max-torque must be a number > 0")):
+        assert main(["identify", str(path), *argv]) == 2
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1
+    assert out.read_text() == "keep"
+    assert main(["identify", str(path), "--out", str(out), "--force"]) == 0
+
+
+def test_emps_mat_idim_ls_reproduces_the_published_model(tmp_path, capsys, data_dir):
+    from fricctl.plant import JointModel
+
+    out = tmp_path / "emps.json"
+    assert main(["identify", str(data_dir / "emps" / "DATA_EMPS.mat"), "--recipe", "idim_ls",
+                 "--out", str(out), "--json"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    m = JointModel.load(out)
+    # published IDIM-LS (Janot, Gautier & Brunot 2019, sec. 3.4), printed with 4 decimals
+    for name, value, std in (("inertia", 95.1089, 0.1085), ("viscous", 203.5034, 1.1460),
+                             ("coulomb", 20.3935, 0.1012), ("offset", -3.1648, 0.0444)):
+        assert obj["parameters"][name]["value"] == pytest.approx(value, abs=5e-5), name
+        assert obj["parameters"][name]["std"] == pytest.approx(std, abs=5e-5), name
+    assert obj["recipe"] == "idim_ls" and obj["out"] == str(out)
+    assert m.units == "linear" and m.inertia == pytest.approx(95.1089, abs=5e-5)
+    assert m.provenance["friction.viscous_neg"].std == pytest.approx(1.1460, abs=5e-5)
+    # data README: 1 kHz, one encoder count = 5e-8 m
+    assert m.sample_time == pytest.approx(1e-3, rel=1e-6)
+    assert m.encoder_resolution == pytest.approx(5e-8, rel=1e-9)

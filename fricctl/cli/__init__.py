@@ -15,7 +15,7 @@ import sys
 import warnings
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
-SUBCOMMANDS = ("simulate", "design", "identify", "train", "reproduce", "diagnose")
+SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce", "diagnose")
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -1,19 +1,32 @@
-"""``fricctl identify RUN.csv``: fit a friction law to a measured record.
+"""``fricctl identify RUN``: fit a friction law to a measured record, write the model file.
 
-Reads a CSV record (header ``t,torque,position[,reference]``, see
-:class:`fricctl.datasets.Run`), estimates velocity and acceleration with the chosen
-estimator, drops the border samples and the samples at rest, and fits the law by
-inverse-dynamics least squares (CasADi + IPOPT).  Prints the estimates with
-standard errors in the IDIM-LS layout, or with ``--json`` one object:
+RUN is a CSV record (header ``t,torque,position[,reference]``, see
+:class:`fricctl.datasets.Run`) or a MATLAB file in the EMPS layout (``*.mat``,
+see :func:`fricctl.datasets.emps_file`).  ``--recipe plain`` (default) estimates
+velocity and acceleration with the chosen estimator, drops the border samples and
+the samples at rest, and fits the law by inverse-dynamics least squares (CasADi +
+IPOPT); ``--recipe idim_ls`` is the EMPS benchmark's IDIM-LS (Butterworth +
+central differences, decimation by 10; linear laws only).  Prints the estimates
+with standard errors in the IDIM-LS layout, or with ``--json`` one object:
 ``model, units, n_samples, parameters{name: {value, std, unit}}, fit_percent,
-relative_error_percent, residual_rms, condition_number, solver_status, estimator``.
-A bad CSV prints one line on stderr and exits with code 2.
+relative_error_percent, residual_rms, condition_number, solver_status, estimator,
+recipe, out``.
+
+``--out MODEL.json`` writes the identified model (:class:`fricctl.plant.JointModel`,
+version 2) with each value's standard error in ``provenance``, the record's
+sample time and encoder grid (null when the positions lie on none) and
+``--max-torque`` (null = unknown); ``design``, ``simulate`` and ``patterns`` read it.
+An existing file is kept unless ``--force``.  Bad input prints one line on stderr
+and exits with code 2.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
+
+_RECIPES = ("plain", "idim_ls")
 
 
 def register(subparsers) -> None:
@@ -22,35 +35,93 @@ def register(subparsers) -> None:
     from ..units import KINDS
 
     p = subparsers.add_parser(
-        "identify", help="fit a friction law to a measured record (CSV)",
+        "identify", help="fit a friction law to a measured record (CSV or EMPS .mat), "
+                         "write the model file",
         description=__doc__.split("\n\n", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("run", metavar="RUN.csv", help="record with header t,torque,position[,reference]")
+    p.add_argument("run", metavar="RUN", help="record: CSV with header t,torque,position"
+                                              "[,reference], or an EMPS-layout .mat file")
     p.add_argument("--model", choices=tuple(MODELS), default="coulomb_viscous",
                    help="friction law (default coulomb_viscous: inertia, viscous, Coulomb, offset)")
-    p.add_argument("--estimator", choices=tuple(ESTIMATORS), default="butterworth_central",
-                   help="velocity/acceleration estimator (default butterworth_central, "
-                        "cut-off a fifth of the Nyquist frequency)")
+    p.add_argument("--recipe", choices=_RECIPES, default="plain",
+                   help="plain: estimator + least squares (default); idim_ls: the EMPS "
+                        "benchmark's IDIM-LS (Butterworth 100 Hz, decimation by 10)")
+    p.add_argument("--estimator", choices=tuple(ESTIMATORS), default=None,
+                   help="plain recipe: velocity/acceleration estimator (default "
+                        "butterworth_central, cut-off a fifth of the Nyquist frequency)")
     p.add_argument("--units", choices=KINDS, default=None,
                    help="override the record's '# units:' line")
-    p.add_argument("--border", type=int, default=50, metavar="N",
-                   help="samples dropped at each end (default 50)")
+    p.add_argument("--border", type=int, default=None, metavar="N",
+                   help="plain recipe: samples dropped at each end (default 50)")
+    p.add_argument("--max-torque", type=float, default=None, metavar="TMAX",
+                   help="torque (force) limit of the drive [N*m or N] for the model file "
+                        "(datasheet); default unknown (null)")
+    p.add_argument("--out", type=Path, default=None, metavar="MODEL.json",
+                   help="write the identified model (fricctl.joint_model, version 2)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    from ..datasets import Run
-    from ..identify import identify_run
+def identified_model(result, record, *, recipe: str, max_torque: float | None = None):
+    """The :class:`~fricctl.plant.JointModel` of an identification of ``record``.
 
-    record = Run.from_csv(args.run, units=args.units)
-    result = identify_run(record, model=args.model, estimator=args.estimator, border=args.border)
+    Every identified value carries its standard error; the sample time and the
+    encoder grid come from the record (:meth:`fricctl.datasets.Run.encoder_grid`).
+    """
+    from ..plant.model import JointModel, Provenance
+
+    grid = record.encoder_grid()
+    where = f"{record.source}, {record.n_samples} samples at {record.sample_time:g} s"
+    prov = {"sample_time": Provenance(source="measured", note=f"sample time of {where}"),
+            "encoder_resolution": Provenance(
+                source="measured", note="smallest position step of the record; every position "
+                                        "lies on its grid" if grid else
+                "the record's positions lie on no encoder grid: unknown")}
+    if max_torque is not None:
+        prov["max_torque"] = Provenance(source="datasheet", note="given as --max-torque")
+    note = (f"{'IDIM-LS' if recipe == 'idim_ls' else 'inverse-dynamics least squares'} "
+            f"({result.model}) on {where}; std = sigma*sqrt(diag((J^T J)^-1))")
+    return JointModel.from_estimates(
+        result.parameters, std=dict(zip(result.names, map(float, result.std))),
+        units=record.units, source=f"fricctl identify: {result.model} on {record.source}",
+        note=note, sample_time=record.sample_time, encoder_resolution=grid,
+        max_torque=max_torque, provenance=prov)
+
+
+def run(args) -> int:
+    from ..datasets import load_record
+    from ..identify import identify_run, idim_ls
+    from ._output import check_outputs
+
+    check_outputs({"--out": args.out}, [args.run], force=args.force)
+    if args.max_torque is not None and not args.max_torque > 0:
+        raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
+    record = load_record(args.run, units=args.units)
+    if args.recipe == "idim_ls":
+        given = [o for o, x in (("--estimator", args.estimator), ("--border", args.border))
+                 if x is not None]
+        if given:
+            raise ValueError(f"{', '.join(given)} has no effect with --recipe idim_ls (its "
+                             f"estimator and border are the EMPS recipe's)")
+        result = idim_ls(record, model=args.model)
+        estimator = "butterworth_central"
+    else:
+        estimator = args.estimator or "butterworth_central"
+        result = identify_run(record, model=args.model, estimator=estimator,
+                              border=50 if args.border is None else args.border)
+    if args.out is not None:
+        identified_model(result, record, recipe=args.recipe,
+                         max_torque=args.max_torque).save(args.out, overwrite=args.force)
     if args.json:
         out = result.as_dict()
-        out["estimator"] = args.estimator
-        print(json.dumps(out, indent=2))
+        out.update(estimator=estimator, recipe=args.recipe,
+                   out=None if args.out is None else str(args.out))
+        print(json.dumps(out, indent=2, allow_nan=False))
     else:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s, "
-              f"estimator {args.estimator}")
+              f"{'recipe idim_ls' if args.recipe == 'idim_ls' else 'estimator ' + estimator}")
         print(result.report())
+        if args.out is not None:
+            print(f"model written to {args.out}")
     return 0
