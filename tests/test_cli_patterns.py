@@ -1,0 +1,120 @@
+"""``fricctl patterns``: friction patterns from records, for ``fricctl train``."""
+
+import json
+
+import numpy as np
+import pytest
+
+from fricctl.cli import main
+from fricctl.datasets import Run, read_patterns, record_patterns
+from fricctl.friction import Coulomb, Viscous
+from fricctl.plant import JointModel
+
+
+def _model(tmp_path, **kw):
+    args = dict(inertia=0.25, friction=(Viscous(0.02) + Coulomb(0.1)).model(), units="rotary",
+                sample_time=0.002, encoder_resolution=1e-4)
+    args.update(kw)
+    return JointModel(**args).save(tmp_path / "model.json")
+
+
+def _record(tmp_path, name="run.csv", units="rotary"):
+    # 200 samples at rest under 0.3 N*m, then a = 2 rad/s^2 under 1 N*m, on a 1e-4 rad grid
+    n, ts = 600, 0.002
+    t = np.arange(n) * ts
+    tau = np.r_[np.full(200, 0.3), np.full(n - 200, 1.0)]
+    q = 1e-4 * np.round(np.where(np.arange(n) < 200, 0.0, (t - t[199]) ** 2) / 1e-4)
+    return Run(t=t, torque=tau, position=q, units=units, source=name).to_csv(tmp_path / name)
+
+
+def test_patterns_file_is_the_library_recipe(tmp_path, capsys):
+    model, rec = _model(tmp_path), _record(tmp_path)
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(rec), str(rec), "--model", str(model), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    tab = read_patterns(out)
+    ref = record_patterns([Run.from_csv(rec)] * 2, inertia=0.25, estimator="polynomial_segments",
+                          estimator_options={"window": 50, "overlap": 25})
+    for name in ("tm", "omega", "friction", "at_rest"):  # the same numbers, written exactly
+        np.testing.assert_array_equal(getattr(tab.patterns, name), getattr(ref, name))
+    # meta: units and one encoder count per sample, 1e-4 rad / 0.002 s = 0.05 rad/s
+    assert tab.patterns.units == "rotary" and tab.patterns.velocity_quantum == pytest.approx(0.05)
+    assert tab.meta["estimator"] == "polynomial_segments (window=50, overlap=25)"
+    assert tab.meta["inertia"].startswith("0.25 (from model.json)")
+    # at rest by hand: the first motion samples stay below half a count (4e-6 k^2 < 5e-5 for
+    # k <= 3), so the encoder reads 0 up to sample 202; at rest are samples 2..200 (two equal
+    # readings each side), 5..200 after the 5-sample border: 196 per record
+    n_rest = 2 * 196
+    assert int(tab.patterns.at_rest.sum()) == n_rest
+    assert f"1180 patterns from 2 record(s)" in text and f"at rest: {n_rest} patterns" in text
+    # at rest the friction is the reaction Tm (polynomial segments report zero acceleration)
+    np.testing.assert_array_equal(tab.patterns.friction[tab.patterns.at_rest], 0.3)
+
+
+def test_json_and_held_out_net(tmp_path, capsys):
+    from fricctl.nn import FrictionNet, fit_report, save_net
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
+                      envelope_low=[-1, -1], envelope_high=[1, 1])
+    netp = save_net(net, tmp_path / "net.json")
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(_record(tmp_path)), "--model", str(_model(tmp_path)),
+                 "--out", str(out), "--net", str(netp), "--json",
+                 "--estimator", "savitzky_golay"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    p = read_patterns(out).patterns
+    ref = fit_report(p.friction, net=net, tm=p.tm, omega=p.omega)
+    assert obj["net"] == ref.as_dict() and obj["n_patterns"] == len(p) == 590
+    assert obj["estimator"] == "savitzky_golay" and obj["units"] == "rotary"
+    assert obj["friction_rms"] == pytest.approx(float(np.sqrt(np.mean(p.friction ** 2))))
+
+
+def test_linear_units_follow_the_model(tmp_path, capsys):
+    model = _model(tmp_path, units="linear", inertia=95.0, encoder_resolution=5e-8,
+                   sample_time=0.001)
+    rec = _record(tmp_path, units="linear")
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(rec), "--model", str(model), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "I = 95 kg" in text and "velocity quantum 5e-05 m/s" in text
+    assert "# columns: tm [N], omega [m/s], friction [N], at_rest [0/1]" in out.read_text()
+
+
+def test_a_record_that_never_rests_says_so(tmp_path, capsys):
+    t = np.arange(300) * 0.002
+    rec = Run(t=t, torque=np.ones(300), position=np.sin(t) + t).to_csv(tmp_path / "moving.csv")
+    assert main(["patterns", str(rec), "--model", str(_model(tmp_path)),
+                 "--out", str(tmp_path / "p.csv")]) == 0
+    text = capsys.readouterr().out
+    assert "at rest: 0 patterns" in text and "no pattern at rest" in text
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--out", "{rec}"], "is an input of this command"),
+    (["--out", "{model}"], "is an input of this command"),
+    (["--out", "{existing}"], "exists (use --force"),
+    (["--out", "{tmp}/p.csv", "--border", "-1"], "border must be an integer >= 0"),
+    (["--out", "{tmp}/p.csv", "--guard", "0"], "guard must be an integer >= 1"),
+])
+def test_bad_input_one_line(tmp_path, capsys, argv, words):
+    rec, model = _record(tmp_path), _model(tmp_path)
+    existing = tmp_path / "old.csv"
+    existing.write_text("keep")
+    fmt = dict(rec=rec, model=model, existing=existing, tmp=tmp_path)
+    assert main(["patterns", str(rec), "--model", str(model),
+                 *[a.format(**fmt) for a in argv]]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1, err
+    assert existing.read_text() == "keep"
+
+
+def test_units_mismatch_and_missing_model(tmp_path, capsys):
+    rec = _record(tmp_path, units="linear")
+    assert main(["patterns", str(rec), "--model", str(_model(tmp_path)),
+                 "--out", str(tmp_path / "p.csv")]) == 2
+    assert "a linear record for a rotary model" in capsys.readouterr().err
+    assert main(["patterns", str(rec), "--model", str(tmp_path / "none.json"),
+                 "--out", str(tmp_path / "p.csv")]) == 2
+    assert "no such model file" in capsys.readouterr().err
+    assert not (tmp_path / "p.csv").exists()
