@@ -14,7 +14,9 @@ $(BIN)/fricctl: pyproject.toml
 	touch $@
 
 reproduce: $(BIN)/fricctl
-	MPLBACKEND=Agg $(BIN)/fricctl reproduce --out $(OUT)
+	# --force: `make reproduce` is the request to (re)write $(OUT); fricctl reproduce alone refuses
+	# a non-empty folder (it replaces only the files an earlier run wrote there)
+	MPLBACKEND=Agg $(BIN)/fricctl reproduce --seeds 10 --out $(OUT) --force
 
 test: $(BIN)/fricctl
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q

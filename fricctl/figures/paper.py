@@ -22,6 +22,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..paper import SweepResult, paper_figures
+from ..paper.coast import CoastResult
+from ..paper.runaway import LINEAR_TOLERANCE
 from ..paper.fig04 import Fig4Result
 from ..paper.fig05 import Fig5Result
 from ..paper.fig08 import Fig8Result
@@ -41,7 +43,7 @@ from .network import plot_fit
 
 __all__ = ["plot_fig4", "plot_fig5", "plot_fig8", "plot_fig9", "plot_fig10", "plot_fig11",
            "plot_fig12", "plot_fig13", "plot_fig14", "plot_fig16", "plot_fig17", "plot_fig18",
-           "plot_sweep", "PAPER_PLOTS", "paper_plot"]
+           "plot_sweep", "plot_coast", "PAPER_PLOTS", "paper_plot"]
 
 _DEG = 180.0 / np.pi
 
@@ -152,6 +154,8 @@ def plot_fig9(result: Fig9Result, ax=None):
     for a, run, name, sticks in ((a0, result.without, "without compensation", result.sticks_without),
                                  (a1, result.with_nn, "with NN compensation", result.sticks_with)):
         a.plot(run.t, run.omega, label="velocity ω")
+        if run is result.with_nn:
+            a.plot(result.linear.t, result.linear.omega, "k--", lw=1, label="linear viscous actuator")
         for i, (s, e) in enumerate(sticks):
             a.axvspan(s, e, color="tab:red", alpha=0.15, lw=0, label="stuck" if i == 0 else None)
         a.set_xlabel("time t [s]")
@@ -194,8 +198,8 @@ def plot_fig12(result: Fig12Result, ax=None):
     """P step with NN compensation against the linear viscous simulation, dashed (Fig. 12)."""
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "k--", label="linear viscous simulation")
-    _position(ax, result.run, "NN compensation (paper)")
-    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label="NN - b·ω (extra)")
+    _position(ax, result.run, "NN compensation")
+    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label="estimate - b·ω (extra)")
     ax.plot(result.ideal.t, _DEG * result.ideal.q, lw=0.8, ls="-.", color="0.4",
             label="ideal estimate (extra)")
     ax.plot(result.ideal_no_viscous.t, _DEG * result.ideal_no_viscous.q, lw=0.8, ls=":", color="C2",
@@ -300,3 +304,27 @@ def plot_sweep(result: SweepResult, ax=None):
                  fontsize="small")
     return ax
 
+
+def plot_coast(result: CoastResult, ax=None):
+    """The coast test: velocity after a torque pulse, against the viscous decay it must stay under."""
+    _check(result, CoastResult)
+    ax = get_ax(ax)
+    r = result.run
+    ax.plot(r.t, r.omega, label="velocity ω, compensated")
+    ax.plot(result.linear.t, result.linear.omega, "k--", lw=1, label="linear viscous actuator")
+    after = r.t >= result.t_end - 1e-12
+    w0 = abs(result.omega_end)
+    fm = r.info.friction_model
+    b = min(fm.viscous_pos, fm.viscous_neg) * fm.scale
+    decay = np.exp(-(b / r.info.params.total_inertia) * (r.t[after] - result.t_end))
+    env = w0 * decay + LINEAR_TOLERANCE * w0
+    sign = 1.0 if result.omega_end >= 0 else -1.0
+    ax.plot(r.t[after], sign * env, color="C3", ls=":",
+            label=f"allowed: viscous decay + {100 * LINEAR_TOLERANCE:.0f} %")
+    ax.axvline(result.t_end, color="0.5", lw=0.8, ls="-.", label="pulse ends")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("velocity ω [rad/s]")
+    ax.set_title(f"coast test (extra): {result.pulse_torque:.2f} N·m for {result.pulse_duration:g} s, then "
+                 f"Tc = 0: {'decays' if result.passed else 'RUNS AWAY'}", fontsize="small")
+    ax.legend(loc="best", fontsize="small")
+    return ax

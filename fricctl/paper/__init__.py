@@ -4,17 +4,25 @@ Gervini, Gomes & da Rosa (2003) show their results in Figs. 4-18.  Each
 ``figN(network)`` below re-runs the experiment of figure N on the virtual bench
 (deterministic: every random draw comes from ``network.seed``) and returns a
 frozen result; :mod:`fricctl.figures.paper` draws it.  All figures share one
-trained network, :func:`train_paper_network` (the paper's pipeline run once:
-Table-2-style experiments -> friction patterns with the paper's polynomial
-velocity estimator -> 2-4-1 network).
+trained network, :func:`train_paper_network` (a training pipeline run once:
+Table-2-style experiments -> friction patterns with the polynomial velocity
+estimator -> 2-4-1 network), of either pipeline: ``"paper"`` (the literal recipe)
+or ``"fricctl"`` (the fix, :mod:`fricctl.nn.pipelines`).  Compensated runs use
+``network.compensator(s)``; whatever needs the full friction estimate uses
+``network.estimate(Tm, omega)``.
 
 :func:`paper_claims` turns the results into :class:`Claim` rows: the paper's
-words, the paper's value, the value measured here and pass/fail, each with an
-explicit tolerance in its text.  A claim that the bench does not reproduce is
-reported as failing, with the physical reason in ``note``; nothing is tuned to
-make a claim pass.  :func:`robustness_sweep` maps where NN compensation keeps
+words, the paper's value, the value measured here (a sentence and the number the
+criterion thresholds) and pass/fail, each with an explicit tolerance in its text.
+A claim that the bench does not reproduce is reported as failing, with the
+physical reason in ``note``; nothing is tuned to make a claim pass.  A claim whose
+measurement involves compensation also requires the runaway checks of
+:mod:`~fricctl.paper.runaway` (no wind-up, reversal under a sinusoidal torque,
+the network's coast test, :mod:`~fricctl.paper.coast`): no claim passes by a
+joint that runs away.  :func:`robustness_sweep` maps where NN compensation keeps
 the PD steady-state error below 0.3 deg over friction scale and link inertia.
-:func:`reproduce_paper` runs everything (``fricctl reproduce``).
+:func:`reproduce_paper` runs everything over training seeds and pipelines, and
+aggregates the claims (:mod:`~fricctl.paper.table`; ``fricctl reproduce``).
 
 Assumptions (the paper does not give these; labelled as such in the results):
 
@@ -37,9 +45,13 @@ Modules
   claim makers and its registry entry ``FIGURE = PaperFigure(...)``;
 * :mod:`~fricctl.paper.registry` -- :class:`PaperFigure`, :func:`paper_figures`
   (the entries of every ``figNN`` module, found by name);
-* :mod:`~fricctl.paper.claims` -- :class:`Claim`, :func:`paper_claims` and the table;
+* :mod:`~fricctl.paper.claims` -- :class:`Claim`, :func:`gate`, :func:`paper_claims`;
+* :mod:`~fricctl.paper.runaway` -- :class:`RunawayCheck`, :func:`wind_up`,
+  :func:`reversal`, :func:`coast_decay`;
+* :mod:`~fricctl.paper.coast` -- the coast test, one per network (not a paper figure);
+* :mod:`~fricctl.paper.table` -- :class:`ClaimStats` over seeds, ``claims.md``/``claims.json``;
 * :mod:`~fricctl.paper.sweep` -- :func:`robustness_sweep`;
-* :mod:`~fricctl.paper.reproduce` -- :func:`reproduce_paper`.
+* :mod:`~fricctl.paper.reproduce` -- :func:`reproduce_paper` (seeds x pipelines).
 
 Adding a figure: write ``fricctl/paper/figNN.py`` (result, ``run``, claim makers,
 ``FIGURE``) and its plot (``@paper_plot(NN)`` in :mod:`fricctl.figures.paper`);
@@ -58,19 +70,24 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-from .claims import EXTRA, Claim, claims_json, claims_markdown, claims_summary, is_extra, paper_claims
+from . import coast
+from .claims import EXTRA, Claim, claims_summary, gate, is_extra, paper_claims
 from .common import (ACCURACY_DEG, AGED_SCALE, STICK_MIN_DURATION, restarts, sign_changes,
                      stick_intervals_after_motion)
 from .network import PaperNetwork, train_paper_network
 from .registry import PaperFigure, paper_figures
-from .reproduce import PaperResults, reproduce_paper
+from .reproduce import PaperResults, SeedRun, reproduce_paper, seed_run
+from .runaway import RunawayCheck, coast_decay, reversal, wind_up
 from .sweep import SweepResult, robustness_sweep
+from .table import HOLD_RATE, ClaimStats, aggregate_claims, claims_json, claims_markdown, representative_seed
 
 __all__ = [
     "PaperNetwork", "train_paper_network",
     "FIGURES", "PaperFigure", "paper_figures", "SweepResult", "robustness_sweep",
-    "Claim", "paper_claims", "claims_markdown", "claims_json", "claims_summary", "is_extra", "EXTRA",
-    "PaperResults", "reproduce_paper",
+    "Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA",
+    "RunawayCheck", "wind_up", "reversal", "coast_decay", "coast",
+    "ClaimStats", "aggregate_claims", "representative_seed", "claims_markdown", "claims_json", "HOLD_RATE",
+    "PaperResults", "SeedRun", "seed_run", "reproduce_paper",
     "stick_intervals_after_motion", "restarts", "sign_changes",
     "ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE",
 ]

@@ -1,23 +1,27 @@
-"""Claims of the paper checked on the bench, and the claims table (``claims.md``, ``claims.json``).
+"""Claims of the paper checked on the bench for one network.
 
 A :class:`Claim` row holds the paper's words (with the tolerance used here made
-explicit), the paper's value, the value measured here and pass/fail; a claim the
-bench does not reproduce fails, with the physical reason in ``note``.  The claim
-makers live with their figure (``figNN.py``); :func:`paper_claims` reaches them
-through the figure registry.
+explicit), the paper's value, the value measured here (a sentence, and the number
+the criterion thresholds) and pass/fail; a claim the bench does not reproduce fails,
+with the physical reason in ``note``.  A claim whose measurement involves the
+network's compensation also requires the runaway checks of
+:mod:`fricctl.paper.runaway` (:func:`gate`).  The claim makers live with their figure
+(``figNN.py``); :func:`paper_claims` reaches them through the figure registry.  The
+table over seeds and pipelines (``claims.md``, ``claims.json``) is
+:mod:`fricctl.paper.table`.
 """
 
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass
+import math
+from dataclasses import dataclass, fields, replace
 
 from .. import _validate as v
 from ..params import ActuatorParams, paper_actuator
 from .registry import paper_figures
+from .runaway import RunawayCheck
 
-__all__ = ["Claim", "paper_claims", "claims_markdown", "claims_json", "claims_summary", "is_extra",
-           "EXTRA"]
+__all__ = ["Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA"]
 
 #: The ``paper`` value of a check of ours that is not a claim of the paper.
 EXTRA = "not in the paper"
@@ -25,17 +29,23 @@ EXTRA = "not in the paper"
 
 @dataclass(frozen=True, kw_only=True)
 class Claim:
-    """One claim of the paper checked on the bench.
+    """One claim of the paper checked on the bench, for one network.
 
     Attributes
     ----------
     id : short identifier
     claim : the paper's words, with the tolerance used here made explicit
     paper : the paper's value (:data:`EXTRA` for a check of ours)
-    measured : the value measured here (with units)
-    passed : whether the measured value meets the claim as stated
+    measured : the value measured here, as a sentence (with units)
+    passed : whether the measured value meets the claim as stated and, for a claim whose
+        measurement involves compensation, every runaway check in ``checks`` passes
     figure : the figure it belongs to, e.g. "Fig. 9"
+    value : the number the claim's criterion thresholds, in ``unit`` (``nan`` where it is
+        undefined, ``inf`` where it is unbounded; ``note`` then says why)
+    unit : the unit of ``value`` (``"deg"``, ``"%"``, ``"counts"``, ``"-"`` ...)
     note : why it fails (or what to know when it passes)
+    checks : the runaway checks the claim required (:func:`gate`), empty for a claim
+        without compensation
     """
 
     id: str
@@ -44,16 +54,67 @@ class Claim:
     measured: str
     passed: bool
     figure: str
+    value: float
+    unit: str
     note: str = ""
+    checks: tuple = ()
 
     def __post_init__(self):
-        for name in ("id", "claim", "paper", "measured", "figure", "note"):
+        for name in ("id", "claim", "paper", "measured", "figure", "unit", "note"):
             v.text(f"Claim.{name}", getattr(self, name))
+        object.__setattr__(self, "value", v.real("Claim.value", self.value, finite=False))
         # numpy comparisons give numpy.bool_, which JSON does not accept
         object.__setattr__(self, "passed", bool(self.passed))
+        checks = v.instance("Claim.checks", self.checks, tuple, "a tuple")
+        for c in checks:
+            v.instance("Claim.checks", c, RunawayCheck, "a tuple of RunawayCheck")
+        if self.passed and any(not c.passed for c in checks):
+            raise ValueError(f"claim {self.id} passes with a failed runaway check: use gate()")
+
+    @property
+    def runaway(self) -> bool:
+        """True when one of the runaway checks the claim required failed."""
+        return any(not c.passed for c in self.checks)
 
     def as_dict(self) -> dict:
-        return asdict(self)
+        """JSON-ready: the fields, ``value`` None where it is not finite, the checks as objects."""
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "checks"}
+        d["value"] = self.value if math.isfinite(self.value) else None
+        d["checks"] = [c.as_dict() for c in self.checks]
+        return d
+
+
+def gate(claim: Claim, checks) -> Claim:
+    """``claim`` with the runaway checks it requires: it fails if any of them fails.
+
+    A claim whose measurement involves the network's compensation holds only if the
+    compensated joint followed its control torque (:mod:`fricctl.paper.runaway`).  A
+    failed check makes the claim fail, with ``"runaway: <reason>"`` first in its note
+    (followed by the claim's own note, if its own criterion failed too).
+
+    Parameters
+    ----------
+    claim : Claim
+        As its maker judged it on its own criterion (no checks yet).
+    checks : iterable of RunawayCheck
+
+    Returns
+    -------
+    Claim
+    """
+    v.instance("claim", claim, Claim)
+    checks = tuple(checks)
+    for c in checks:
+        v.instance("checks", c, RunawayCheck, "RunawayCheck objects")
+    failed = [c for c in checks if not c.passed]
+    if not failed:
+        return replace(claim, checks=claim.checks + checks)
+    runaway = "runaway: " + "; ".join(c.reason.removeprefix("runaway: ") for c in failed) + "."
+    if claim.passed:
+        note = runaway + " Its own criterion was met, by a joint that did not follow its control torque."
+    else:
+        note = runaway + (" " + claim.note if claim.note else "")
+    return replace(claim, passed=False, note=note, checks=claim.checks + checks)
 
 
 def is_extra(claim: Claim) -> bool:
@@ -85,34 +146,3 @@ def paper_claims(figures: dict, params: ActuatorParams | None = None) -> list[Cl
         if num in registry:
             out += registry[num].make_claims(figures[num], p)
     return out
-
-
-def _md(s: str) -> str:
-    return s.replace("|", "\\|").replace("\n", " ")
-
-
-def claims_markdown(claims, *, title: str = "Claims of Gervini, Gomes & da Rosa (2003) on the virtual bench",
-                    preamble: str = "") -> str:
-    """``claims.md``: the table, a summary line and the "not reproduced, and why" section."""
-    claims = list(claims)
-    lines = [f"# {title}", ""]
-    if preamble:
-        lines += [preamble, ""]
-    lines += [f"**{claims_summary(claims)}.**", "",
-              "| id | claim | paper | measured | pass/fail | figure |", "|---|---|---|---|---|---|"]
-    for c in claims:
-        lines.append(f"| {c.id} | {_md(c.claim)} | {_md(c.paper)} | {_md(c.measured)} | "
-                     f"{'pass' if c.passed else '**FAIL**'} | {c.figure} |")
-    failed = [c for c in claims if not c.passed]
-    lines += ["", "## Not reproduced, and why", ""]
-    lines += [f"- **{c.id}** ({c.figure}): {c.note}" for c in failed] or ["Every claim was reproduced."]
-    notes = [c for c in claims if c.passed and c.note]
-    if notes:
-        lines += ["", "## Notes on claims that pass", ""]
-        lines += [f"- **{c.id}** ({c.figure}): {c.note}" for c in notes]
-    return "\n".join(lines) + "\n"
-
-
-def claims_json(claims) -> str:
-    """``claims.json``: a list of objects with id, claim, paper, measured, passed, figure (and note)."""
-    return json.dumps([c.as_dict() for c in claims], indent=2)

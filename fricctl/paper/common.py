@@ -6,6 +6,7 @@ stick-slip cycles, sign changes).
 from __future__ import annotations
 
 import functools
+import threading
 import warnings
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -15,7 +16,7 @@ import numpy as np
 
 from .. import _validate as v
 from .. import controllers as ctl
-from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
+from ..compensators import CoulombCompensator, NoCompensation
 from ..design import Design, DesignWarning, linear_response, paper_designs
 from ..params import ActuatorParams
 from ..simulate import SimResult, simulate
@@ -23,7 +24,7 @@ from .network import PaperNetwork
 
 __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "designs",
            "stick_intervals_after_motion", "restarts", "sign_changes", "last_window", "deg",
-           "StepRun", "step_run", "LinkRuns", "link_runs"]
+           "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction"]
 
 #: The paper's steady-state accuracy, Fig. 14 ("less than 0.3 deg") [deg].
 ACCURACY_DEG = 0.3
@@ -113,13 +114,53 @@ class StepRun:
     linear: np.ndarray
 
 
+def read_only(*arrays_or_runs) -> None:
+    """Make arrays (or every array of frozen results) read-only.
+
+    For results that several figure results share (the memoised runs below): nobody can
+    change what the next caller gets.
+    """
+    for x in arrays_or_runs:
+        items = [x] if isinstance(x, np.ndarray) else list(vars(x).values())
+        for a in items:
+            if isinstance(a, np.ndarray):
+                a.setflags(write=False)
+
+
+_LINEAR: dict = {}
+_LINEAR_LOCK = threading.Lock()
+
+
+def linear_prediction(design: Design, run: SimResult, key: tuple) -> np.ndarray:
+    """The sampled linear viscous loop's response to ``run``'s reference (read-only, memoised).
+
+    It depends only on the design and the reference, not on the network, so every network
+    of a process shares it (one python-control simulation, ~0.15 s, instead of one per
+    figure and network).  ``key`` names the reference (e.g. ``("step", 0.52)``); the
+    design is keyed by identity (the designs of :func:`designs` are cached and immutable)
+    and the time grid by its length and step.
+    """
+    k = (id(design), key, run.t.size, float(run.t[1] - run.t[0]) if run.t.size > 1 else 0.0)
+    with _LINEAR_LOCK:
+        hit = _LINEAR.get(k)
+    if hit is not None and hit[0] is design:
+        return hit[1]
+    lin = linear_response(design, run.t, run.reference, sampled=True)
+    read_only(lin)
+    with _LINEAR_LOCK:
+        if len(_LINEAR) > 256:  # a bound: a long-lived process with many designs starts again
+            _LINEAR.clear()
+        _LINEAR[k] = (design, lin)  # holding the design keeps its id from being reused
+    return lin
+
+
 def step_run(params: ActuatorParams, design: Design, step_rad: float, compensator, duration: float,
              friction=None) -> StepRun:
     """A P (``design.kd == 0``) or PD step of ``step_rad`` [rad] with ``compensator``."""
     c = ctl.pd_control(design.kp, design.kd, ctl.step(step_rad)) if design.kd > 0 else \
         ctl.p_control(design.kp, ctl.step(step_rad))
     r = simulate(params, c, compensator, duration=duration, friction=friction)
-    return StepRun(run=r, linear=linear_response(design, r.t, r.reference, sampled=True))
+    return StepRun(run=r, linear=linear_prediction(design, r, ("step", float(step_rad))))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -128,7 +169,8 @@ class LinkRuns:
 
     Attributes
     ----------
-    runs : ``{"none", "NN x <s>", "Coulomb"}`` -> run
+    runs : ``{"none", "NN x <s>", "Coulomb"}`` -> run (NN: the pipeline's compensation,
+        :meth:`PaperNetwork.compensator`)
     design : the PD design used
     """
 
@@ -142,7 +184,7 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
     p = network.params.with_link()
     d = designs(network.params)[design_key]
     comps = {"none": NoCompensation(),
-             f"NN x {scale:g}": NNCompensator(network.net, scale=scale),
+             f"NN x {scale:g}": network.compensator(scale),
              "Coulomb": CoulombCompensator.symmetric(network.params.coulomb, scale=scale)}
     fr = p.friction_model().scaled(friction_scale)
     c = ctl.pd_control(d.kp, d.kd, reference)

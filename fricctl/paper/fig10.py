@@ -1,7 +1,12 @@
-"""Fig. 10: a sinusoid at 10 % of Tmax (inside the dead zone), and the dead zone itself."""
+"""Fig. 10: a sinusoid at 10 % of Tmax (inside the dead zone), and the dead zone itself.
+
+Both claims involve compensation and require the runaway checks of the 10 %-of-Tmax
+run (wind-up, reversal) and the network's coast test.
+"""
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -9,11 +14,14 @@ import numpy as np
 
 from .. import controllers as ctl
 from ..bench.experiments import DeadZone, DeadZonePrediction, dead_zone, predicted_dead_zone
-from ..compensators import NNCompensator, NoCompensation
+from ..compensators import NoCompensation
 from ..simulate import SimResult, simulate
-from .claims import Claim
+from . import coast as coast_test
+from .claims import Claim, gate
+from .common import deg, designs, read_only
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
+from .runaway import RunawayCheck, reversal, wind_up
 
 __all__ = ["Fig10Result", "run", "claim_dead_zone", "claim_fig10_motion", "FIGURE"]
 
@@ -28,6 +36,9 @@ class Fig10Result:
     dead_zone_without, dead_zone_with : measured dead zones (sinusoid batches)
     predicted : dead zone predicted from the net alone (DeadZonePrediction) [N*m]
     gain_at_rest : g of the net [-]
+    frequency : of the sinusoid [Hz]
+    wind_up, reversal : runaway checks of ``with_nn``
+    coast : the network's coast test
     """
 
     without: SimResult
@@ -36,6 +47,15 @@ class Fig10Result:
     dead_zone_with: DeadZone
     predicted: DeadZonePrediction
     gain_at_rest: float
+    frequency: float
+    wind_up: RunawayCheck
+    reversal: RunawayCheck
+    coast: coast_test.CoastResult
+
+    @property
+    def checks(self) -> tuple:
+        """The runaway checks both claims of this figure require."""
+        return (self.wind_up, self.reversal, self.coast.decay)
 
     @property
     def factor(self) -> float:
@@ -50,52 +70,69 @@ class Fig10Result:
         return fs / dz if dz > 0 else math.inf
 
 
+@functools.lru_cache(maxsize=4)
+def _uncompensated(params, fraction, frequency, duration):
+    """The run and the dead zone without compensation: the same for every network (memoised,
+    read-only)."""
+    c = ctl.open_loop(ctl.sinusoid(fraction * params.max_torque, frequency))
+    r0, dz = simulate(params, c, NoCompensation(), duration=duration), dead_zone(params)
+    read_only(r0, dz)
+    return r0, dz
+
+
 def run(network: PaperNetwork, *, fraction: float = 0.10, frequency: float = 1.0,
         duration: float = 3.0) -> Fig10Result:
     """Control vs motor torque at 10 % of Tmax with compensation, and the dead zones (Fig. 10)."""
     net = check_network(network)
     p = net.params
     c = ctl.open_loop(ctl.sinusoid(fraction * p.max_torque, frequency))
-    nn = NNCompensator(net.net)
-    return Fig10Result(without=simulate(p, c, NoCompensation(), duration=duration),
-                       with_nn=simulate(p, c, nn, duration=duration), dead_zone_without=dead_zone(p),
+    nn = net.compensator()
+    r1 = simulate(p, c, nn, duration=duration)
+    r0, dz0 = _uncompensated(p, float(fraction), float(frequency), float(duration))
+    return Fig10Result(without=r0, with_nn=r1, dead_zone_without=dz0,
                        dead_zone_with=dead_zone(p, nn), predicted=predicted_dead_zone(net.net, p.static),
-                       gain_at_rest=net.net.gain_at_rest())
+                       gain_at_rest=net.net.gain_at_rest(), frequency=float(frequency), wind_up=wind_up(r1),
+                       reversal=reversal(r1, 1.0 / frequency), coast=coast_test.run(net))
 
 
-def claim_dead_zone(r: Fig10Result, params=None) -> Claim:
+def claim_dead_zone(r: Fig10Result, params) -> Claim:
     f0 = r.dead_zone_without.fraction
     ok = abs(100 * f0 - 12.7) <= 1.0 and r.factor >= 4.0
-    return Claim(
+    floor = r.dead_zone_with.at_grid_floor
+    kp = designs(params)["fig13-14"].kp
+    band = r.dead_zone_with.dead_zone / kp
+    return gate(Claim(
         id="dead-zone", claim="The torque dead zone of 12.7 % of the maximum torque is reduced by NN "
         "compensation (here: uncompensated dead zone within 1 % of Tmax of 12.7 %, reduction factor >= 4)",
         paper="12.7 % of Tmax, factor ~6",
         measured=f"{100 * f0:.2f} % -> {100 * r.dead_zone_with.fraction:.2f} % of Tmax, factor "
-        f"{r.factor:.1f} (g = {r.gain_at_rest:.2f}; predicted from the net alone: factor "
-        f"{r.predicted_factor:.1f})", passed=ok, figure="Fig. 10",
+        f"{'>= ' if floor else ''}{r.factor:.1f} (g = {r.gain_at_rest:.3f}; predicted from the net alone: "
+        f"factor {r.predicted_factor:.1f})", passed=ok, figure="Fig. 10", value=r.factor, unit="x",
         note="The 12.7 % half holds by construction (Tmax is defined as Fs/0.127); the measured part is the "
         "factor, judged by the issue's >= 4 (the paper's ~6 is one run of one net). It is set by the net's "
         "gain at rest g: the stuck loop settles at Tm = Tc/(1 - g) while g < 1, and at the fixed point "
-        "Tm = Tc + T^at(Tm, 0) below Fs otherwise; g depends on the training seed and the estimator "
-        "window (Chapter 5), so the factor does too."
-        + ("" if ok else " Here it is below 4."))
+        "Tm = Tc + T^at(Tm, 0) below Fs otherwise. The trade-off: a residual dead zone DZ lets a stuck PD "
+        f"loop stop anywhere within +-DZ/Kp of the reference, here +-{deg(band):.3f} deg with Fig. 14's "
+        f"Kp = {kp:.3f} N*m/rad (the paper's ~6x would leave +-{deg(params.static / 6 / kp):.2f} deg, "
+        "above its own 0.3 deg)."
+        + (" The residual dead zone is at the measuring grid's floor (0.25 % of Tmax): the factor is a "
+           "lower bound." if floor else "")
+        + ("" if ok else " Here the factor is below 4.")), r.checks)
 
 
 def claim_fig10_motion(r: Fig10Result, params=None) -> Claim:
     c0, c1 = r.without.displacement_counts(), r.with_nn.displacement_counts()
     thr = r.dead_zone_with.threshold_counts
     ok = c0 <= thr < c1
-    return Claim(
+    return gate(Claim(
         id="fig10-motion", claim="A sinusoidal control torque of 10 % of Tmax, inside the dead zone, moves "
         f"the joint with compensation and not without (here: encoder motion > {thr} counts)",
         paper="moves with, still without",
         measured=f"{c0} counts without, {c1} counts with; peak |Tm| "
         f"{np.abs(r.with_nn.torque_motor).max():.3f} N*m for peak |Tc| "
-        f"{np.abs(r.with_nn.torque_cmd).max():.3f} N*m", passed=ok, figure="Fig. 10",
-        note=("the loop winds the motor torque up to several times the control torque (g > 1 at rest): the "
-              "joint moves, but it runs away rather than following the small control torque"
-              if ok and np.abs(r.with_nn.torque_motor).max() > 2 * np.abs(r.with_nn.torque_cmd).max() else
-              "" if ok else "the compensated motor torque stays below the breakaway level"))
+        f"{np.abs(r.with_nn.torque_cmd).max():.3f} N*m", passed=ok, figure="Fig. 10", value=c1,
+        unit="counts with",
+        note="" if ok else "the compensated motor torque stays below the breakaway level"), r.checks)
 
 
 FIGURE = PaperFigure(number=10, title="inside the dead zone: 10 % of Tmax, and the dead zones", run=run,

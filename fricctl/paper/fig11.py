@@ -55,6 +55,7 @@ def claim_fig11(r: Fig11Result, params=None) -> Claim:
         "joint stuck (here: |e_ss| >= half the step, joint at rest >= 90 % of the run)",
         paper="large error, stuck", measured=f"e_ss {deg(r.steady_state_error):.2f} deg, at rest "
         f"{100 * r.stuck_fraction:.0f} % of the time", passed=ok, figure="Fig. 11",
+        value=100 * abs(r.steady_state_error) / abs(step), unit="% of the step",
         note=f"Passes trivially: Kp*25 deg = {r.design.kp * abs(step):.3f} N*m is below the breakaway "
         f"level, so the joint never moves at all." if ok else "the joint moved")
 

@@ -7,13 +7,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import controllers as ctl
-from ..compensators import NNCompensator, NoCompensation
-from ..design import Design, linear_response
+from ..compensators import NoCompensation
+from ..design import Design
 from ..simulate import SimResult, simulate
-from .claims import EXTRA, Claim
-from .common import STICK_MIN_DURATION, designs, restarts
+from . import coast as coast_test
+from .claims import EXTRA, Claim, gate
+from .common import STICK_MIN_DURATION, designs, linear_prediction, restarts
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
+from .runaway import RunawayCheck, wind_up
 
 __all__ = ["Fig18Result", "run", "claim_fig18_without", "claim_fig18_with", "claim_fig18_extra",
            "FIGURE"]
@@ -35,6 +37,8 @@ class Fig18Result:
     extra_without : a larger, slower sawtooth (extra, not in the paper) without compensation
     extra_amplitude, extra_period : [rad], [s]
     extra_restarts : its stick-slip cycles [-]
+    wind_up : runaway check of ``with_nn``
+    coast : the network's coast test
     """
 
     without: SimResult
@@ -50,6 +54,8 @@ class Fig18Result:
     extra_amplitude: float
     extra_period: float
     extra_restarts: int
+    wind_up: RunawayCheck
+    coast: coast_test.CoastResult
 
 
 def run(network: PaperNetwork, *, amplitude: float = 0.1, period: float = 1.0, periods: int = 2,
@@ -60,8 +66,8 @@ def run(network: PaperNetwork, *, amplitude: float = 0.1, period: float = 1.0, p
     d = designs(net.params)["fig18"]
     c = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(amplitude, period))
     r0 = simulate(p, c, NoCompensation(), duration=periods * period)
-    r1 = simulate(p, c, NNCompensator(net.net), duration=periods * period)
-    lin = linear_response(d, r1.t, r1.reference, sampled=True)
+    r1 = simulate(p, c, net.compensator(), duration=periods * period)
+    lin = linear_prediction(d, r1, ("sawtooth", float(amplitude), float(period)))
     ce = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(extra_amplitude, extra_period))
     rx = simulate(p, ce, NoCompensation(), duration=extra_period)
     return Fig18Result(without=r0, with_nn=r1, linear=lin, design=d, amplitude=float(amplitude),
@@ -69,7 +75,7 @@ def run(network: PaperNetwork, *, amplitude: float = 0.1, period: float = 1.0, p
                        max_motion_without=float(np.abs(r0.q).max()),
                        rms_deviation_with=float(np.sqrt(np.mean((r1.q - lin) ** 2))), extra_without=rx,
                        extra_amplitude=float(extra_amplitude), extra_period=float(extra_period),
-                       extra_restarts=restarts(rx))
+                       extra_restarts=restarts(rx), wind_up=wind_up(r1), coast=coast_test.run(net))
 
 
 def claim_fig18_without(r: Fig18Result, params=None) -> Claim:
@@ -79,7 +85,7 @@ def claim_fig18_without(r: Fig18Result, params=None) -> Claim:
         f">= 2 rests of >= {1e3 * STICK_MIN_DURATION:.0f} ms followed by motion; period {r.period:g} s "
         "assumed)", paper="stick-slip",
         measured=f"{r.restarts_without} stick-slip cycles, peak |q| {r.max_motion_without:.2e} rad",
-        passed=ok, figure="Fig. 18",
+        passed=ok, figure="Fig. 18", value=r.restarts_without, unit="cycles",
         note="" if ok else f"With the Fig.-18 gain Kp = {r.design.kp:.3f} N*m/rad the whole "
         f"sawtooth asks for at most Kp*{r.amplitude:g} rad = {r.design.kp * r.amplitude:.3f} N*m, below the "
         "breakaway level: the joint never moves at all. Stick-slip does appear for a larger, slower "
@@ -90,14 +96,15 @@ def claim_fig18_without(r: Fig18Result, params=None) -> Claim:
 def claim_fig18_with(r: Fig18Result, params=None) -> Claim:
     tol = 0.1 * r.amplitude
     ok = r.rms_deviation_with <= tol
-    return Claim(
+    return gate(Claim(
         id="fig18-with", claim="Sawtooth with NN compensation: the joint tracks the reference (here: RMS of "
         f"q - q_linear <= 10 % of the amplitude = {tol:.3f} rad)", paper="tracks",
         measured=f"RMS deviation from the linear viscous loop {r.rms_deviation_with:.4f} rad; "
         f"{restarts(r.with_nn)} stick-slip cycles", passed=ok, figure="Fig. 18",
+        value=100 * r.rms_deviation_with / r.amplitude, unit="% of the amplitude",
         note="" if ok else f"The compensated joint moves, but itself in stick-slip ({restarts(r.with_nn)} "
         "cycles, a staircase): compensation breaks it loose, and each time it stops the residual dead "
-        "zone holds it until Kp*e has grown by about DZ.")
+        "zone holds it until Kp*e has grown by about DZ."), (r.wind_up, r.coast.decay))
 
 
 def claim_fig18_extra(r: Fig18Result, params=None) -> Claim:
@@ -107,6 +114,7 @@ def claim_fig18_extra(r: Fig18Result, params=None) -> Claim:
         f"({r.extra_amplitude:g} rad over {r.extra_period:g} s) without compensation shows stick-slip "
         "(>= 2 cycles)",
         paper=EXTRA, measured=f"{r.extra_restarts} stick-slip cycles", passed=ok, figure="Fig. 18",
+        value=r.extra_restarts, unit="cycles",
         note="" if ok else "the joint creeps without sticking at this ramp rate")
 
 

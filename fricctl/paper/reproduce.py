@@ -1,86 +1,300 @@
-"""Everything at once: train the network, run every registered figure and the sweep, check the claims."""
+"""Everything at once, over seeds and pipelines: train, run every figure, check and aggregate the claims.
+
+A claim about a trained network is a claim about training seeds: for each pipeline
+(:data:`fricctl.nn.pipelines.PIPELINES`) :func:`reproduce_paper` trains one network
+per seed, runs every registered figure on it and checks its claims
+(:func:`seed_run`, one job per network, through any ``concurrent.futures.Executor``),
+then aggregates the verdicts per claim and pipeline (:mod:`fricctl.paper.table`).
+The figures shown come from one *representative* seed per pipeline
+(:func:`~fricctl.paper.table.representative_seed`), re-run in the calling process:
+training is deterministic, so the network is the one the job judged (checked).
+"""
 
 from __future__ import annotations
 
-from concurrent.futures import Executor
+import time
+from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass
-from typing import Callable
+from types import MappingProxyType
+from typing import Callable, Mapping
+
+import numpy as np
 
 from .. import _validate as v
+from ..nn import FrictionNet
+from ..nn.pipelines import PIPELINES
 from ..params import ActuatorParams, paper_actuator
-from .claims import claims_summary, paper_claims
+from .claims import paper_claims
+from .common import AGED_SCALE, designs
 from .network import PaperNetwork, train_paper_network
 from .registry import paper_figures
 from .sweep import SweepResult, robustness_sweep
+from .table import aggregate_claims, claims_json, claims_markdown, holds_summary, representative_seed
 
-__all__ = ["PaperResults", "reproduce_paper"]
+__all__ = ["SeedRun", "PaperResults", "seed_run", "reproduce_paper", "MAX_SEEDS"]
+
+#: Most seeds one call accepts (a bound on the work: ~10 s of CPU per network) [-].
+MAX_SEEDS = 1000
+
+
+@dataclass(frozen=True, kw_only=True)
+class SeedRun:
+    """One network of one pipeline and its claims: what a job returns (plain, picklable data).
+
+    Attributes
+    ----------
+    pipeline : ``"paper"`` or ``"fricctl"``
+    seed : training seed [-]
+    claims : the claims of every figure, in figure order
+    net_json : the trained network (:meth:`fricctl.nn.FrictionNet.to_json`)
+    gain_at_rest : ``g = dT^at/dTm`` at rest [-]
+    certificate : the slope certificate (fricctl pipeline) as a dict, or None
+    viscous_removed : ``b_hat`` left out of the net's target [N*m*s/rad]
+    fit_percent : held-out fit of the full friction estimate [%]
+    seconds : wall time of the job [s]
+    """
+
+    pipeline: str
+    seed: int
+    claims: tuple
+    net_json: str
+    gain_at_rest: float
+    certificate: dict | None
+    viscous_removed: float
+    fit_percent: float
+    seconds: float
+
+    @property
+    def net(self) -> FrictionNet:
+        """The trained network."""
+        return FrictionNet.from_json(self.net_json)
+
+    @property
+    def n_passed(self) -> int:
+        """Claims passed (the paper's and the extras) [-]."""
+        return sum(c.passed for c in self.claims)
+
+
+def _figures(network: PaperNetwork) -> dict:
+    return {num: fig.run(network) for num, fig in paper_figures().items()}
+
+
+def seed_run(params: ActuatorParams, fast: bool, pipeline: str, seed: int) -> SeedRun:
+    """Train one network and check every claim on it (one job of :func:`reproduce_paper`).
+
+    Module-level and fed plain data, so that a process pool can run it.
+    """
+    t0 = time.perf_counter()
+    network = train_paper_network(params, fast=fast, seed=seed, pipeline=pipeline)
+    claims = tuple(paper_claims(_figures(network), params))
+    cert = network.trained.certificate
+    return SeedRun(pipeline=pipeline, seed=seed, claims=claims, net_json=network.net.to_json(),
+                   gain_at_rest=network.net.gain_at_rest(),
+                   certificate=None if cert is None else cert.as_dict(),
+                   viscous_removed=float(network.trained.viscous_removed),
+                   fit_percent=float(network.fit_held_out.fit_percent),
+                   seconds=time.perf_counter() - t0)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class PaperResults:
-    """All figures, the sweep and the claims of one :func:`reproduce_paper` run.
+    """Every network's claims, and the figures of one representative seed per pipeline.
 
     Attributes
     ----------
-    network : the shared network
-    figures : figure number -> result, in figure order
-    sweep : the robustness sweep
-    claims : the claims of every figure, in figure order
+    params : the actuator
+    fast : whether the short experiments were used
+    seeds : the training seeds, 0 .. N-1 [-]
+    pipelines : the pipelines, in table order
+    runs : ``(pipeline, seed)`` -> :class:`SeedRun`
+    representative : pipeline -> the seed whose figures are shown
+    networks : pipeline -> the representative :class:`PaperNetwork`
+    figures : pipeline -> (figure number -> result) of the representative network
+    sweeps : pipeline -> robustness sweep of the representative network
+    stats : per claim and pipeline over the seeds (:class:`~fricctl.paper.table.ClaimStats`)
     """
 
-    network: PaperNetwork
-    figures: dict
-    sweep: SweepResult
-    claims: tuple
+    params: ActuatorParams
+    fast: bool
+    seeds: tuple
+    pipelines: tuple
+    runs: Mapping
+    representative: Mapping
+    networks: Mapping
+    figures: Mapping
+    sweeps: Mapping
+    stats: tuple
 
-    @property
-    def n_passed(self) -> int:
-        return sum(c.passed for c in self.claims)
+    def claims(self, pipeline: str, seed: int | None = None) -> tuple:
+        """The claims of one network (default: the pipeline's representative seed)."""
+        seed = self.representative[pipeline] if seed is None else seed
+        return self.runs[(pipeline, seed)].claims
 
     def summary(self) -> str:
-        """``"N of M claims of the paper reproduced (extras: n of m)"``."""
-        return claims_summary(self.claims)
+        """One line per pipeline: ``"<pipeline>: N of 16 claims of the paper hold in >= 90 % of N seeds"``."""
+        return "\n".join(f"{p}: {holds_summary(self.stats, p)}" for p in self.pipelines)
+
+    def why(self) -> list[str]:
+        """Why some claims cannot hold on this bench, with the numbers of this run."""
+        p = self.params
+        fs = p.static
+        kp14 = designs(p)["fig13-14"].kp
+        kp16 = designs(p)["fig16-17"].kp
+        g_needed = 1 - np.deg2rad(0.3) * kp14 / fs
+        out = []
+        for name in self.pipelines:
+            g = np.array([self.runs[(name, s)].gain_at_rest for s in self.seeds])
+            gm = float(np.median(g))
+            text = (f"**{name} pipeline, dead zone against accuracy:** gain at rest g = {gm:.3f} (median; "
+                    f"{g.min():.3f}-{g.max():.3f} over {g.size} seeds). While stuck the compensated loop "
+                    "settles at Tm = Tc/(1 - g), so the joint breaks away once |Tc| > Fs*(1 - g), and a "
+                    "stuck PD loop stops anywhere within +-Fs*(1 - g)/Kp of the reference: with "
+                    f"Fs = {fs:.3f} N*m and Fig. 14's Kp = {kp14:.3f} N*m/rad ")
+            if gm < 1:
+                text += (f"that is +-{np.rad2deg(fs * (1 - gm) / kp14):.2f} deg. A dead-zone reduction of x "
+                         f"is a gain g = 1 - 1/x: the paper's ~6x (g = 0.83) leaves +-"
+                         f"{np.rad2deg(fs / 6 / kp14):.2f} deg, and < 0.3 deg from every approach needs "
+                         f"g >= {g_needed:.3f} (a reduction >= {1 / (1 - g_needed):.0f}x).")
+            else:
+                text += ("there is no such band: with g >= 1 the stuck loop has no fixed point below "
+                         "breakaway, the motor torque winds up until the joint breaks loose, and the "
+                         "compensated joint runs away (the runaway checks).")
+            out.append(text)
+            if gm < 1:
+                sg = AGED_SCALE * gm
+                band = AGED_SCALE * fs * (1 - sg) / kp16
+                out.append(
+                    f"**{name} pipeline, Figs. 16-17 (s = {AGED_SCALE:g}, friction x {AGED_SCALE:g}):** "
+                    f"the stuck loop's gain is s*g = {sg:.3f}, which leaves "
+                    f"+-{AGED_SCALE:g}*Fs*(1 - s*g)/Kp = +-{np.rad2deg(band):.2f} deg with the link "
+                    f"design's Kp = {kp16:.3f} N*m/rad: the 0.3 deg of fig16-nn and fig17-nn holds only "
+                    "for approaches that happen to stop close to the reference.")
+        out.append("**The paper's own statements that conflict on this bench** (fig11-stuck and fig17-none "
+                   "pass trivially, fig18-without cannot pass: the commanded torques stay below "
+                   "breakaway) are tabulated, with the unknowns searched, in "
+                   "[docs/paper_consistency.md](docs/paper_consistency.md).")
+        return out
+
+    def markdown(self) -> str:
+        """``claims.md``."""
+        n = len(self.seeds)
+        pre = (f"Virtual bench, {'fast' if self.fast else 'full'} run: {n} training "
+               f"seed{'s' if n != 1 else ''} (0-{n - 1}) per pipeline. Assumptions of the experiments "
+               "are listed in `fricctl.paper`'s module docstring. Every network is in "
+               "`nets/<pipeline>-seed<K>.json` (re-run one with "
+               "`fricctl simulate --compensation nn --net nets/<pipeline>-seed<K>.json`).\n\n"
+               "| pipeline | seed | gain at rest g | held-out fit [%] | claims passed | certified |\n"
+               "|---|---|---|---|---|---|\n")
+        rows = []
+        for p in self.pipelines:
+            for s in self.seeds:
+                r = self.runs[(p, s)]
+                cert = "--" if r.certificate is None else ("yes" if r.certificate["passed"] else "**no**")
+                mark = " (figures)" if s == self.representative[p] else ""
+                rows.append(f"| {p} | {s}{mark} | {r.gain_at_rest:.3f} | {r.fit_percent:.1f} | "
+                            f"{r.n_passed} of {len(r.claims)} | {cert} |")
+        pre += "\n".join(rows)
+        sweeps = "## Robustness sweeps (not claims of the paper)"
+        for p in self.pipelines:
+            sweeps += (f"\n\n{p} pipeline, seed {self.representative[p]}:\n\n```\n{self.sweeps[p].report()}"
+                       "\n```")
+        return claims_markdown(self.stats, preamble=pre, why=self.why(), appendix=sweeps)
+
+    def json(self) -> str:
+        """``claims.json`` (strict JSON, one object per claim and pipeline)."""
+        return claims_json(self.stats)
 
 
-def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False, seed: int = 0,
-                    executor: Executor | None = None,
+def _check_pipelines(pipelines) -> tuple:
+    if isinstance(pipelines, str):
+        pipelines = (pipelines,)
+    try:
+        names = tuple(pipelines)
+    except TypeError:
+        raise ValueError(f"pipelines must be a sequence of names, got {type(pipelines).__name__}") from None
+    if not names:
+        raise ValueError("pipelines must name at least one pipeline")
+    for n in names:
+        v.choice("pipelines", n, tuple(PIPELINES))
+    if len(set(names)) != len(names):
+        raise ValueError(f"pipelines must not repeat a name, got {list(names)}")
+    return names
+
+
+def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False, seeds: int = 10,
+                    pipelines=("paper", "fricctl"), executor: Executor | None = None,
                     progress: Callable[[int, int, str], None] | None = None) -> PaperResults:
-    """Train once, run every figure and the robustness sweep, check the claims.
+    """Train ``seeds`` networks per pipeline, run every figure on each, aggregate the claims.
 
     Parameters
     ----------
     params : ActuatorParams, optional
     fast : bool
         Short training experiments and a small sweep grid.
-    seed : int
-        Seed of the network's split and training [-].
+    seeds : int
+        Networks per pipeline, trained with seeds 0 .. seeds-1 [-] (1 .. :data:`MAX_SEEDS`).
+    pipelines : sequence of str
+        Names in :data:`fricctl.nn.pipelines.PIPELINES`, in table order.
     executor : concurrent.futures.Executor, optional
-        Passed to :func:`robustness_sweep`.
+        Runs the jobs (:func:`seed_run`, one per network).  Default: in this process.  A
+        process pool must use the ``"spawn"`` start method
+        (``mp_context=multiprocessing.get_context("spawn")``): forking a process whose
+        numba/OpenMP threads have started aborts the workers.
     progress : callable, optional
-        ``progress(done, total, name)`` before each step.
+        ``progress(done, total, name)`` as jobs finish.
 
     Returns
     -------
     PaperResults
+
+    Raises
+    ------
+    RuntimeError
+        The representative network re-trained here differs from the one its job judged
+        (training would not be deterministic).
     """
-    p = paper_actuator() if params is None else params
-    seed = v.integer("seed", seed, low=0)
-    registry = paper_figures()
-    steps = ["network"] + [f"fig{n}" for n in registry] + ["sweep"]
-    total = len(steps)
+    p = paper_actuator() if params is None else v.instance("params", params, ActuatorParams,
+                                                            "an ActuatorParams")
+    fast = v.flag("fast", fast)
+    n = v.integer("seeds", seeds, low=1, high=MAX_SEEDS)
+    names = _check_pipelines(pipelines)
+    if executor is not None and not hasattr(executor, "submit"):
+        raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
+    jobs = [(name, s) for s in range(n) for name in names]  # interleaved: every pipeline advances
+    total = len(jobs) + len(names) + 1
 
-    def tick(i, name):
+    def tick(i, what):
         if progress is not None:
-            progress(i, total, name)
+            progress(i, total, what)
 
-    tick(0, "network")
-    network = train_paper_network(p, fast=fast, seed=seed)
-    figs = {}
-    for i, (num, fig) in enumerate(registry.items(), start=1):
-        tick(i, f"fig{num}")
-        figs[num] = fig.run(network)
-    tick(total - 1, "sweep")
+    tick(0, "training")
+    runs = {}
+    if executor is None:
+        for i, (name, s) in enumerate(jobs, start=1):
+            runs[(name, s)] = seed_run(p, fast, name, s)
+            tick(i, f"{name} seed {s}")
+    else:
+        futures = {executor.submit(seed_run, p, fast, name, s): (name, s) for name, s in jobs}
+        for i, f in enumerate(as_completed(futures), start=1):
+            runs[futures[f]] = f.result()
+            tick(i, "{} seed {}".format(*futures[f]))
+    runs = {k: runs[k] for k in sorted(runs, key=lambda k: (names.index(k[0]), k[1]))}
+    rep = {name: representative_seed({s: runs[(name, s)].n_passed for s in range(n)}) for name in names}
+    networks, figures, sweeps = {}, {}, {}
     grid = dict(friction_scales=(0.8, 1.0, 1.2), link_inertias=(0.0, 0.0046)) if fast else {}
-    sweep = robustness_sweep(network.net, p, executor=executor, **grid)
+    for i, name in enumerate(names, start=len(jobs) + 1):
+        net = train_paper_network(p, fast=fast, seed=rep[name], pipeline=name)
+        if net.net.to_json() != runs[(name, rep[name])].net_json:
+            raise RuntimeError(f"{name} seed {rep[name]}: the network trained again differs from the one "
+                               "its job judged (training is not deterministic)")
+        networks[name] = net
+        figures[name] = MappingProxyType(_figures(net))
+        sweeps[name] = robustness_sweep(net.net, p, **grid)
+        tick(i, f"{name} seed {rep[name]} figures")
     tick(total, "done")
-    return PaperResults(network=network, figures=figs, sweep=sweep, claims=tuple(paper_claims(figs, p)))
+    return PaperResults(
+        params=p, fast=fast, seeds=tuple(range(n)), pipelines=names, runs=MappingProxyType(runs),
+        representative=MappingProxyType(rep), networks=MappingProxyType(networks),
+        figures=MappingProxyType(figures), sweeps=MappingProxyType(sweeps),
+        stats=aggregate_claims({k: r.claims for k, r in runs.items()}, rep))
+

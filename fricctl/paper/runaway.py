@@ -1,0 +1,257 @@
+"""No pass by runaway: three checks that a compensated joint follows its control torque.
+
+A compensated run can meet a claim's criterion for the wrong reason: a net whose
+gain at rest is above one winds the motor torque up, the joint runs away, and
+"no stick interval" or "the joint moved" then holds trivially.  Every claim whose
+measurement involves the network's compensation also requires these checks (see
+:func:`fricctl.paper.claims.gate`); a claim that meets its own criterion but fails
+one of them fails, with the check's reason in its note.
+
+* :func:`wind_up` -- the motor torque may exceed the control torque only by the
+  largest friction the joint can have at its speed;
+* :func:`reversal` -- under a sinusoidal control torque, a joint that moves must
+  reverse in every full period after the first;
+* :func:`coast_decay` -- after a torque pulse, with ``Tc = 0``, the compensated
+  joint must coast down at least like the linear viscous actuator the compensation
+  is meant to leave (the experiment itself is :mod:`fricctl.paper.coast`).
+
+Each returns a :class:`RunawayCheck`: the number it measured, the limit, pass/fail
+and a one-line reason.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as v
+from ..simulate import SimResult
+
+__all__ = ["RunawayCheck", "wind_up", "reversal", "coast_decay", "WIND_UP_SAMPLES",
+           "MOTION_COUNTS", "LINEAR_TOLERANCE"]
+
+#: Longest run of samples over which the motor torque may exceed the control torque by
+#: more than the joint's largest friction [samples].  The compensator sees a change of
+#: friction (a breakaway, a stop) at most ~2 samples late: the torque it computes at
+#: sample k acts from k+1 on (one-sample delay), and the backward-difference velocity
+#: reports a motion one sample after it starts.  5 samples leaves that margin twice over
+#: and is still 10 ms, far shorter than any wind-up the paper pipeline shows (hundreds
+#: of samples).
+WIND_UP_SAMPLES = 5
+#: A joint that moved this many encoder counts or fewer (peak to peak) has not moved:
+#: nothing can run away [counts].  The same "few counts" as the dead-zone measurement.
+MOTION_COUNTS = 3
+#: Relative tolerance against the linear viscous actuator, shared by the coast test and
+#: the Fig. 9 claim ``fig9-linear`` (the paper's "behaves like the linear model") [-].
+LINEAR_TOLERANCE = 0.10
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunawayCheck:
+    """One runaway check of one run.
+
+    Attributes
+    ----------
+    name : ``"wind-up"``, ``"reversal"`` or ``"coast"``
+    value : the number measured (``inf`` where the criterion has no finite measure)
+    unit : its unit
+    limit : the largest value that passes
+    passed : ``value <= limit``
+    reason : one line: what was measured and why it passes or fails
+    """
+
+    name: str
+    value: float
+    unit: str
+    limit: float
+    passed: bool
+    reason: str
+
+    def __post_init__(self):
+        v.text("name", self.name, empty=False)
+        object.__setattr__(self, "value", v.real("value", self.value, finite=False))
+        v.text("unit", self.unit)
+        object.__setattr__(self, "limit", v.real("limit", self.limit))
+        object.__setattr__(self, "passed", bool(self.passed))
+        v.text("reason", self.reason, empty=False)
+
+    def as_dict(self) -> dict:
+        """JSON-ready (a non-finite value becomes None; the reason says why)."""
+        return {"name": self.name, "value": self.value if math.isfinite(self.value) else None,
+                "unit": self.unit, "limit": self.limit, "passed": self.passed, "reason": self.reason}
+
+
+def _run(run) -> SimResult:
+    return v.instance("run", run, SimResult, "a SimResult (fricctl.simulate)")
+
+
+def _longest_true_run(mask: np.ndarray) -> tuple[int, int]:
+    """(length, start index) of the longest run of consecutive True values (0, -1 if none)."""
+    if not mask.any():
+        return 0, -1
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    starts = np.flatnonzero(edges == 1)
+    ends = np.flatnonzero(edges == -1)
+    i = int(np.argmax(ends - starts))
+    return int(ends[i] - starts[i]), int(starts[i])
+
+
+def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayCheck:
+    """Does the motor torque exceed the control torque by more than any friction could explain?
+
+    The compensated loop commands ``Tm(k+1) = Tc(k) + s*T^at(k)``.  The friction of
+    the joint (the bench's *true* model, ``run.info.friction_model``) is at most
+    ``Fs + b*|omega|`` in magnitude (breakaway level plus the viscous term at the true
+    speed, plus the position ripple's amplitude), so a compensation that estimates it
+    keeps ``|Tm(k+1)| <= |Tc(k)| + Fs + b*|omega(k)|``.  A run of more than
+    ``max_samples`` consecutive samples beyond that bound is a wind-up.
+
+    Parameters
+    ----------
+    run : SimResult
+        The compensated run.
+    max_samples : int
+        Longest run of samples allowed beyond the bound [samples] (see
+        :data:`WIND_UP_SAMPLES` for why 5).
+
+    Returns
+    -------
+    RunawayCheck
+        ``value``: the longest run of consecutive samples beyond the bound [samples].
+
+    Notes
+    -----
+    The bound holds for the stick-slip laws of :mod:`fricctl.friction`; LuGre's bristle
+    damping can add a short transient above it, which this check would count.
+    """
+    r = _run(run)
+    max_samples = v.integer("max_samples", max_samples, low=0)
+    if r.t.size < 2:
+        raise ValueError("run must hold at least 2 samples")
+    fm = r.info.friction_model
+    tm_next = r.torque_motor[1:]
+    t = r.t[:-1]
+    breakaway = np.maximum(fm.breakaway(1, tm=tm_next, t=t), fm.breakaway(-1, tm=tm_next, t=t))
+    b = max(fm.viscous_pos, fm.viscous_neg) * fm.scale_at(t)
+    bound = np.abs(r.torque_cmd[:-1]) + breakaway + b * np.abs(r.omega[:-1]) + fm.ripple_amplitude
+    excess = np.abs(tm_next) - bound
+    n, start = _longest_true_run(excess > 1e-12)
+    ok = n <= max_samples
+    if n == 0:
+        reason = "no wind-up: |Tm(k+1)| never exceeds |Tc(k)| + Fs + b*|omega(k)|"
+    else:
+        seg = slice(start, start + n)
+        reason = (f"{'no ' if ok else ''}wind-up: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| for "
+                  f"{n} consecutive samples from t = {t[start]:.3f} s (by up to "
+                  f"{float(excess[seg].max()):.3f} N*m; allowed {max_samples})")
+    return RunawayCheck(name="wind-up", value=float(n), unit="samples", limit=float(max_samples),
+                        passed=ok, reason=reason)
+
+
+def reversal(run: SimResult, period: float, *, motion_counts: int = MOTION_COUNTS) -> RunawayCheck:
+    """Under a sinusoidal control torque of ``period``, does a moving joint reverse every period?
+
+    A joint that follows ``Tc = A*sin(2*pi*t/period)`` moves back and forth; one that
+    moves in one direction only over a whole period has run away (or ratchets).  The
+    first period is the start-up transient and is not judged; a period in which the
+    joint does not move at all is not a runaway.  A joint that moved ``motion_counts``
+    encoder counts or fewer over the run passes.
+
+    Parameters
+    ----------
+    run : SimResult
+        The compensated run, ``Tc`` sinusoidal from t = 0.
+    period : float
+        Period of ``Tc`` [s].
+    motion_counts : int
+        Peak-to-peak motion up to which the joint counts as still [counts].
+
+    Returns
+    -------
+    RunawayCheck
+        ``value``: the number of full periods after the first in which the joint moved in
+        one direction only [periods].
+    """
+    r = _run(run)
+    period = v.real("period", period, positive=True, unit="s")
+    motion_counts = v.integer("motion_counts", motion_counts, low=0)
+    counts = r.displacement_counts()
+    ts = r.sample_time if r.t.size > 1 else period
+    full = int(math.floor((r.t[-1] + ts) / period + 1e-9))
+    if counts <= motion_counts:
+        return RunawayCheck(name="reversal", value=0.0, unit="periods", limit=0.0, passed=True,
+                            reason=f"no runaway: the joint moved {counts} encoder counts "
+                                   f"(<= {motion_counts})")
+    if full < 2:
+        raise ValueError(f"run of {r.t[-1] + ts:g} s holds fewer than 2 full periods of {period:g} s")
+    one_way = []
+    for j in range(1, full):
+        w = r.omega[(r.t >= j * period - 1e-12) & (r.t < (j + 1) * period - 1e-12)]
+        if np.any(w != 0.0) and not (np.any(w > 0.0) and np.any(w < 0.0)):
+            one_way.append(j + 1)
+    ok = not one_way
+    reason = (f"the velocity reverses in each of the {full - 1} full periods after the first"
+              if ok else
+              f"runaway: the velocity never reverses in period(s) {', '.join(map(str, one_way))} of "
+              f"{full} (Tc period {period:g} s, {counts} encoder counts of motion)")
+    return RunawayCheck(name="reversal", value=float(len(one_way)), unit="periods", limit=0.0,
+                        passed=ok, reason=reason)
+
+
+def coast_decay(run: SimResult, t_end: float, *, tolerance: float = LINEAR_TOLERANCE) -> RunawayCheck:
+    """After ``t_end`` (``Tc = 0`` from then on), does the joint coast down like a viscous one?
+
+    The linear viscous actuator ``I*dw/dt = -b*w`` decays as ``|w_end|*exp(-(b/I)*(t -
+    t_end))``.  The compensated joint passes if, at every sample after ``t_end``,
+    ``|w(t)| <= |w_end|*exp(-(b/I)*(t - t_end)) + tolerance*|w_end|``: it slows down at
+    least as fast, within ``tolerance`` of the speed it had (its Coulomb and Stribeck
+    friction can only make it stop sooner).  ``b`` is the smaller viscous coefficient of
+    the bench's true friction model, ``I`` the run's total inertia.
+
+    Parameters
+    ----------
+    run : SimResult
+        The run (rigid joint).
+    t_end : float
+        First instant with no pulse torque at the joint [s].
+    tolerance : float
+        Allowed excess over the decay, as a fraction of ``|w_end|`` [-].
+
+    Returns
+    -------
+    RunawayCheck
+        ``value``: the largest ``(|w| - |w_end|*exp(...))/|w_end|`` after ``t_end`` [%]
+        (``inf`` if the joint was at rest at ``t_end`` and moved later).
+    """
+    r = _run(run)
+    t_end = v.real("t_end", t_end, nonneg=True, unit="s")
+    tolerance = v.real("tolerance", tolerance, nonneg=True)
+    after = r.t >= t_end - 1e-12
+    if np.count_nonzero(after) < 2:
+        raise ValueError(f"t_end = {t_end:g} s leaves fewer than 2 samples of the run")
+    fm = r.info.friction_model
+    t, w = r.t[after], np.abs(r.omega[after])
+    b = min(fm.viscous_pos, fm.viscous_neg) * float(np.min(fm.scale_at(t)))
+    inertia = r.info.params.total_inertia
+    w_end = w[0]
+    limit = 100 * tolerance
+    if w_end == 0.0:
+        moved = bool(np.any(w > 0.0))
+        return RunawayCheck(
+            name="coast", value=math.inf if moved else 0.0, unit="%", limit=limit, passed=not moved,
+            reason=("runaway: the joint was at rest when the pulse ended and then moved by itself"
+                    if moved else "the pulse did not move the joint: nothing to coast"))
+    excess = (w - w_end * np.exp(-(b / inertia) * (t - t[0]))) / w_end
+    i = int(np.argmax(excess))
+    worst = 100 * float(excess[i])
+    ok = worst <= limit
+    tau = inertia / b if b > 0 else math.inf
+    reason = (f"the joint coasts down at least like the linear viscous actuator (b = {b:.4g} N*m*s/rad, "
+              f"I/b = {tau:.3f} s): largest excess {worst:.1f} % of |omega_end| = {w_end:.2f} "
+              f"rad/s (allowed {limit:g} %)" if ok else
+              f"runaway: after the pulse the joint does not coast down like the linear viscous actuator: "
+              f"|omega| = {w[i]:.2f} rad/s at t = {t[i]:.2f} s, {worst:.0f} % of |omega_end| = "
+              f"{w_end:.2f} rad/s above the decay exp(-(b/I)*t) (allowed {limit:g} %)")
+    return RunawayCheck(name="coast", value=worst, unit="%", limit=limit, passed=ok, reason=reason)

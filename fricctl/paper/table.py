@@ -1,0 +1,339 @@
+"""The claims table over seeds and pipelines: ``claims.md`` and ``claims.json``.
+
+A claim about a trained network is a claim about training seeds.  For each claim
+and pipeline, :func:`aggregate_claims` collects the per-seed verdicts into a
+:class:`ClaimStats`: the pass rate over seeds, the median / min / max of the number
+the claim's criterion thresholds, and how many seeds failed by runaway.  A claim
+*holds* for a pipeline when it passes in at least :data:`HOLD_RATE` of the seeds.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from .. import _validate as v
+from .claims import Claim, is_extra
+
+__all__ = ["HOLD_RATE", "ClaimStats", "aggregate_claims", "representative_seed", "holds_summary",
+           "claims_markdown", "claims_json"]
+
+#: A claim holds for a pipeline when it passes in at least this fraction of seeds [-].
+HOLD_RATE = 0.9
+
+
+@dataclass(frozen=True, kw_only=True)
+class ClaimStats:
+    """One claim of one pipeline over the training seeds.
+
+    Attributes
+    ----------
+    pipeline : ``"paper"`` or ``"fricctl"``
+    claims : the claim of each seed, in seed order
+    seeds : the seeds [-]
+    representative : the seed whose figures are shown [-]
+    """
+
+    pipeline: str
+    claims: tuple
+    seeds: tuple
+    representative: int
+
+    def __post_init__(self):
+        v.text("pipeline", self.pipeline, empty=False)
+        if not self.claims or len(self.claims) != len(self.seeds):
+            raise ValueError("ClaimStats needs one claim per seed, at least one")
+        for c in self.claims:
+            v.instance("claims", c, Claim, "Claim objects")
+        if len({c.id for c in self.claims}) != 1:
+            raise ValueError(f"ClaimStats mixes claims {sorted({c.id for c in self.claims})}")
+        for s in self.seeds:
+            v.integer("seeds", s, low=0)
+        if self.representative not in self.seeds:
+            raise ValueError(f"representative seed {self.representative} is not one of {self.seeds}")
+
+    # -- what every seed shares --------------------------------------------
+    @property
+    def first(self) -> Claim:
+        return self.claims[0]
+
+    @property
+    def id(self) -> str:
+        return self.first.id
+
+    @property
+    def figure(self) -> str:
+        return self.first.figure
+
+    @property
+    def unit(self) -> str:
+        return self.first.unit
+
+    @property
+    def extra(self) -> bool:
+        """A check of ours, not a claim of the paper."""
+        return is_extra(self.first)
+
+    @property
+    def shown(self) -> Claim:
+        """The representative seed's claim (its measured sentence is the table's)."""
+        return self.claims[self.seeds.index(self.representative)]
+
+    # -- over seeds ---------------------------------------------------------
+    @property
+    def n_seeds(self) -> int:
+        return len(self.claims)
+
+    @property
+    def n_passed(self) -> int:
+        return sum(c.passed for c in self.claims)
+
+    @property
+    def pass_rate(self) -> float:
+        """Fraction of seeds in which the claim passes [-]."""
+        return self.n_passed / self.n_seeds
+
+    @property
+    def holds(self) -> bool:
+        """Passes in at least :data:`HOLD_RATE` of the seeds."""
+        return self.pass_rate >= HOLD_RATE - 1e-12
+
+    @property
+    def runaway_failures(self) -> int:
+        """Seeds in which a runaway check failed (the claim fails there, whatever its criterion)."""
+        return sum(c.runaway for c in self.claims)
+
+    @property
+    def values(self) -> np.ndarray:
+        """The measured number of each seed, in ``unit``."""
+        return np.array([c.value for c in self.claims], dtype=float)
+
+    def _stat(self, fn) -> float:
+        x = self.values
+        x = x[~np.isnan(x)]
+        return float(fn(x)) if x.size else math.nan
+
+    @property
+    def median(self) -> float:
+        """Median of the measured number over the seeds where it is defined (``nan`` if none)."""
+        return self._stat(np.median)
+
+    @property
+    def minimum(self) -> float:
+        return self._stat(np.min)
+
+    @property
+    def maximum(self) -> float:
+        return self._stat(np.max)
+
+    @property
+    def note(self) -> str:
+        """Why it fails: the representative seed's note if it fails there, else that of the first
+        failing seed (named); the representative's note otherwise."""
+        if not self.shown.passed or self.n_passed == self.n_seeds:
+            return self.shown.note
+        seed, c = next((s, c) for s, c in zip(self.seeds, self.claims) if not c.passed)
+        return f"(seed {seed}) {c.note}"
+
+    def as_dict(self) -> dict:
+        """One object of ``claims.json`` (``allow_nan=False``: non-finite numbers become None, and
+        ``undefined`` says why)."""
+        shown = self.shown
+        undefined = {}
+
+        def finite(name, x):
+            if math.isfinite(x):
+                return x
+            undefined[name] = _why_undefined(x, self)
+            return None
+
+        return {
+            "id": self.id, "claim": shown.claim, "paper": shown.paper, "measured": shown.measured,
+            "passed": self.holds, "figure": self.figure, "note": self.note, "pipeline": self.pipeline,
+            "n_seeds": self.n_seeds, "n_passed": self.n_passed, "pass_rate": self.pass_rate,
+            "measured_median": finite("measured_median", self.median),
+            "measured_min": finite("measured_min", self.minimum),
+            "measured_max": finite("measured_max", self.maximum),
+            "unit": self.unit, "runaway_failures": self.runaway_failures,
+            "representative_seed": self.representative,
+            "checks": [c.as_dict() for c in shown.checks],
+            "seeds": [{"seed": s, "passed": c.passed, "runaway": c.runaway,
+                       "value": c.value if math.isfinite(c.value) else None}
+                      for s, c in zip(self.seeds, self.claims)],
+            "undefined": undefined,
+        }
+
+
+def _why_undefined(x: float, stats: ClaimStats) -> str:
+    if math.isnan(x):
+        return "the measured number is undefined in every seed (see note)"
+    bad = [s for s, c in zip(stats.seeds, stats.claims) if math.isinf(c.value)]
+    return f"unbounded ({'+' if x > 0 else '-'}inf) in seed(s) {', '.join(map(str, bad))}"
+
+
+def representative_seed(n_passed: Mapping[int, int]) -> int:
+    """The seed whose number of claims passed is closest to the median over seeds (lowest seed on ties).
+
+    Examples
+    --------
+    >>> representative_seed({0: 14, 1: 17, 2: 15, 3: 15})
+    2
+    """
+    if not n_passed:
+        raise ValueError("representative_seed needs at least one seed")
+    med = float(np.median(list(n_passed.values())))
+    return min(n_passed, key=lambda s: (abs(n_passed[s] - med), s))
+
+
+def aggregate_claims(per_seed: Mapping[tuple, Sequence[Claim]],
+                     representative: Mapping[str, int]) -> tuple:
+    """Per claim and pipeline over seeds.
+
+    Parameters
+    ----------
+    per_seed : mapping
+        ``(pipeline, seed) -> claims`` of that network (every seed of a pipeline gives the
+        same claim ids in the same order).
+    representative : mapping
+        ``pipeline -> seed`` whose figures are shown.
+
+    Returns
+    -------
+    tuple of ClaimStats
+        In claim order, pipelines in the order first met, for each claim.
+    """
+    pipelines: dict[str, list] = {}
+    for (pipeline, seed), claims in per_seed.items():
+        pipelines.setdefault(pipeline, []).append((seed, list(claims)))
+    out = []
+    order: list[str] = []
+    by_key = {}
+    for pipeline, runs in pipelines.items():
+        runs.sort(key=lambda r: r[0])
+        ids = [c.id for c in runs[0][1]]
+        for seed, claims in runs[1:]:
+            if [c.id for c in claims] != ids:
+                raise ValueError(f"{pipeline} seed {seed} gives claims {[c.id for c in claims]}, "
+                                 f"seed {runs[0][0]} gives {ids}")
+        if pipeline not in representative:
+            raise ValueError(f"no representative seed for pipeline {pipeline!r}")
+        for i, cid in enumerate(ids):
+            if cid not in order:
+                order.append(cid)
+            by_key[(cid, pipeline)] = ClaimStats(
+                pipeline=pipeline, claims=tuple(c[i] for _, c in runs), seeds=tuple(s for s, _ in runs),
+                representative=representative[pipeline])
+    for cid in order:
+        out += [by_key[(cid, p)] for p in pipelines if (cid, p) in by_key]
+    return tuple(out)
+
+
+def holds_summary(stats, pipeline: str) -> str:
+    """``"N of M claims of the paper hold in >= 90 % of seeds (extras: n of m)"`` for one pipeline."""
+    mine = [s for s in stats if s.pipeline == pipeline]
+    if not mine:
+        raise ValueError(f"no claims of pipeline {pipeline!r}")
+    own = [s for s in mine if not s.extra]
+    extra = [s for s in mine if s.extra]
+    n = mine[0].n_seeds
+    text = (f"{sum(s.holds for s in own)} of {len(own)} claims of the paper hold in >= "
+            f"{100 * HOLD_RATE:.0f} % of {n} seed{'s' if n != 1 else ''}")
+    if extra:
+        text += f" (extras, not in the paper: {sum(s.holds for s in extra)} of {len(extra)})"
+    return text
+
+
+def _md(s: str) -> str:
+    return s.replace("|", "\\|").replace("\n", " ")
+
+
+def _num(x: float) -> str:
+    if math.isnan(x):
+        return "undefined"
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return f"{x:.3g}"
+
+
+def _cell(s: ClaimStats) -> str:
+    verdict = "holds" if s.holds else "**FAILS**"
+    run = f", {s.runaway_failures} by runaway" if s.runaway_failures else ""
+    spread = (f"{_num(s.median)} {s.unit}" if s.n_seeds == 1 else
+              f"median {_num(s.median)} [{_num(s.minimum)}, {_num(s.maximum)}] {s.unit}")
+    return f"{verdict}: {s.n_passed}/{s.n_seeds} pass{run}; {spread}"
+
+
+def claims_markdown(stats, *, title: str = "Claims of Gervini, Gomes & da Rosa (2003) on the virtual bench",
+                    preamble: str = "", why: Sequence[str] = (), appendix: str = "") -> str:
+    """``claims.md``: the pipelines side by side, a summary line per pipeline, the measured
+    sentences of the representative seeds and the "not reproduced, and why" section.
+
+    Parameters
+    ----------
+    stats : sequence of ClaimStats
+        From :func:`aggregate_claims`.
+    title : str
+    preamble : str
+        After the summary lines: what was run.
+    why : sequence of str
+        Paragraphs (with numbers) on why some claims cannot hold on this bench, appended to
+        the "not reproduced, and why" section.
+    appendix : str
+        At the end (e.g. the robustness sweeps).
+    """
+    stats = list(stats)
+    if not stats:
+        raise ValueError("claims_markdown needs at least one ClaimStats")
+    pipelines = list(dict.fromkeys(s.pipeline for s in stats))
+    rep = {s.pipeline: s.representative for s in stats}
+    ids = list(dict.fromkeys(s.id for s in stats))
+    by = {(s.id, s.pipeline): s for s in stats}
+    lines = [f"# {title}", ""]
+    lines += [f"- **{p} pipeline: {holds_summary(stats, p)}**; figures from seed {rep[p]}."
+              for p in pipelines]
+    lines.append("")
+    if preamble:
+        lines += [preamble, ""]
+    lines += [f"A claim *holds* when it passes in at least {100 * HOLD_RATE:.0f} % of the seeds; a "
+              "claim whose measurement involves compensation also needs the runaway checks (wind-up, "
+              "reversal, coast test) to pass. Each cell: verdict, seeds passed, and the median [min, max] "
+              "over seeds of the number the claim's criterion thresholds.", ""]
+    head = "| id | claim | paper | " + " | ".join(f"{p} pipeline" for p in pipelines) + " | figure |"
+    lines += [head, "|" + "---|" * (len(pipelines) + 4)]
+    for cid in ids:
+        first = next(by[(cid, p)] for p in pipelines if (cid, p) in by)
+        cells = [_cell(by[(cid, p)]) if (cid, p) in by else "--" for p in pipelines]
+        lines.append(f"| {cid} | {_md(first.shown.claim)} | {_md(first.shown.paper)} | "
+                     + " | ".join(cells) + f" | {first.figure} |")
+    for p in pipelines:
+        lines += ["", f"## Measured, {p} pipeline, seed {rep[p]} (the figures)", "",
+                  "| id | measured | pass/fail |", "|---|---|---|"]
+        for cid in ids:
+            if (cid, p) in by:
+                c = by[(cid, p)].shown
+                lines.append(f"| {cid} | {_md(c.measured)} | {'pass' if c.passed else '**FAIL**'} |")
+    lines += ["", "## Not reproduced, and why", ""]
+    for p in pipelines:
+        failing = [by[(cid, p)] for cid in ids if (cid, p) in by and not by[(cid, p)].holds]
+        lines += [f"### {p} pipeline", ""]
+        lines += [f"- **{s.id}** ({s.figure}; passes in {s.n_passed}/{s.n_seeds} seeds"
+                  + (f", {s.runaway_failures} by runaway" if s.runaway_failures else "")
+                  + f"; median {_num(s.median)} {s.unit}): {_md(s.note)}" for s in failing] \
+            or ["Every claim holds."]
+        lines.append("")
+    if why:
+        lines += ["### Why some claims cannot hold on this bench", ""]
+        lines += [f"- {w}" for w in why]
+        lines.append("")
+    if appendix:
+        lines += [appendix, ""]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def claims_json(stats) -> str:
+    """``claims.json``: one object per (claim, pipeline) (:meth:`ClaimStats.as_dict`), strict JSON."""
+    return json.dumps([s.as_dict() for s in stats], indent=2, allow_nan=False)
