@@ -13,9 +13,9 @@ $(BIN)/fricctl: pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $@
 
+# --force: `make reproduce` is the request to (re)write $(OUT); `fricctl reproduce` alone refuses a
+# non-empty folder (with --force it replaces only the files an earlier run wrote there)
 reproduce: $(BIN)/fricctl
-	# --force: `make reproduce` is the request to (re)write $(OUT); fricctl reproduce alone refuses
-	# a non-empty folder (it replaces only the files an earlier run wrote there)
 	MPLBACKEND=Agg $(BIN)/fricctl reproduce --seeds 10 --out $(OUT) --force
 
 test: $(BIN)/fricctl
