@@ -244,9 +244,22 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
     else:
+        labels = {} if units is None else _unit_labels(units)
         for k, v in summary.items():
-            print(f"{k:26s} {v:.6g}" if isinstance(v, float) else f"{k:26s} {v}")
+            text = f"{v:.6g}" if isinstance(v, float) else f"{v}"
+            print(f"{k:26s} {text} {labels.get(k, '')}".rstrip())
     return 0
+
+
+def _unit_labels(units) -> dict:
+    """Unit of each summary value of a model run (the model's units)."""
+    from ..units import units as units_of
+
+    u = units_of(units)
+    out = {"kp": u.stiffness, "kd": u.viscous, "max_abs_torque": u.torque}
+    out.update({k: u.position for k in ("final_error", "steady_state_error", "tracking_error_rms",
+                                          "max_abs_error", "max_abs_position")})
+    return out
 
 
 def _paper_summary(res, duration) -> dict:
