@@ -18,7 +18,8 @@ from fricctl.nn import (FORMAT_VERSION, TRAINERS, FrictionNet, TrainingResult, c
                         smooth_friction_patterns, train_backprop, train_casadi)
 from fricctl.nn import layout
 from fricctl.nn.train import Scaling, initial_theta, trainer
-from fricctl.nn.train.backprop import loss_gradient
+from fricctl.nn.train.backprop import (CONVERGING, SCHEDULES, epoch, learning_rates,
+                                      loss_gradient)
 from fricctl.nn.train.lm import clear_cache, residual_functions
 
 
@@ -225,6 +226,187 @@ def test_backprop_rejects_bad_input(sliding):
         train_backprop(tm, np.zeros_like(om), f, rng=rng)
     with pytest.raises(ValueError, match="diverged"):
         train_backprop(tm, om, f, learning_rate=1e6, epochs=5, rng=rng)
+
+
+# -- back-prop's schedule, restarts and velocity scale (issue 11) ---------------------
+def test_learning_rates_follow_their_formulas():
+    # reference: the formulas of the docstring evaluated by hand
+    np.testing.assert_array_equal(learning_rates("constant", 0.05, 3), [0.05, 0.05, 0.05])
+    lr = learning_rates("cosine", 0.02, 8)
+    assert lr[0] == 0.02  # cos 0 = 1 exactly
+    assert lr[4] == pytest.approx(0.01, rel=1e-15)  # half-way: cos(pi/2) = 0
+    assert lr[2] == pytest.approx(0.01 * (1 + math.sqrt(0.5)), rel=1e-15)  # cos(pi/4)
+    assert lr[7] == pytest.approx(0.01 * (1 + math.cos(7 * math.pi / 8)), rel=1e-15)
+    assert np.all(np.diff(lr) < 0) and lr[-1] > 0
+    assert SCHEDULES == ("constant", "cosine")
+    with pytest.raises(ValueError, match="schedule"):
+        learning_rates("linear", 0.01, 3)
+    with pytest.raises(ValueError, match="epochs"):
+        learning_rates("cosine", 0.01, 0)
+
+
+def test_constant_schedule_is_the_plain_loop_bit_for_bit(sliding):
+    # reference: the loop this trainer ran before it had schedules, restarts and a velocity
+    # scale, written out with its kernels: initial weights, then one permutation per epoch
+    (tm, om, f), _ = sliding
+    for hidden, batch, seed in ((4, 1, 0), (3, 7, 1)):
+        res = train_backprop(tm, om, f, hidden=hidden, learning_rate=0.02, momentum=0.8,
+                             epochs=15, batch_size=batch, rng=np.random.default_rng(seed))
+        scaling = Scaling.of(tm, om, f)
+        xn, tn = scaling.inputs(tm, om), scaling.target(f)
+        rng = np.random.default_rng(seed)
+        theta = initial_theta(hidden, rng)
+        vel = np.zeros_like(theta)
+        loss = [loss_gradient(theta, xn, tn, hidden, np.empty_like(theta))]
+        for _ in range(15):
+            loss.append(epoch(theta, vel, xn, tn, rng.permutation(tm.size), batch, 0.02, 0.8,
+                              hidden))
+        np.testing.assert_array_equal(layout.pack(res.net.w1, res.net.b1, res.net.w2,
+                                                  res.net.b2), theta)
+        np.testing.assert_array_equal(res.history.loss,
+                                      2 * np.array(loss) * scaling.output_scale ** 2)
+        meta = res.net.metadata
+        assert (meta["schedule"], meta["restarts"], meta["velocity_scale"]) == ("constant", 1, None)
+
+
+def test_cosine_schedule_matches_plain_numpy_momentum(sliding):
+    # reference: full-batch gradient descent with momentum in numpy, the rate of epoch k
+    # written out as lr*(1 + cos(pi*k/E))/2
+    (tm, om, f), _ = sliding
+    lr, mom, epochs, hidden = 0.3, 0.8, 12, 3
+    res = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
+                         epochs=epochs, batch_size=tm.size, schedule="cosine",
+                         rng=np.random.default_rng(5))
+    scaling = Scaling.of(tm, om, f)
+    xn, tn = scaling.inputs(tm, om), scaling.target(f)
+    theta = initial_theta(hidden, np.random.default_rng(5))
+    v = np.zeros_like(theta)
+    for k in range(epochs):
+        w = layout.unpack(theta, hidden)
+        hid = np.tanh(w.w1 @ xn + w.b1[:, None])
+        e = w.w2 @ hid + w.b2 - tn
+        d = (w.w2[:, None] * (1 - hid**2)) * e
+        g = layout.pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
+        v = mom * v - 0.5 * lr * (1 + math.cos(math.pi * k / epochs)) * g
+        theta = theta + v
+    np.testing.assert_allclose(layout.pack(res.net.w1, res.net.b1, res.net.w2, res.net.b2),
+                               theta, rtol=1e-10, atol=1e-12)  # summation-order rounding only
+
+
+def test_velocity_scale_trains_the_net_of_the_rescaled_seam(sliding):
+    # reference: the same descent reached through the seam instead of the loop -- a Scaling
+    # whose velocity input is omega / velocity_scale and torque input is the default one;
+    # the two differ only by the rounding of the rescaled input (a few ulp), which 5 epochs
+    # of per-pattern updates do not amplify beyond 1e-9
+    (tm, om, f), _ = sliding
+    vs = 0.4  # [rad/s]
+    res = train_backprop(tm, om, f, epochs=5, learning_rate=0.01, velocity_scale=vs,
+                         rng=np.random.default_rng(3))
+    base = Scaling.of(tm, om, f)
+    seam = Scaling(input_offset=np.array([base.input_offset[0], 0.0]),
+                   input_scale=np.array([base.input_scale[0], vs]),
+                   output_offset=base.output_offset, output_scale=base.output_scale,
+                   envelope_low=base.envelope_low, envelope_high=base.envelope_high)
+    ref = trainer("backprop").train(tm, om, f, epochs=5, learning_rate=0.01, scaling=seam,
+                                    rng=np.random.default_rng(3))
+    # the stored net keeps the default scaling and is the same function
+    np.testing.assert_array_equal(res.net.input_scale, base.input_scale)
+    np.testing.assert_allclose(res.net(tm, om), ref.net(tm, om), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res.history.loss, ref.history.loss, rtol=1e-9)
+    assert res.history.loss[-1] == pytest.approx(np.mean((res.net(tm, om) - f) ** 2), rel=1e-9)
+
+
+def test_restarts_keep_the_best_start(sliding):
+    (tm, om, f), _ = sliding
+    tm, om, f = tm[:150], om[:150], f[:150]
+    epochs = 20
+    res = train_backprop(tm, om, f, hidden=2, epochs=epochs, restarts=4, learning_rate=0.01,
+                         schedule="cosine", rng=np.random.default_rng(6))
+    meta, loss = res.net.metadata, res.history.loss
+    assert loss.shape == (4 * epochs + 1,)
+    finals = np.array(meta["restart_mse"])
+    assert meta["best_restart"] == int(np.argmin(finals)) and finals.size == 4
+    # reference: the returned net's MSE recomputed; it is the best start's final loss
+    assert finals.min() == pytest.approx(np.mean((res.net(tm, om) - f) ** 2), rel=1e-9)
+    assert loss[-1] == finals.min()
+    for r in range(1, 4):  # after a start ends, no entry is above the best finished start
+        assert np.all(loss[r * epochs + 1:] <= finals[:r].min())
+    # the first start's weights are the first draw of the generator, as for LM's first start
+    first = train_backprop(tm, om, f, hidden=2, epochs=1, learning_rate=1e-12,
+                           rng=np.random.default_rng(6))
+    again = train_casadi(tm, om, f, hidden=2, restarts=1, max_iterations=1,
+                         rng=np.random.default_rng(6))
+    assert first.history.loss[0] == pytest.approx(again.history.loss[0], rel=1e-12)
+
+
+def test_new_backprop_options_are_checked_and_listed(sliding):
+    (tm, om, f), _ = sliding
+    rng = np.random.default_rng(0)
+    opts = trainer("backprop").options()
+    assert (opts["schedule"], opts["restarts"], opts["velocity_scale"]) == ("constant", 1, None)
+    assert set(CONVERGING) <= set(opts)
+    for kw, match in ((dict(schedule="step"), "schedule"), (dict(schedule=1), "schedule"),
+                      (dict(restarts=0), "restarts"), (dict(restarts=2.0), "restarts"),
+                      (dict(velocity_scale=0.0), "velocity_scale"),
+                      (dict(velocity_scale="1"), "velocity_scale"),
+                      (dict(velocity_scale=np.inf), "velocity_scale")):
+        with pytest.raises(ValueError, match=match):
+            train_backprop(tm, om, f, epochs=1, rng=rng, **kw)
+    res = train_backprop(tm, om, f, epochs=2, velocity_scale=np.float32(0.5), restarts=np.int64(2),
+                         rng=rng)
+    assert res.net.metadata["velocity_scale"] == 0.5 and res.net.metadata["restarts"] == 2
+    json.dumps(dict(res.net.metadata), allow_nan=False)  # stored with the net
+
+
+@pytest.fixture(scope="module")
+def paper_patterns():
+    """The paper pipeline's training patterns, fast mode, seed 0."""
+    from fricctl.paper import train_paper_network
+
+    return train_paper_network(fast=True, seed=0).train
+
+
+def _lm_and_backprop(train, seed):
+    from fricctl.bench.experiments import train_network
+
+    # both on the same <= 4000 patterns (the subset is the generator's first draw)
+    lm = train_network(train, rng=np.random.default_rng(seed))
+    bp = train_network(train, trainer="backprop", rng=np.random.default_rng(seed), **CONVERGING)
+    return lm.history.loss[-1], bp.history.loss[-1]
+
+
+def test_converging_backprop_reaches_lm_on_paper_patterns(paper_patterns):
+    # The claim of issue 11, on three trainer seeds of the fast-mode patterns: back-prop with
+    # CONVERGING ends within 5 % of the Levenberg-Marquardt loss (LM's 3 starts) on the same
+    # patterns.  Measured on these seeds: 0.75, 0.69, 0.78 of LM's loss; over seeds 0-7 6/8
+    # reach (benchmarks/README.md: 8/10 on fast-mode seeds, 18/20 in full mode).
+    ratios = np.array([bp / lm for lm, bp in (_lm_and_backprop(paper_patterns, s)
+                                              for s in range(3))])
+    assert np.sum(ratios <= 1.05) >= 2
+    assert np.median(ratios) <= 1.05
+
+
+@pytest.mark.slow
+def test_converging_backprop_reaches_lm_over_ten_paper_seeds():
+    # Full mode (the paper's patterns), 10 seeds of the whole pipeline (split, subset,
+    # initial weights).  Measured: 9/10 reach LM's loss within 5 %, median 0.69 of it
+    # (benchmarks/README.md).  8/10 leaves one more seed to a different basin; the paper's
+    # constant rate (0.05, momentum 0.9) stays far above LM in every seed (measured 11-276x
+    # after 300 epochs, 9-85x after 2000; 3x is the pass mark).
+    from fricctl.bench.experiments import train_network
+    from fricctl.paper import train_paper_network
+
+    ratios, const = [], []
+    for seed in range(10):
+        train = train_paper_network(seed=seed).train
+        lm, bp = _lm_and_backprop(train, seed)
+        ratios.append(bp / lm)
+        c = train_network(train, trainer="backprop", epochs=300, rng=np.random.default_rng(seed))
+        const.append(c.history.loss[-1] / lm)
+    ratios = np.array(ratios)
+    assert np.sum(ratios <= 1.05) >= 8
+    assert np.median(ratios) <= 1.0
+    assert min(const) > 3.0
 
 
 # -- CasADi trainer -------------------------------------------------------------

@@ -19,6 +19,12 @@ import numpy as np
 
 from ..datasets import PATTERN_COLUMNS, read_patterns
 
+#: ``--recipe paper``: the back-prop options this command has always used.
+PAPER_RECIPE = dict(epochs=1000, learning_rate=0.01, momentum=0.9, batch_size=1,
+                    schedule="constant", restarts=1, velocity_scale=None)
+BACKPROP_FLAGS = ("epochs", "learning_rate", "momentum", "batch_size", "schedule", "restarts",
+                  "velocity_scale")
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
@@ -35,12 +41,26 @@ def register(subparsers) -> None:
                         "back-propagation with momentum")
     p.add_argument("--hidden", type=int, default=4, help="hidden units (paper: 4)")
     p.add_argument("--seed", type=int, default=0, help="seed of the initial weights")
-    p.add_argument("--epochs", type=int, default=1000, help="backprop: epochs")
-    p.add_argument("--learning-rate", type=float, default=0.01, help="backprop: step size")
-    p.add_argument("--momentum", type=float, default=0.9, help="backprop: momentum [0, 1)")
-    p.add_argument("--batch-size", type=int, default=1,
+    p.add_argument("--recipe", choices=("paper", "converging"), default="paper",
+                   help="backprop: default options; paper: constant rate as in the paper "
+                        "(epochs 1000, learning rate 0.01, one start); converging: the options "
+                        "measured to reach the Levenberg-Marquardt loss on the paper's patterns "
+                        "(fricctl.nn.train.backprop.CONVERGING); the flags below override either")
+    p.add_argument("--epochs", type=int, default=None, help="backprop: epochs per start")
+    p.add_argument("--learning-rate", type=float, default=None,
+                   help="backprop: step size (the first epoch's, for a schedule)")
+    p.add_argument("--momentum", type=float, default=None, help="backprop: momentum [0, 1)")
+    p.add_argument("--batch-size", type=int, default=None,
                    help="backprop: patterns per update (1 = per pattern, as in the paper)")
-    p.add_argument("--restarts", type=int, default=3, help="casadi: seeded starting points")
+    p.add_argument("--schedule", default=None, metavar="{constant,cosine}",
+                   help="backprop: learning rate per epoch (constant = the paper's; cosine = "
+                        "annealed to zero over each start)")
+    p.add_argument("--velocity-scale", type=float, default=None, metavar="RAD_PER_S",
+                   help="backprop: the descent sees omega / this [rad/s] (default: the range "
+                        "scaling of every trainer)")
+    p.add_argument("--restarts", type=int, default=None,
+                   help="starting points, the best kept (casadi: default 3; backprop: 1, or 5 "
+                        "with --recipe converging)")
     p.add_argument("--c-source", type=Path, default=None, metavar="NET.c",
                    help="also write a self-contained C function of the net")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -49,6 +69,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from .. import nn
+    from ..nn.train.backprop import CONVERGING
 
     pats = read_patterns(args.patterns)
     tm, omega, friction = pats["tm"], pats["omega"], pats["friction"]
@@ -56,9 +77,16 @@ def run(args) -> int:
         raise ValueError(f"--seed must be >= 0, got {args.seed}")
     rng = np.random.default_rng(args.seed)
     extra = {"seed": args.seed, "patterns_file": args.patterns.name}
-    options = {"casadi": dict(restarts=args.restarts),
-               "backprop": dict(learning_rate=args.learning_rate, momentum=args.momentum,
-                                epochs=args.epochs, batch_size=args.batch_size)}
+    if args.trainer == "casadi":
+        given = [f"--{k.replace('_', '-')}" for k in BACKPROP_FLAGS
+                 if k != "restarts" and getattr(args, k) is not None]
+        if given or args.recipe != "paper":
+            raise ValueError(f"{', '.join(given) or '--recipe'} applies to --trainer backprop only")
+    recipe = dict(PAPER_RECIPE if args.recipe == "paper" else CONVERGING)
+    backprop = {k: recipe[k] if getattr(args, k) is None else getattr(args, k)
+                for k in BACKPROP_FLAGS}
+    options = {"casadi": dict(restarts=3 if args.restarts is None else args.restarts),
+               "backprop": backprop}
     res = nn.TRAINERS[args.trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
                                           metadata=extra, **options[args.trainer])
     net, hist = res.net, res.history
