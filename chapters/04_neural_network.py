@@ -196,8 +196,81 @@ assert np.array_equal(again(tm_grid, w_grid), net(tm_grid, w_grid))  # round tri
 #
 # 1. Train with `estimator="savitzky_golay"` (pass `window_length=51`) instead of
 #    the paper's polynomial segments: how do the fit, R^2 and the gain at rest move?
-# 2. Increase `BACKPROP_EPOCHS` until back-propagation reaches the CasADi trainer's
-#    final loss.  How many epochs does it take, and how long?
+# 2. Increase `BACKPROP_EPOCHS`: does the paper's back-propagation reach the CasADi
+#    trainer's final loss?  Then train it with the options
+#    `fricctl.nn.train.backprop.CONVERGING` (a learning-rate schedule, the velocity
+#    input re-scaled for the descent, several starts) on LM's own patterns: does it reach
+#    LM's loss now, after how many epochs, and how long does that take next to LM?
 # 3. Fit only the sliding patterns (`net_run.train.subset(net_run.train.omega != 0)`).
 #    What does the resulting net predict at rest, and why is that dangerous for the
 #    compensator of Chapter 5?
+
+# %% [markdown]
+# ### Solution to exercise 2
+#
+# More epochs do not help the paper's constant rate.  With one pattern per update and
+# momentum 0.9, a rate `lr` is an effective step of `lr / (1 - 0.9) = 10 lr` on the
+# scaled problem: the steps keep throwing hidden units into saturation, so the loss never
+# settles, however long it runs (below: twice the epochs of Section 2).  Three changes
+# make the same back-propagation converge (`CONVERGING`; the module docstring of
+# `fricctl.nn.train.backprop` gives the measurement behind each):
+#
+# * a **cosine schedule**: the rate falls to zero over each start, so the descent ends
+#   at the bottom of its basin instead of rattling around it;
+# * a **velocity scale** for the descent: the net is trained on `omega / velocity_scale`
+#   (10 rad/s) instead of the velocity scaled over its whole range, where most patterns
+#   sit at `omega = 0` and most sliding ones close to it; the weights are folded back
+#   afterwards, so the stored net is scaled like every other;
+# * **five starts**, the best kept -- LM keeps the best of three, and the loss surface
+#   has several basins.
+#
+# "Reached" below means a final training loss within 5 % of LM's, on the same patterns
+# (the <= 4000 that the pipeline trained LM on); the times are first-hitting times of
+# that loss in each trainer's own history, in this run.
+
+# %%
+from fricctl.nn.train.backprop import CONVERGING
+
+print({k: CONVERGING[k] for k in ("schedule", "learning_rate", "epochs", "restarts", "velocity_scale")})
+assert (CONVERGING["schedule"], CONVERGING["restarts"], CONVERGING["velocity_scale"]) == ("cosine", 5, 10.0)
+assert lm.net.metadata["restarts"] == 3  # LM's starts
+lm_loss = lm.history.loss[-1]
+longer = train_network(net_run.train, trainer="backprop", epochs=2 * BACKPROP_EPOCHS,
+                       max_patterns=2000, rng=np.random.default_rng(SEED))
+tail = longer.history.loss[BACKPROP_EPOCHS:]
+print(f"constant rate, {2 * BACKPROP_EPOCHS} epochs: final loss {longer.history.loss[-1] / lm_loss:.1f}x "
+      f"LM's; over the last {BACKPROP_EPOCHS} epochs between {tail.min() / lm_loss:.1f}x and "
+      f"{tail.max() / lm_loss:.0f}x")
+assert tail.min() > 3 * lm_loss and tail.max() > 10 * tail.min()  # far above LM, not settling
+
+ratios = []
+for seed in (SEED, SEED + 1, SEED + 2):
+    lm_s = train_network(net_run.train, rng=np.random.default_rng(seed))  # as the pipeline trains LM
+    bp_s = train_network(net_run.train, trainer="backprop", rng=np.random.default_rng(seed),
+                         **CONVERGING)
+    target = 1.05 * lm_s.history.loss[-1]
+    ratios.append(bp_s.history.loss[-1] / lm_s.history.loss[-1])
+    hit = np.flatnonzero(bp_s.history.loss <= target)
+    when = (f"reached after {hit[0]} epochs, {bp_s.history.time_to_reach(target):.2f} s "
+            f"(LM: {lm_s.history.time_to_reach(target):.2f} s)" if hit.size else "not reached")
+    print(f"seed {seed}: back-prop's final loss {ratios[-1]:.2f}x LM's; {when}; whole run "
+          f"{bp_s.history.elapsed[-1]:.2f} s (LM {lm_s.history.elapsed[-1]:.2f} s)")
+    if seed == SEED:
+        ax = figures.plot_training_history(lm_s.history, against="time")
+        figures.plot_training_history(longer.history, ax=ax, against="time")
+        figures.plot_training_history(bp_s.history, ax=ax, against="time")
+        ax.axhline(target, color="0.5", lw=0.8, ls=":")
+        ax.legend(["CasADi LM", "back-prop, constant rate", "back-prop, CONVERGING",
+                   "LM's loss + 5 %"], fontsize="small")
+reached = int(np.sum(np.array(ratios) <= 1.05))
+print(f"reached LM's loss in {reached} of {len(ratios)} seeds")
+assert reached >= 2  # a rate over seeds, not one seed's luck
+plt.show()
+
+# %% [markdown]
+# A ratio under 1 above means back-prop's five starts found a deeper minimum than LM's
+# three.  How often all this holds over seeds of the whole pipeline (the split, the
+# subset and the starts), and how long each trainer takes, is measured in
+# `benchmarks/README.md` ("Neural network"), with the seeds where back-prop ends in a
+# different basin above LM's loss.  It is a statement about these patterns: on much
+# smaller training sets LM goes deeper still and the recipe reaches it far less often.
