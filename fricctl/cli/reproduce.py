@@ -27,6 +27,7 @@ arguments).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import multiprocessing
 import os
 import re
@@ -142,33 +143,52 @@ def _label(fig, text: str) -> None:
     fig.suptitle(f"{sup} ({text})" if sup else text, fontsize="medium")
 
 
-def _write_figures(res, out: Path) -> list:
+def _render(params, fast: bool, pipeline: str, seed: int, net_json: str, sweep, folder: str) -> list:
+    """One representative seed's figures as PNGs in ``folder`` (a job: runs in a worker process).
+
+    The network is trained again (read from the disk cache of trained nets when the job that
+    judged it left it there) and must be the one judged; the figure results never leave the
+    process that draws them (they hold python-control objects that do not pickle).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from ..figures.paper import PAPER_PLOTS, plot_coast, plot_sweep
+    from ..paper.reproduce import representative_figures
 
+    _, figures = representative_figures(params, fast, pipeline, seed, net_json)
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    plots = []
+    for num, result in figures.items():
+        plot = PAPER_PLOTS.get(num)
+        if plot is None:  # a figure module without its @paper_plot: a bug of fricctl, not of the input
+            raise RuntimeError(f"Fig. {num} has no plot registered with @paper_plot({num}) in "
+                               "fricctl.figures.paper")
+        plots.append((f"fig{num:02d}.png", plot(result)))
+    plots.append(("coast.png", plot_coast(figures[9].coast)))
+    plots.append(("sweep.png", plot_sweep(sweep)))
     written = []
-    for name in res.pipelines:
-        seed = res.representative[name]
-        folder = out / "figures" / f"{name}-seed{seed}"
-        folder.mkdir(parents=True, exist_ok=True)
-        label = f"{name} pipeline, seed {seed}"
-        plots = []
-        for num, result in res.figures[name].items():
-            plot = PAPER_PLOTS.get(num)
-            if plot is None:  # a figure module without its @paper_plot: a bug of fricctl, not of the input
-                raise RuntimeError(f"Fig. {num} has no plot registered with @paper_plot({num}) in "
-                                   "fricctl.figures.paper")
-            plots.append((f"fig{num:02d}.png", plot(result)))
-        plots.append(("coast.png", plot_coast(res.figures[name][9].coast)))
-        plots.append(("sweep.png", plot_sweep(res.sweeps[name])))
-        for fname, obj in plots:
-            fig = getattr(obj, "figure", obj)
-            _label(fig, label)
-            fig.savefig(folder / fname, dpi=110)
-            plt.close(fig)
-            written.append(folder / fname)
+    for fname, obj in plots:
+        fig = getattr(obj, "figure", obj)
+        _label(fig, f"{pipeline} pipeline, seed {seed}")
+        fig.savefig(folder / fname, dpi=110)
+        plt.close(fig)
+        written.append(str(folder / fname))
     return written
+
+
+def _write_figures(res, out: Path, executor) -> list:
+    """The representative seeds' figures, one job per pipeline (in parallel through ``executor``)."""
+    args = [(res.params, res.fast, name, res.representative[name],
+             res.runs[(name, res.representative[name])].net_json, res.sweeps[name],
+             str(out / "figures" / f"{name}-seed{res.representative[name]}")) for name in res.pipelines]
+    if executor is None:
+        return [f for a in args for f in _render(*a)]
+    futures = [executor.submit(_render, *a) for a in args]
+    return [f for fut in futures for f in fut.result()]
 
 
 def run(args) -> int:
@@ -188,18 +208,22 @@ def run(args) -> int:
 
     workers = min(workers, seeds * len(pipelines))
     progress = _Progress()
-    if workers > 1:
-        # 'spawn': forking a process whose numba/OpenMP threads have started aborts the workers
-        with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as ex:
-            res = reproduce_paper(fast=args.fast, seeds=seeds, pipelines=pipelines, executor=ex,
-                                  progress=progress)
-    else:
-        res = reproduce_paper(fast=args.fast, seeds=seeds, pipelines=pipelines, progress=progress)
     out.mkdir(parents=True, exist_ok=True)
+    with contextlib.ExitStack() as stack:
+        ex = None
+        if workers > 1:
+            # 'spawn': forking a process whose numba/OpenMP threads have started aborts the workers
+            ex = stack.enter_context(ProcessPoolExecutor(max_workers=workers,
+                                                         mp_context=multiprocessing.get_context("spawn")))
+        res = reproduce_paper(fast=args.fast, seeds=seeds, pipelines=pipelines, executor=ex,
+                              progress=progress, figures=False)
+        t0 = time.perf_counter()
+        figures = _write_figures(res, out, ex)
+        print(f"figures of the representative seeds drawn in {time.perf_counter() - t0:.1f} s",
+              file=sys.stderr)
     (out / "nets").mkdir(exist_ok=True)
     for (name, seed), r in res.runs.items():
         save_net(r.net, out / "nets" / f"{name}-seed{seed}.json")
-    figures = _write_figures(res, out)
     (out / "claims.md").write_text(res.markdown(), encoding="utf-8")
     (out / "claims.json").write_text(res.json() + "\n", encoding="utf-8")
     ids = list(dict.fromkeys(s.id for s in res.stats))

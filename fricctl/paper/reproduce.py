@@ -31,7 +31,7 @@ from .registry import paper_figures
 from .sweep import SweepResult, robustness_sweep
 from .table import aggregate_claims, claims_json, claims_markdown, holds_summary, representative_seed
 
-__all__ = ["SeedRun", "PaperResults", "seed_run", "reproduce_paper", "MAX_SEEDS"]
+__all__ = ["SeedRun", "PaperResults", "seed_run", "representative_figures", "reproduce_paper", "MAX_SEEDS"]
 
 #: Most seeds one call accepts (a bound on the work: ~10 s of CPU per network) [-].
 MAX_SEEDS = 1000
@@ -79,6 +79,25 @@ def _figures(network: PaperNetwork) -> dict:
     return {num: fig.run(network) for num, fig in paper_figures().items()}
 
 
+def representative_figures(params: ActuatorParams, fast: bool, pipeline: str, seed: int,
+                           net_json: str | None = None):
+    """Train (or read from the cache) one network again and run every figure on it.
+
+    Returns ``(network, figures)``.  With ``net_json`` (the network its job judged) the
+    network trained here must be that one (training is deterministic).
+
+    Raises
+    ------
+    RuntimeError
+        The network differs from ``net_json``.
+    """
+    net = train_paper_network(params, fast=fast, seed=seed, pipeline=pipeline)
+    if net_json is not None and net.net.to_json() != net_json:
+        raise RuntimeError(f"{pipeline} seed {seed}: the network trained again differs from the one "
+                           "its job judged (training is not deterministic)")
+    return net, MappingProxyType(_figures(net))
+
+
 def seed_run(params: ActuatorParams, fast: bool, pipeline: str, seed: int) -> SeedRun:
     """Train one network and check every claim on it (one job of :func:`reproduce_paper`).
 
@@ -108,8 +127,9 @@ class PaperResults:
     pipelines : the pipelines, in table order
     runs : ``(pipeline, seed)`` -> :class:`SeedRun`
     representative : pipeline -> the seed whose figures are shown
-    networks : pipeline -> the representative :class:`PaperNetwork`
-    figures : pipeline -> (figure number -> result) of the representative network
+    networks : pipeline -> the representative :class:`PaperNetwork` (empty when
+        ``reproduce_paper(figures=False)``)
+    figures : pipeline -> (figure number -> result) of the representative network (idem)
     sweeps : pipeline -> robustness sweep of the representative network
     stats : per claim and pipeline over the seeds (:class:`~fricctl.paper.table.ClaimStats`)
     """
@@ -223,7 +243,8 @@ def _check_pipelines(pipelines) -> tuple:
 
 def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False, seeds: int = 10,
                     pipelines=("paper", "fricctl"), executor: Executor | None = None,
-                    progress: Callable[[int, int, str], None] | None = None) -> PaperResults:
+                    progress: Callable[[int, int, str], None] | None = None,
+                    figures: bool = True) -> PaperResults:
     """Train ``seeds`` networks per pipeline, run every figure on each, aggregate the claims.
 
     Parameters
@@ -242,6 +263,10 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
         numba/OpenMP threads have started aborts the workers.
     progress : callable, optional
         ``progress(done, total, name)`` as jobs finish.
+    figures : bool
+        Re-run the representative seed of each pipeline here and keep its network and
+        figure results (:func:`representative_figures`); False leaves that to the caller
+        (``fricctl reproduce`` draws them in its worker processes).
 
     Returns
     -------
@@ -260,8 +285,11 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
     names = _check_pipelines(pipelines)
     if executor is not None and not hasattr(executor, "submit"):
         raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
-    jobs = [(name, s) for s in range(n) for name in names]  # interleaved: every pipeline advances
-    total = len(jobs) + len(names) + 1
+    # pipeline by pipeline: the jobs of one seed never run at once, so the second reads what the
+    # first left in the disk cache of trained nets (Fig. 8's exact-pattern net is the same)
+    jobs = [(name, s) for name in names for s in range(n)]
+    keep_figures = v.flag("figures", figures)
+    total = len(jobs) + (len(names) if keep_figures else 0) + 1
 
     def tick(i, what):
         if progress is not None:
@@ -280,21 +308,18 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
             tick(i, "{} seed {}".format(*futures[f]))
     runs = {k: runs[k] for k in sorted(runs, key=lambda k: (names.index(k[0]), k[1]))}
     rep = {name: representative_seed({s: runs[(name, s)].n_passed for s in range(n)}) for name in names}
-    networks, figures, sweeps = {}, {}, {}
+    networks, figs, sweeps = {}, {}, {}
     grid = dict(friction_scales=(0.8, 1.0, 1.2), link_inertias=(0.0, 0.0046)) if fast else {}
     for i, name in enumerate(names, start=len(jobs) + 1):
-        net = train_paper_network(p, fast=fast, seed=rep[name], pipeline=name)
-        if net.net.to_json() != runs[(name, rep[name])].net_json:
-            raise RuntimeError(f"{name} seed {rep[name]}: the network trained again differs from the one "
-                               "its job judged (training is not deterministic)")
-        networks[name] = net
-        figures[name] = MappingProxyType(_figures(net))
-        sweeps[name] = robustness_sweep(net.net, p, **grid)
-        tick(i, f"{name} seed {rep[name]} figures")
+        run = runs[(name, rep[name])]
+        sweeps[name] = robustness_sweep(run.net, p, **grid)
+        if keep_figures:
+            networks[name], figs[name] = representative_figures(p, fast, name, rep[name], run.net_json)
+            tick(i, f"{name} seed {rep[name]} figures")
     tick(total, "done")
     return PaperResults(
         params=p, fast=fast, seeds=tuple(range(n)), pipelines=names, runs=MappingProxyType(runs),
         representative=MappingProxyType(rep), networks=MappingProxyType(networks),
-        figures=MappingProxyType(figures), sweeps=MappingProxyType(sweeps),
+        figures=MappingProxyType(figs), sweeps=MappingProxyType(sweeps),
         stats=aggregate_claims({k: r.claims for k, r in runs.items()}, rep))
 
