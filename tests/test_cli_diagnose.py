@@ -23,7 +23,9 @@ def test_json_output(record_csv, capsys):
     path, rec = record_csv
     assert main(["diagnose", str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["cause"] == "time_delay"
+    assert out["cause"] == "time_delay" and out["causes"] == ["time_delay"]
+    assert [s["cause"] for s in out["steps"]] == ["time_delay"]
+    assert out["steps"][0]["score"] >= 0.19  # named: removes >= 10 % of the held-out RMS
     # fit mode: every candidate that needs no nominal model, scored once
     assert sorted(r["cause"] for r in out["ranking"]) == sorted(
         set(CAUSES) - {"none"} - set(NOMINAL_ONLY))
@@ -44,10 +46,12 @@ def test_nominal_model_and_report(record_csv, tmp_path, capsys):
     assert "# Diagnosis: `time_delay`" in text
     # nominal mode: the nominal-only candidates are scored too
     assert all(f"| {c} |" in text for c in NOMINAL_ONLY)
-    for name in ("report.md", "residuals.png", "simulation.png", "spectrum.png", "extended_model.json"):
+    for name in ("report.md", "residuals.png", "simulation.png", "spectrum.png", "steps.png",
+                 "extended_model.json"):
         assert (out_dir / name).is_file(), name
     ext = JointModel.load(out_dir / "extended_model.json")
-    assert ext.delay_samples(rec.run.sample_time) == rec.magnitude["samples"]
+    # the bench's delay is whole samples; the diagnosis's grid is a quarter sample
+    assert abs(ext.delay / rec.run.sample_time - rec.magnitude["samples"]) <= 0.25
 
 
 @pytest.mark.parametrize("content, match", [
@@ -69,3 +73,17 @@ def test_bad_model_file_exits_2(record_csv, tmp_path, capsys):
     assert main(["diagnose", str(path), "--model", str(bad)]) == 2
     assert "version" in capsys.readouterr().err
     assert main(["diagnose", str(tmp_path / "absent.csv")]) == 2
+
+
+def test_linear_axis_from_the_command_line(tmp_path, capsys):
+    # a linear-axis record without its "# units:" line: --units linear labels it (N, m)
+    rec = hidden_effect_record(np.random.default_rng([2026, 78]), cause="none", duration=20.0,
+                               axis="linear")
+    path = rec.run.to_csv(tmp_path / "lin.csv")
+    lines = [ln for ln in path.read_text().splitlines() if not ln.startswith("# units:")]
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["diagnose", str(path), "--units", "linear", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["units"] == "linear" and out["causes"] == ["none"]
+    assert main(["diagnose", str(path), "--units", "linear"]) == 0
+    assert " N |" in capsys.readouterr().out  # forces in newtons in the gain table

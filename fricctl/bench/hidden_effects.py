@@ -115,6 +115,9 @@ class HiddenEffectRecord:
         The complete true model (baseline + effect).
     excitation : tuple of str
         The segments, in order.
+    effect_free : JointModel or None
+        The true actuator without the hidden effects (ground truth, also when ``nominal``
+        is None): with :attr:`truth` it tells how much each effect weighs on the record.
     """
 
     run: Run
@@ -124,6 +127,7 @@ class HiddenEffectRecord:
     magnitude: dict = field(default_factory=dict)
     truth: JointModel
     excitation: tuple = ()
+    effect_free: JointModel | None = None
 
 
 # ----------------------------------------------------------------------------- excitation
@@ -410,4 +414,4 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     ordered = tuple(c for c in causes.CAUSES if c in names)
     return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,
                               cause=ordered[0], causes=ordered, magnitude=effect.magnitude,
-                              truth=effect.truth, excitation=segs)
+                              truth=effect.truth, excitation=segs, effect_free=effect.nominal)

@@ -3,13 +3,20 @@
 Reads a record (CSV header ``t,torque,position[,reference]``, SI units, uniform
 sampling, any rate; see :class:`fricctl.datasets.Run`), fits the rigid baseline
 (or takes ``--model FILE``, a ``fricctl.joint_model`` JSON file, as given),
-re-simulates it over 0.5 s windows, scores every candidate cause by blocked
-cross-validation, names the best (or ``none``), extends the model and reports
-the held-out gain.  ``--json`` prints one object: ``cause``, ``ranking``
-(``[{cause, score}]``), ``evidence``, ``baseline`` and ``extended`` (parameter
-dicts), ``gain`` (``torque_rms_before``, ``torque_rms_after``,
-``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data.
-``--report DIR`` writes the figures (PNG), ``report.md`` and ``extended_model.json``.
+re-simulates it over 0.5 s windows, names every cause the record supports one
+step at a time by blocked cross-validation (or ``none``), extends the model and
+reports the held-out gain.  ``--json`` prints one object (finite numbers or null):
+``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
+(per named cause: ``score`` net of the measuring chain's share, ``gross``,
+``chain``, held-out torque and simulation RMS before and after), ``ranking``
+(``[{cause, score}]`` of the first step), ``not_identifiable`` (cause -> why it
+cannot be told on this record), ``evidence``, ``baseline`` and ``extended``
+(parameter dicts), ``gain`` (``torque_rms_before``, ``torque_rms_after``,
+``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data,
+``chain_rms`` and ``cutoff``.  A linear axis: ``# units: linear`` in the file or
+``--units linear``.
+``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),
+``report.md`` and ``extended_model.json``.
 Bad input prints one line on stderr and exits with code 2.
 """
 
@@ -52,7 +59,7 @@ def run(args) -> int:
     if args.report:
         write_report(result, args.report)
     if args.json:
-        print(json.dumps(result.as_dict(), indent=2))
+        print(json.dumps(result.as_dict(), indent=2, allow_nan=False))
     else:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s")
         print(result.report())
@@ -66,7 +73,8 @@ def write_report(result, folder) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..figures.diagnosis import plot_diagnosis, plot_residual_spectrum, plot_simulation
+    from ..figures.diagnosis import (plot_diagnosis, plot_residual_spectrum, plot_simulation,
+                                     plot_steps)
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
@@ -82,6 +90,9 @@ def write_report(result, folder) -> Path:
     fig3, ax3 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
     plot_residual_spectrum(result, ax=ax3)
     figs["spectrum.png"] = fig3
+    fig4, ax4 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    plot_steps(result, ax=ax4)
+    figs["steps.png"] = fig4
     for name, f in figs.items():
         f.savefig(out / name, dpi=110)
         plt.close(f)

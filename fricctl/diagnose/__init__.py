@@ -13,45 +13,57 @@ an engineer does when simulation and experiment disagree:
    (:func:`windowed_simulation`); and the equation-error (torque) residual
    ``LP(Tm) - LP(model torque)`` on the samples where the joint slides
    (:func:`torque_residual`).
-3. **Name the cause.**  Every candidate of :data:`CAUSES` adds its term to the
-   baseline; each is scored by *blocked cross-validation* (the record cut in
-   contiguous blocks; fit on all blocks but one, predict the one left out,
-   hyper-parameters such as the ripple period or the delay chosen on the
-   training blocks only), as the fraction of the baseline's held-out torque
-   residual it removes.  Among the candidates that remove at least
-   :data:`MIN_SCORE` of it, the best whose extended model does not simulate the
-   held-out windows worse than the baseline is named (if none simulates better,
-   the best torque score decides: stick-slip re-simulation is chaotic); with no
-   candidate above :data:`MIN_SCORE`, ``none``.
-4. **Extend and measure the gain.**  Refit the model with the named term
+3. **Name every cause, one step at a time.**  Every candidate of :data:`CAUSES`
+   adds its term to the model; each is scored by *blocked cross-validation* (the
+   record cut in contiguous blocks; fit on all blocks but one, predict the one
+   left out, hyper-parameters such as the ripple period or the delay chosen on
+   the training blocks only), as the fraction of the remaining held-out torque
+   residual it removes, less what the same term removes on the record's
+   effect-free twin (:mod:`.twin`: the measuring chain's share).  Among the
+   candidates whose net score reaches :data:`MIN_SCORE` and that can be told on
+   this record (not collinear with the model's columns, no coefficient at a
+   bound, no resonance above the excitation's band: else "cannot be told on this
+   record, because ..."), the best whose extended model does not simulate the
+   held-out windows worse is named (if none simulates better, the best torque
+   score decides: stick-slip re-simulation is chaotic); then the search repeats
+   with that term in the model (:mod:`.selection`), until no candidate reaches
+   :data:`MIN_SCORE` (nothing named: ``none``).
+4. **Extend and measure the gain.**  Refit the model with every named term
    (CasADi, :func:`fricctl.identify.fit_least_squares`), re-simulate, and report
-   the held-out RMS before and after, for the torque residual and for the
-   windowed simulation error.
+   the held-out RMS before and after each step and overall, for the torque
+   residual and for the windowed simulation error.
+
+Every threshold is read off the record: the low-pass cut-off is the band the
+excitation reaches above the encoder's quantisation noise (at most half the
+Nyquist frequency), the chain's share comes from the record's own twin, the
+resolvable presliding lengths and delays from its encoder and sample time.
 
 Modules
 -------
-:mod:`.signals` (velocity, acceleration, direction, rest, a model's torque along the
-record), :mod:`.windows` (the windowed re-simulation), :mod:`.crossval` (variants,
-blocked cross-validation, refits), :mod:`.causes` (one module per cause, and the
-registry), :mod:`.report` (:class:`Diagnosis`), :mod:`.api` (the workflow).
+:mod:`.signals` (velocity, acceleration, direction, rest, the excitation's band, a
+model's torque along the record), :mod:`.windows` (the windowed re-simulation),
+:mod:`.crossval` (variants, their composition, blocked cross-validation, refits),
+:mod:`.causes` (one module per cause, and the registry), :mod:`.twin` (the
+effect-free twin), :mod:`.selection` (the forward selection), :mod:`.report`
+(:class:`Diagnosis`), :mod:`.api` (the workflow).
 
 Notes
 -----
-Left out: causes acting together (one is named per call; diagnose again with the
-extended model as the nominal one to find a second, as chapter 08 does);
-backlash; gravity and position-dependent inertia; sub-sample delays (the delay
-is a whole number of samples); torque measurement noise models (least squares
-assumes white residuals, so the reported standard errors are optimistic).
+Left out: backlash; gravity and position-dependent inertia; two effects acting on
+the same model parameters (friction scale and drift); torque measurement noise
+models (least squares assumes white residuals, so the reported standard errors are
+optimistic).
 """
 
 from .api import PredictionErrors, TorqueResidual, diagnose, prediction_errors, torque_residual
 from .causes import CAUSES, NOMINAL_ONLY
-from .report import MIN_SCORE, Diagnosis, Gain
+from .report import Diagnosis, Gain
+from .selection import MIN_SCORE, Step
 from .windows import SimulationRMS, WindowedSimulation, windowed_simulation
 
 __all__ = [
     "CAUSES", "NOMINAL_ONLY", "MIN_SCORE",
     "WindowedSimulation", "Diagnosis", "diagnose", "windowed_simulation",
     "prediction_errors", "torque_residual", "Gain", "SimulationRMS", "TorqueResidual",
-    "PredictionErrors",
+    "PredictionErrors", "Step",
 ]

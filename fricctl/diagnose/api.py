@@ -12,10 +12,12 @@ from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel
 from . import causes
-from .causes import Baseline, Cause, Term
-from .crossval import Problem, Variant, baseline_fit, casadi_refit, cross_validate, full_fit
-from .report import MIN_SCORE, Diagnosis, Gain, evidence_text
+from .causes import Baseline, Term
+from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
+from .report import Diagnosis, Gain, evidence_text
+from .selection import forward_selection
 from .signals import Signals, estimate_signals, predict
+from .twin import chain_shares, effect_free_twin
 from .windows import WindowedSimulation, simulate_windows, window_grid
 
 __all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors"]
@@ -27,7 +29,8 @@ def _check_run(run) -> Run:
 
 def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
              folds: int = 8) -> Diagnosis:
-    """Show what the model gets wrong on ``run``, name the cause, extend it, measure the gain.
+    """Show what the model gets wrong on ``run``, name every cause the data support, extend
+    the model with them, measure the gain.
 
     Parameters
     ----------
@@ -50,15 +53,17 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     With a nominal model every candidate fits only its own term on top of it (the
     nominal is trusted otherwise); without, the baseline's I, b and Fc are refitted
     with each candidate.  ``inertia`` and ``friction_scale`` only apply to a
-    nominal model.
+    nominal model.  Causes are named one step at a time (:mod:`.selection`); a
+    candidate's score is net of what its term removes on the record's effect-free twin
+    (:mod:`.twin`).
 
     Examples
     --------
     >>> import numpy as np
     >>> from fricctl.bench.hidden_effects import hidden_effect_record
     >>> rec = hidden_effect_record(np.random.default_rng(3), cause="time_delay", duration=20.0)
-    >>> diagnose(rec.run).cause
-    'time_delay'
+    >>> diagnose(rec.run).causes
+    ('time_delay',)
     """
     _check_run(run)
     if model is not None:
@@ -69,109 +74,80 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     fit0 = baseline_fit(sig) if model is None else None
     base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
     problem = Problem(sig, base.columns)
-    base_variant = Variant(h=None, extra=np.zeros((sig.t.size, 0)), y=base.target, signs=())
-    base_cv = cross_validate(problem, lambda f: [base_variant], 0)
-    base_sse = float(np.sum(base_cv.test))
-
-    # ---- score every candidate by blocked cross-validation ------------------------
-    scores, fold_fits = {}, {}
-    for cause in causes.candidates(nominal=model is not None):
-        cv = cross_validate(problem, lambda f, c=cause: base.variants(c, f), cause.n_extra)
-        test = np.where(np.isnan(cv.test), base_cv.test, cv.test)
-        scores[cause.name] = 1.0 - float(np.sum(test)) / base_sse if base_sse > 0 else 0.0
-        fold_fits[cause.name] = cv.fits
-    ranking = tuple(sorted(scores.items(), key=lambda kv: -kv[1]))
-
-    # ---- models per fold -> held-out windowed simulation ------------------------
+    candidates = causes.candidates(nominal=model is not None)
     grid = window_grid(sig, window)
+    twins: dict = {}
+
+    def chain(floor: float, named: tuple, current: JointModel):
+        """The chain's shares on a twin of ``current`` with the residual ``floor``, after
+        ``named`` (twins within 10 % of a residual are shared)."""
+        key = (named, id(current), round(math.log(max(floor, 1e-300)) / math.log(1.1)))
+        if key not in twins:
+            twins[key] = chain_shares(effect_free_twin(base, floor, model=current), named)
+        return twins[key]
+
     wfold = sig.folds[grid.starts]
     inside = sig.folds[np.minimum(grid.starts + grid.length - 1, sig.t.size - 1)] == wfold
 
-    def fold_model(cause: Cause | None, f: int) -> JointModel:
-        fit = None if cause is None else fold_fits[cause.name][f]
-        if fit is None:  # the baseline, or a candidate with no valid variant on these blocks
-            return base.model(None, None, base_cv.fits[f].theta)
-        return base.model(cause, fit.h, fit.theta)
-
-    def heldout_sim(cause: Cause | None) -> WindowedSimulation:
-        parts = [simulate_windows(fold_model(cause, f), sig, grid.starts[(wfold == f) & inside],
-                                  grid.length) for f in range(sig.n_folds)]
+    def heldout_sim(models) -> WindowedSimulation:
+        """Each block's windows re-simulated with the model fitted without that block."""
+        parts = [simulate_windows(models[f], sig, grid.starts[(wfold == f) & inside], grid.length)
+                 for f in range(sig.n_folds)]
         return WindowedSimulation.merge(parts, n=sig.t.size, length=grid.length)
 
-    sim_base = heldout_sim(None)
-    pb = float(np.sum(sim_base.position_error ** 2))
-    sim_scores, sims = {}, {}
-    for c, _ in ranking:
-        sims[c] = heldout_sim(causes.get(c))
-        sim_scores[c] = 1.0 - float(np.sum(sims[c].position_error ** 2)) / pb if pb > 0 else 0.0
-    # The named cause: the best torque score of at least MIN_SCORE among the candidates
-    # whose extended model does not simulate the held-out windows worse than the
-    # baseline (a term that explains the torque but breaks the simulation is not the
-    # physical cause: e.g. a load term absorbing a resonance).
-    # When no supported candidate simulates better (stick-slip re-simulation with a Stribeck
-    # dip is chaotic: a slightly wrong breakaway makes a window stick or slip at another
-    # instant), the torque evidence alone decides.
-    supported = [c for c, sc in ranking if sc >= MIN_SCORE]
-    credible = [c for c in supported if sim_scores.get(c, 0.0) > 0.0] or supported
+    sel = forward_selection(problem, base, candidates, chain, heldout_sim)
 
-    # ---- extension: the first credible candidate whose term can be told on this record,
-    # refitted on all data with CasADi ------------------------------------------------
-    named, not_identifiable = None, {}
-    for name in credible:
-        cause = causes.get(name)
-        variants = base.variants(cause, None)
-        if cause.refine is not None:
-            variants = cause.refine(base, variants)
-        best = full_fit(problem, variants, cause.n_extra)
-        if best is None:
-            not_identifiable[name] = "no variant of the term fits all the data within its bounds"
-            continue
-        reason = cause.identifiable(base, _term(best.variant, best.theta, cause))
-        if reason is None:
-            named = (cause, best.variant)
-            break
-        not_identifiable[name] = reason
-
+    # ---- the named terms refitted together on all data with CasADi --------------
     refit = None
-    term = None
-    if named is None:
-        cause_name = causes.NONE
-        extended = base.fitted
-        after_test = base_cv.test
-        sim_after = sim_base
+    if sel.selected:
+        comp = compose([s.variant for s in sel.selected])
+        params = tuple(p for s in sel.selected for p in s.cause.params)
+        try:
+            refit = casadi_refit(problem, comp, params)
+        except ValueError:  # IPOPT refused (rank): keep the bounded least-squares solution
+            refit = None
+        theta = (refit.estimates.copy() if refit is not None
+                 else full_fit(problem, [sel.selected[-1].variant],
+                               tuple(s.variant for s in sel.selected[:-1])).theta)
+        parts = [(s.cause, s.variant.h) for s in sel.selected]
+        extended = base.model(parts, theta)
     else:
-        cause, v_best = named
-        cause_name = cause.name
-        refit = casadi_refit(problem, v_best, cause.params)
-        theta_full = refit.estimates.copy() if refit is not None else np.zeros(0)
-        term = _term(v_best, theta_full, cause)
-        extended = base.model(cause, v_best.h, theta_full)
-        cv = cross_validate(problem, lambda f: base.variants(cause, f), cause.n_extra)
-        after_test = np.where(np.isnan(cv.test), base_cv.test, cv.test)
-        sim_after = sims[cause.name]
+        theta = base.theta if base.fit_mode else np.zeros(0)
+        parts = []
+        extended = base.fitted
     nmov = int(sig.moving.sum())
-    before, after = sim_base.rms(), sim_after.rms()
-    gain = Gain(torque_rms_before=math.sqrt(base_sse / nmov),
-                torque_rms_after=math.sqrt(float(np.sum(after_test)) / nmov),
+    before, after = sel.sim_before.rms(), sel.sim_after.rms()
+    gain = Gain(torque_rms_before=math.sqrt(float(np.sum(sel.baseline_test)) / nmov),
+                torque_rms_after=math.sqrt(float(np.sum(sel.test)) / nmov),
                 simulation_rms_before=before.position, velocity_rms_before=before.velocity,
                 simulation_rms_after=after.position, velocity_rms_after=after.velocity)
-
+    bodies = _evidence_bodies(base, sel.selected, theta, extended)
+    named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = base.fitted
-    body = "" if named is None else named[0].evidence(base, term, extended)
-    return Diagnosis(cause=cause_name, ranking=ranking,
-                     evidence=evidence_text(cause_name, body, ranking, gain, sig.units),
+    return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
+                     evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
+                                            sel.not_identifiable, sig.units),
                      baseline=baseline_model, extended=extended, gain=gain,
-                     simulation_scores=sim_scores, fit=refit or fit0, t=sig.t, torque=sig.tm,
-                     position=sig.q, velocity=sig.w,
+                     simulation_scores=sel.simulation_scores, fit=refit or fit0, t=sig.t,
+                     torque=sig.tm, position=sig.q, velocity=sig.w,
                      residual_before=_sliding_residual(baseline_model, sig),
-                     residual_after=_sliding_residual(extended, sig), sim_before=sim_base,
-                     sim_after=sim_after, nominal=model is not None, units=sig.units,
-                     not_identifiable=not_identifiable)
+                     residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
+                     sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
+                     not_identifiable=dict(sel.not_identifiable),
+                     chain_rms=effect_free_twin(base).rms,
+                     cutoff=sig.cutoff)
 
 
-def _term(variant: Variant, theta: np.ndarray, cause: Cause) -> Term:
-    """The cause's term from a fit: the variant's hyper-parameter, the extra coefficients."""
-    return Term(h=variant.h, coef=theta[theta.size - cause.n_extra:])
+def _evidence_bodies(base: Baseline, selected: tuple, theta: np.ndarray,
+                     extended: JointModel) -> tuple:
+    """Each named cause's evidence clause, from its slice of the joint fit."""
+    out = []
+    k = 3 if base.fit_mode else 0
+    for s in selected:
+        coef = theta[k:k + s.cause.n_extra]
+        k += s.cause.n_extra
+        out.append(s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended))
+    return tuple(out)
 
 
 def _sliding_residual(model: JointModel, sig: Signals) -> np.ndarray:

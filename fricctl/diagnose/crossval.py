@@ -1,12 +1,14 @@
 """Blocked cross-validation of linear-in-the-coefficients candidates, and the final refits.
 
 Every candidate is a set of :class:`Variant` s (one per value of its hyper-parameter:
-extra regressor columns and the target).  The record is cut into contiguous
-blocks (folds); :class:`Problem` holds the per-block sums of the normal equations
-so that leaving a block out is a subtraction.  :func:`cross_validate` picks, per
-block left out, the variant with the least training error and scores it on the
+extra regressor columns, their bounds and the target).  Several causes' variants
+*compose* (:func:`compose`): their columns side by side, one target; that is how the
+forward selection adds a cause to those already named.  The record is cut into
+contiguous blocks (folds); :class:`Problem` holds the per-block sums of the normal
+equations so that leaving a block out is a subtraction.  :func:`cross_validate` picks,
+per block left out, the variant with the least training error and scores it on the
 block; :func:`full_fit` does the same on all data; :func:`casadi_refit` refits the
-chosen variant with CasADi/IPOPT (:func:`fricctl.identify.fit_least_squares`) for
+chosen composition with CasADi/IPOPT (:func:`fricctl.identify.fit_least_squares`) for
 standard errors.
 """
 
@@ -14,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Iterable
+from typing import TYPE_CHECKING, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -23,30 +25,33 @@ from .signals import Signals
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult
 
-__all__ = ["Variant", "Problem", "FoldFit", "BlockedCV", "FullFit", "solve", "cross_validate",
-           "full_fit", "baseline_fit", "casadi_refit", "BASELINE_PARAMS"]
+__all__ = ["Variant", "Problem", "FoldFit", "BlockedCV", "FullFit", "solve", "compose",
+           "cross_validate", "full_fit", "baseline_fit", "casadi_refit", "BASELINE_PARAMS",
+           "empty_variant"]
 
 #: Names of the rigid baseline's coefficients (fit mode), in column order.
 BASELINE_PARAMS = ("inertia", "viscous", "coulomb")
 
 
 def solve(G, g):
-    """Normal equations of a (scaled) linear least-squares problem, solved by CasADi."""
-    import casadi as ca
+    """Normal equations of a (scaled) linear least-squares problem, with a tiny ridge.
 
+    Thousands of these small systems (a few unknowns) are solved per diagnosis, so numpy
+    solves them; the final refit of the named terms is CasADi's (:func:`casadi_refit`)."""
     p = G.shape[0]
     if p == 0:
         return np.zeros(0)
     ridge = 1e-12 * max(float(np.trace(G)) / max(p, 1), 1e-300)
-    return np.asarray(ca.solve(ca.DM(G + ridge * np.eye(p)), ca.DM(g))).ravel()
+    return np.linalg.solve(G + ridge * np.eye(p), g)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Variant:
-    """One setting of a candidate's hyper-parameter: extra columns and target."""
+    """One setting of a candidate's hyper-parameter: extra columns, their bounds, the target."""
 
     h: object
-    """Hyper-parameter (period, delay, (wl, zeta), ...), or None."""
+    """Hyper-parameter (period, delay, (wl, zeta), ...), or None; a tuple of the parts' for
+    a composition."""
     extra: np.ndarray
     """(N, k) extra regressor columns."""
     y: np.ndarray
@@ -54,7 +59,40 @@ class Variant:
     signs: tuple
     """Per extra column: +1 (coefficient >= 0) or 0 (free)."""
     upper: tuple = ()
-    """Per extra column: upper bound of the (unscaled) coefficient, or ()."""
+    """Per extra column: upper bound of the (unscaled) coefficient, or () for none."""
+    shifts_target: bool = False
+    """True when :attr:`y` is not the baseline's target (a delay moves it): in a composition
+    this variant's target is the target."""
+
+    @property
+    def k(self) -> int:
+        """Number of extra columns."""
+        return self.extra.shape[1]
+
+    def bounds(self) -> tuple:
+        """Lower and upper bounds of the extra coefficients, two arrays of length :attr:`k`."""
+        lo = np.array([0.0 if s > 0 else -np.inf for s in self.signs], dtype=float)
+        hi = np.array(self.upper if self.upper else [np.inf] * self.k, dtype=float)
+        return lo.reshape(self.k), hi.reshape(self.k)
+
+
+def empty_variant(y: np.ndarray) -> Variant:
+    """The variant that adds nothing (the model as it stands)."""
+    return Variant(h=None, extra=np.zeros((y.size, 0)), y=y, signs=())
+
+
+def compose(parts: Sequence[Variant]) -> Variant:
+    """Several causes' variants as one: their columns side by side, the target of the one
+    that shifts it (a delay), else the common one."""
+    if len(parts) == 1:
+        return parts[0]
+    y = next((p.y for p in parts if p.shifts_target), parts[-1].y)
+    lo, hi = zip(*(p.bounds() for p in parts))
+    upper = tuple(np.concatenate(hi))
+    return Variant(h=tuple(p.h for p in parts), extra=np.column_stack([p.extra for p in parts]),
+                   y=y, signs=tuple(s for p in parts for s in p.signs),
+                   upper=upper if any(math.isfinite(u) for u in upper) else (),
+                   shifts_target=any(p.shifts_target for p in parts))
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -72,7 +110,12 @@ class BlockStats:
 
 
 class Problem:
-    """Block (fold) sums of the normal equations, shared by every candidate."""
+    """Block (fold) sums of the normal equations, shared by every candidate.
+
+    The per-block cross products of every pair of column sets (the baseline's, each
+    variant's extras, each target) are computed once and cached, so that composing a
+    candidate with the causes already named costs only the products it adds.
+    """
 
     def __init__(self, sig: Signals, base_cols: np.ndarray | None):
         self.sig = sig
@@ -80,62 +123,119 @@ class Problem:
         self.rows = [np.flatnonzero(m & (sig.folds == f)) for f in range(sig.n_folds)]
         self.all_rows = np.flatnonzero(m)
         self.base = base_cols  # (N, 3) or None (nominal model)
+        # the sliding samples of each block are a contiguous run of all_rows (blocks are
+        # contiguous in time): block f is all_rows[_bounds[f]:_bounds[f + 1]]
+        self._bounds = np.searchsorted(sig.folds[self.all_rows], np.arange(sig.n_folds + 1))
+        self._restricted: dict = {}
+        self._cross: dict = {}
+        self._stats: dict = {}
+
+    @property
+    def n_base(self) -> int:
+        """Number of baseline columns refitted with every candidate (3, or 0 with a nominal)."""
+        return 0 if self.base is None else self.base.shape[1]
 
     def design(self, v: Variant):
         """The baseline's columns (fit mode) followed by the variant's extra columns."""
         return v.extra if self.base is None else np.column_stack([self.base, v.extra])
 
-    def stats(self, X, y) -> BlockStats:
-        rows = self.all_rows
-        scale = np.sqrt(np.mean(X[rows] ** 2, axis=0))
-        scale[scale == 0] = 1.0
-        Xs = X / scale
+    def _rows_of(self, key, M) -> np.ndarray:
+        """``M`` (N,) or (N, k) on the sliding samples, as (n, k); cached under ``key`` (the
+        array is kept alive with the entry, so its identity stays unique)."""
+        hit = self._restricted.get(key)
+        if hit is None:
+            M = np.asarray(M, dtype=float)
+            R = (M[:, None] if M.ndim == 1 else M)[self.all_rows]
+            hit = self._restricted[key] = (R, M)
+        return hit[0]
+
+    def _blockdot(self, ka, A, kb, B) -> np.ndarray:
+        """Per-block ``A'B`` (F, a, b) over the sliding samples (cached by the pair of keys)."""
+        key = (ka, kb)
+        hit = self._cross.get(key)
+        if hit is None:
+            Ar, Br = self._rows_of(ka, A), self._rows_of(kb, B)
+            b = self._bounds
+            prod = np.stack([Ar[b[f]:b[f + 1]].T @ Br[b[f]:b[f + 1]]
+                             for f in range(self.sig.n_folds)])
+            hit = self._cross[key] = prod
+            self._cross[(kb, ka)] = prod.transpose(0, 2, 1)
+        return hit
+
+    def stats(self, blocks, y) -> BlockStats:
+        """Scaled per-block normal equations of the column sets ``blocks`` (``(key, array)``
+        pairs, side by side) against the target ``y``."""
+        ky = ("y", id(y))
+        self._rows_of(ky, y)
         F = self.sig.n_folds
-        p = X.shape[1]
+        sizes = [self._rows_of(k, M).shape[1] for k, M in blocks]
+        p = sum(sizes)
         G = np.empty((F, p, p))
         g = np.empty((F, p))
-        s = np.empty(F)
-        for f, r in enumerate(self.rows):
-            Xf = Xs[r]
-            yf = y[r]
-            G[f] = Xf.T @ Xf
-            g[f] = Xf.T @ yf
-            s[f] = yf @ yf
-        return BlockStats(G=G, g=g, s=s, scale=scale)
+        i = 0
+        for (ka, A), na in zip(blocks, sizes):
+            j = 0
+            for (kb, B), nb in zip(blocks, sizes):
+                G[:, i:i + na, j:j + nb] = self._blockdot(ka, A, kb, B)
+                j += nb
+            g[:, i:i + na] = self._blockdot(ka, A, ky, y)[:, :, 0]
+            i += na
+        s = self._blockdot(ky, y, ky, y)[:, 0, 0]
+        n = max(self.all_rows.size, 1)
+        scale = np.sqrt(np.einsum("fii->i", G) / n) if p else np.ones(0)
+        scale[scale == 0] = 1.0
+        return BlockStats(G=G / np.outer(scale, scale), g=g / scale, s=s.copy(), scale=scale)
+
+    def stats_of(self, parts: Sequence[Variant]) -> tuple:
+        """``(lower, upper, BlockStats)`` of the composition of ``parts``: bounds of its extra
+        coefficients and its normal equations (cached by identity: a candidate's variants are
+        built once per record; the parts are kept alive with the entry)."""
+        key = tuple(id(p) for p in parts)
+        hit = self._stats.get(key)
+        if hit is None:
+            bounds = [p.bounds() for p in parts]
+            lo = np.concatenate([b[0] for b in bounds])
+            hi = np.concatenate([b[1] for b in bounds])
+            y = next((p.y for p in parts if p.shifts_target), parts[-1].y)
+            blocks = [] if self.base is None else [("base", self.base)]
+            blocks += [(("x", id(p)), p.extra) for p in parts if p.k]
+            hit = self._stats[key] = (lo, hi, self.stats(blocks, y), tuple(parts))
+        return hit[:3]
+
+    def bounded(self, lo, hi, st: BlockStats, G, g) -> np.ndarray:
+        """The least-squares coefficients (scaled) within the bounds ``lo, hi`` of the extras."""
+        nb = self.n_base
+        sc = st.scale[nb:]
+        return solve_bounded(G, g, np.concatenate([np.full(nb, -np.inf), lo * sc]),
+                             np.concatenate([np.full(nb, np.inf), hi * sc]))
 
     @staticmethod
     def sse(theta, G, g, s):
         return float(s - 2 * theta @ g + theta @ G @ theta)
 
 
-def _solve_bounded(G, g, scale, upper, n_extra):
-    """:func:`solve`, then any extra coefficient above its upper bound is held at the bound
-    and the others refitted (the bounded least-squares solution when one bound is active)."""
+def solve_bounded(G, g, lower, upper) -> np.ndarray:
+    """:func:`solve`, then any coefficient outside its bounds is held at the bound it
+    crossed (the worst first) and the others refitted: the bounded least-squares solution
+    when the active set only grows (one or two bounds, as here)."""
+    p = g.size
+    fixed: dict = {}
     th = solve(G, g)
-    if not upper:
-        return th
-    p = th.size
-    fixed = {}
-    for j, ub in enumerate(upper):
-        i = p - n_extra + j
-        if math.isfinite(ub) and th[i] / scale[i] > ub:
-            fixed[i] = ub * scale[i]
-    if not fixed:
-        return th
-    fi = np.array(sorted(fixed))
-    fv = np.array([fixed[i] for i in fi])
-    free = np.array([i for i in range(p) if i not in fixed], dtype=int)
-    out = np.empty(p)
-    out[fi] = fv
-    out[free] = solve(G[np.ix_(free, free)], g[free] - G[np.ix_(free, fi)] @ fv)
-    return out
-
-
-def _valid(theta, signs, n_extra):
-    if n_extra == 0:
-        return True
-    ex = theta[-n_extra:]
-    return all(sg == 0 or c >= 0 for c, sg in zip(ex, signs))
+    for _ in range(p):
+        viol = [(max(lower[i] - th[i], th[i] - upper[i]), i) for i in range(p)
+                if i not in fixed and not lower[i] <= th[i] <= upper[i]]
+        if not viol:
+            break
+        _, i = max(viol)
+        fixed[i] = min(max(th[i], lower[i]), upper[i])
+        fi = np.array(sorted(fixed), dtype=int)
+        fv = np.array([fixed[j] for j in fi])
+        free = np.array([j for j in range(p) if j not in fixed], dtype=int)
+        th = np.empty(p)
+        th[fi] = fv
+        if free.size:
+            th[free] = solve(G[np.ix_(free, free)], g[free] - G[np.ix_(free, fi)] @ fv)
+    return th
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -145,7 +245,9 @@ class FoldFit:
     h: object
     """Hyper-parameter of the chosen variant."""
     theta: np.ndarray
-    """Coefficients (unscaled): the baseline's (fit mode), then the extra columns'."""
+    """Coefficients (unscaled): the baseline's (fit mode), the fixed parts', then the variant's."""
+    variant: Variant
+    """The chosen variant (the candidate's own, not the composition)."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -159,33 +261,33 @@ class BlockedCV:
 
 
 def cross_validate(problem: Problem, variants_for_fold: Callable[[int], Iterable[Variant]],
-                   n_extra: int) -> BlockedCV:
-    """Blocked CV: per fold the variant with the least training SSE, its held-out SSE."""
+                   fixed_for_fold: Callable[[int], tuple] | None = None) -> BlockedCV:
+    """Blocked CV: per fold the variant with the least training SSE, its held-out SSE.
+
+    ``fixed_for_fold(f)`` gives the variants of the causes already in the model for the
+    training blocks of fold ``f`` (their hyper-parameters chosen when they were added);
+    the candidate's variants are composed after them.
+    """
     F = problem.sig.n_folds
-    cache = {}
     test = np.empty(F)
     fits = []
     for f in range(F):
+        fixed = () if fixed_for_fold is None else tuple(fixed_for_fold(f))
         best = None
         for v in variants_for_fold(f):
-            key = id(v)
-            if key not in cache:
-                cache[key] = problem.stats(problem.design(v), v.y)
-            st = cache[key]
+            lo, hi, st = problem.stats_of(fixed + (v,))
             G, g, s = st.G, st.g, st.s
             Gt, gt, stt = G.sum(0) - G[f], g.sum(0) - g[f], s.sum() - s[f]
-            th = _solve_bounded(Gt, gt, st.scale, v.upper, n_extra)
-            if not _valid(th, v.signs, n_extra):
-                continue
+            th = problem.bounded(lo, hi, st, Gt, gt)
             tr = Problem.sse(th, Gt, gt, stt)
             if best is None or tr < best[0]:
-                best = (tr, Problem.sse(th, G[f], g[f], s[f]), v.h, th / st.scale)
+                best = (tr, Problem.sse(th, G[f], g[f], s[f]), v, th / st.scale)
         if best is None:
             test[f] = np.nan
             fits.append(None)
         else:
             test[f] = best[1]
-            fits.append(FoldFit(h=best[2], theta=best[3]))
+            fits.append(FoldFit(h=best[2].h, theta=best[3], variant=best[2]))
     return BlockedCV(test=test, fits=tuple(fits))
 
 
@@ -196,19 +298,19 @@ class FullFit:
     sse: float
     """Sum of squared residuals."""
     variant: Variant
+    """The chosen variant (the candidate's own)."""
     theta: np.ndarray
-    """Coefficients (unscaled)."""
+    """Coefficients (unscaled): the baseline's (fit mode), the fixed parts', the variant's."""
 
 
-def full_fit(problem: Problem, variants: Iterable[Variant], n_extra: int) -> FullFit | None:
-    """All sliding samples: the variant with the least SSE (None if no variant is valid)."""
+def full_fit(problem: Problem, variants: Iterable[Variant], fixed: tuple = ()) -> FullFit | None:
+    """All sliding samples: the variant with the least SSE, composed after ``fixed``
+    (None when there is no variant)."""
     best = None
     for v in variants:
-        st = problem.stats(problem.design(v), v.y)
+        lo, hi, st = problem.stats_of(tuple(fixed) + (v,))
         G, g = st.G.sum(0), st.g.sum(0)
-        th = _solve_bounded(G, g, st.scale, v.upper, n_extra)
-        if not _valid(th, v.signs, n_extra):
-            continue
+        th = problem.bounded(lo, hi, st, G, g)
         sse = Problem.sse(th, G, g, st.s.sum())
         if best is None or sse < best.sse:
             best = FullFit(sse=sse, variant=v, theta=th / st.scale)
@@ -230,8 +332,8 @@ def baseline_fit(sig: Signals) -> "IdentificationResult":
 def casadi_refit(problem: Problem, v: Variant, params: tuple) -> "IdentificationResult | None":
     """Refit the linear coefficients of the extended model by CasADi/IPOPT least squares.
 
-    ``params`` names the variant's extra coefficients; None when there is nothing to fit
-    (a nominal model extended by a pure shift such as a delay).
+    ``v`` is the (composed) variant, ``params`` names its extra coefficients; None when
+    there is nothing to fit (a nominal model extended by a pure shift such as a delay).
     """
     from ..identify import fit_least_squares, linear_prediction
 
@@ -240,11 +342,11 @@ def casadi_refit(problem: Problem, v: Variant, params: tuple) -> "Identification
     p = X.shape[1]
     if p == 0:
         return None
-    nx = len(params)
     base_names = BASELINE_PARAMS if problem.base is not None else ()
     names = base_names + tuple(params)
-    lower = [0.0] * len(base_names) + [0.0 if s > 0 else -np.inf for s in v.signs]
-    upper = [np.inf] * len(base_names) + (list(v.upper) if v.upper else [np.inf] * nx)
+    lo, hi = v.bounds()
+    lower = [0.0] * len(base_names) + list(lo)
+    upper = [np.inf] * len(base_names) + list(hi)
     scale = (np.linalg.norm(y) or 1.0) / np.maximum(np.linalg.norm(X, axis=0), 1e-300)
     return fit_least_squares(linear_prediction, X, y, names=names, initial=np.zeros(p), lower=lower,
                              upper=upper, scale=scale, units=problem.sig.units)

@@ -1,5 +1,6 @@
-"""The result of a diagnosis: :class:`Diagnosis` (named cause, evidence, models, held-out gain),
-its JSON object (:meth:`Diagnosis.as_dict`) and its Markdown report (:meth:`Diagnosis.report`)."""
+"""The result of a diagnosis: :class:`Diagnosis` (named causes step by step, evidence, models,
+held-out gain), its JSON object (:meth:`Diagnosis.as_dict`, finite numbers only: NaN and
+infinities become null) and its Markdown report (:meth:`Diagnosis.report`)."""
 
 from __future__ import annotations
 
@@ -11,19 +12,26 @@ import numpy as np
 from ..plant import JointModel
 from ..units import units as unit_labels
 from . import causes
+from .selection import MIN_SCORE, Step
 from .windows import WindowedSimulation
 
 if TYPE_CHECKING:
     from ..identify import IdentificationResult
 
-__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text"]
+__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text", "json_ready"]
 
-#: Smallest held-out fraction of the baseline torque residual (sum of squares) a
-#: candidate must remove to be named: 1 - 0.9**2, i.e. the held-out torque RMS must
-#: drop by 10 %, the issue's definition of an effect that matters.  Terms that fit
-#: only noise remove nothing held out; terms built on the measured acceleration
-#: (compliance) can remove a few % of pure process noise, which this margin covers.
-MIN_SCORE = 1.0 - 0.9 ** 2
+
+def json_ready(x):
+    """``x`` with every float made finite for JSON (NaN and infinities -> None), recursively."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(val) for k, val in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [json_ready(val) for val in x]
+    if isinstance(x, (float, np.floating)):
+        return float(x) if np.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    return x
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -57,20 +65,27 @@ class Diagnosis:
     Attributes
     ----------
     cause : str
-        The named cause (one of :data:`~fricctl.diagnose.CAUSES`).
+        The first cause named (one of :data:`~fricctl.diagnose.CAUSES`; ``none`` when
+        nothing is).
+    causes : tuple of str
+        Every cause named, in the order the forward selection added them (``("none",)``).
+    steps : tuple of Step
+        One :class:`~fricctl.diagnose.selection.Step` per named cause: its net score and
+        the held-out torque and simulation RMS before and after it.
     ranking : tuple of (str, float)
-        Every applicable candidate with its score, best first: the held-out
-        fraction of the baseline's torque residual (sum of squares) it removes [-].
+        The first step's candidates with their net scores, best first: the held-out
+        fraction of the baseline's torque residual (sum of squares) each removes, less
+        the measuring chain's share [-].
     evidence : str
-        The evidence for the named cause, in words and numbers.
+        The evidence for the named causes, in words and numbers.
     baseline, extended : JointModel
-        The baseline (fitted or nominal) and the model extended with the named
-        term (the baseline itself when the cause is ``none``).
+        The baseline (fitted or nominal) and the model extended with every named term
+        (the baseline itself when the cause is ``none``).
     gain : Gain
-        Held-out RMS errors before and after.
+        Held-out RMS errors before (baseline) and after (all named terms).
     simulation_scores : dict
-        Per candidate, the held-out fraction of the windowed simulation error
-        (position, sum of squares) it removes [-] (information, not the decision).
+        First step: per supported candidate, the held-out fraction of the windowed
+        simulation error (position, sum of squares) it removes [-].
     fit : IdentificationResult or None
         The CasADi refit of the extended model (estimates with standard errors).
     t, torque, position, velocity : ndarray
@@ -84,11 +99,19 @@ class Diagnosis:
         True when the baseline was a supplied nominal model.
     units : str
     not_identifiable : dict
-        Candidates above :data:`MIN_SCORE` passed over because their term cannot be
-        told apart on this record, with the reason (``Cause.identifiable``; empty today).
+        Candidates that reached :data:`MIN_SCORE` but cannot be told apart on this
+        record, with the reason ("cannot be told on this record, because ...").
+    chain_rms : float
+        Held-out torque residual RMS the measuring chain alone leaves on the record's
+        effect-free twin [N*m].
+    cutoff : float
+        Low-pass cut-off of the diagnosis: the band the excitation reaches, at most
+        half the Nyquist frequency [Hz].
     """
 
     cause: str
+    causes: tuple
+    steps: tuple
     ranking: tuple
     evidence: str
     baseline: JointModel
@@ -107,37 +130,69 @@ class Diagnosis:
     nominal: bool
     units: str = "rotary"
     not_identifiable: dict
+    chain_rms: float = float("nan")
+    cutoff: float = float("nan")
 
     @property
     def score(self) -> float:
-        """Score of the named cause (0 for ``none``) [-]."""
-        return dict(self.ranking).get(self.cause, 0.0)
+        """Net score of the first named cause (0 for ``none``) [-]."""
+        return self.steps[0].score if self.steps else 0.0
 
     def as_dict(self) -> dict:
-        """The ``fricctl diagnose --json`` object."""
-        return {"cause": self.cause,
-                "ranking": [{"cause": c, "score": float(s)} for c, s in self.ranking],
-                "evidence": self.evidence,
-                "baseline": self.baseline.parameters(),
-                "extended": self.extended.parameters(),
-                "gain": self.gain.as_dict(),
-                "nominal_model": self.nominal,
-                "units": self.units}
+        """The ``fricctl diagnose --json`` object (finite numbers or null)."""
+        return json_ready({
+            "cause": self.cause,
+            "causes": list(self.causes),
+            "steps": [s.as_dict() for s in self.steps],
+            "ranking": [{"cause": c, "score": float(s)} for c, s in self.ranking],
+            "not_identifiable": dict(self.not_identifiable),
+            "evidence": self.evidence,
+            "baseline": self.baseline.parameters(),
+            "extended": self.extended.parameters(),
+            "gain": self.gain.as_dict(),
+            "chain_rms": float(self.chain_rms),
+            "cutoff": float(self.cutoff),
+            "nominal_model": self.nominal,
+            "units": self.units})
 
     def report(self) -> str:
-        """Markdown report: cause, evidence, ranking, models, gain."""
+        """Markdown report: causes step by step, evidence, ranking, models, gain."""
         u = unit_labels(self.units)
         g = self.gain
-        lines = [f"# Diagnosis: `{self.cause}`", "",
-                 f"*{causes.physical(self.cause)}*", "", "## Evidence", "", self.evidence, "",
-                 "## Candidates (held-out, blocked cross-validation)", "",
-                 "| cause | torque score | simulation score |", "|---|---|---|"]
-        for c, s in self.ranking:
+        title = " + ".join(f"`{c}`" for c in self.causes)
+        lines = [f"# Diagnosis: {title}", ""]
+        lines += [f"*{c}: {causes.physical(c)}*" for c in self.causes]
+        lines += ["", "## Evidence", "", self.evidence, "",
+                  "## Steps (held-out, blocked cross-validation)", ""]
+        if self.steps:
+            lines += ["| step | cause | net score | gross | chain's share | torque RMS before -> after "
+                      f"[{u.torque}] | simulation RMS before -> after [{u.position}] |",
+                      "|---|---|---|---|---|---|---|"]
+            for i, st in enumerate(self.steps, 1):
+                lines.append(f"| {i} | {st.cause} | {100 * st.score:.1f} % | {100 * st.gross:.1f} % | "
+                             f"{100 * st.chain:.1f} % | {st.torque_rms_before:.4g} -> "
+                             f"{st.torque_rms_after:.4g} | {st.simulation_rms_before:.4g} -> "
+                             f"{st.simulation_rms_after:.4g} |")
+        else:
+            lines.append("No candidate reaches the score: nothing named.")
+        lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
+                      f"torque residual (sum of squares), net of what the same term removes on the "
+                      f"record's effect-free twin (the measuring chain alone leaves "
+                      f"{self.chain_rms:.3g} {u.torque} RMS); named when the net share is "
+                      f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
+                      f"{self.cutoff:.4g} Hz.", ""]
+        if self.not_identifiable:
+            lines += ["## Cannot be told on this record", ""]
+            lines += [f"- `{c}`: cannot be told on this record, because {r}."
+                      for c, r in self.not_identifiable.items()]
+            lines.append("")
+        lines += ["## Candidates of the first step", "",
+                  "| cause | net score | simulation score |", "|---|---|---|"]
+        for c, sc in self.ranking:
             ss = self.simulation_scores.get(c, float("nan"))
-            lines.append(f"| {c} | {100 * s:.1f} % | {100 * ss:.1f} % |")
-        lines += ["", f"Score: fraction of the baseline's held-out torque residual (sum of squares) "
-                      f"the candidate removes; named when >= {100 * MIN_SCORE:.0f} %.", "",
-                  "## Held-out gain", "", "| quantity | before | after | change |", "|---|---|---|---|"]
+            lines.append(f"| {c} | {100 * sc:.1f} % | {100 * ss:.1f} % |")
+        lines += ["", "## Held-out gain", "", "| quantity | before | after | change |",
+                  "|---|---|---|---|"]
         for name, b, a, unit in (
                 ("torque residual RMS", g.torque_rms_before, g.torque_rms_after, u.torque),
                 ("windowed simulation RMS, position", g.simulation_rms_before,
@@ -154,18 +209,27 @@ class Diagnosis:
         return "\n".join(lines) + "\n"
 
 
-def evidence_text(cause: str, body: str, ranking: tuple, gain: Gain, units: str) -> str:
-    """The evidence paragraph: the score of ``cause``, the cause's own ``body``, the gain."""
+def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
+                  not_identifiable: dict, units: str) -> str:
+    """The evidence paragraph: each step's net score and its cause's own clause, the gain."""
     u = unit_labels(units)
-    if cause == causes.NONE:
+    cannot = "".join(f" {c} cannot be told on this record, because {r}."
+                     for c, r in not_identifiable.items())
+    if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
         return (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque residual "
-                f"(best: {best[0]} with {100 * best[1]:.1f} %); the baseline explains the data within "
-                f"noise (held-out torque RMS {gain.torque_rms_before:.3g} {u.torque}).")
-    score = dict(ranking).get(cause, 0.0)
-    head = (f"{cause}: {causes.physical(cause)}. Adding the term removes {100 * score:.0f} % of the "
-            f"baseline's held-out torque residual (sum of squares, blocked cross-validation); ")
-    tail = (f". Held-out torque RMS {gain.torque_rms_before:.3g} -> {gain.torque_rms_after:.3g} "
+                f"net of the measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %); "
+                f"the baseline explains the data within noise (held-out torque RMS "
+                f"{gain.torque_rms_before:.3g} {u.torque})." + cannot)
+    parts = []
+    for i, (st, body) in enumerate(zip(steps, bodies)):
+        lead = "" if i == 0 else "Then "
+        whose = "the baseline's" if i == 0 else "the remaining"
+        parts.append(f"{lead}{st.cause}: {causes.physical(st.cause)}. Adding the term removes "
+                     f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
+                     f"blocked cross-validation, net of the measuring chain's "
+                     f"{100 * st.chain:.0f} %); {body}.")
+    tail = (f" Held-out torque RMS {gain.torque_rms_before:.3g} -> {gain.torque_rms_after:.3g} "
             f"{u.torque}, windowed simulation RMS {gain.simulation_rms_before:.3g} -> "
             f"{gain.simulation_rms_after:.3g} {u.position}.")
-    return head + body + tail
+    return " ".join(parts) + tail + cannot

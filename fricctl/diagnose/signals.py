@@ -2,7 +2,8 @@
 
 Velocity and acceleration come from the zero-phase Butterworth + central
 difference estimator (:func:`fricctl.estimation.butterworth_central`, cut-off
-``fc`` = a fifth of the Nyquist frequency).  The torque is first centred on the
+``fc`` = the band the excitation reaches above the encoder's quantisation noise,
+:func:`motion_band`, at most half the Nyquist frequency).  The torque is first centred on the
 sample grid (``(Tm[k-1] + Tm[k])/2``: a held torque acts half a sample before the
 central-difference acceleration it causes) and low-passed with the same filter;
 every nonlinear regressor column is low-passed too ("parallel filtering"), so
@@ -29,8 +30,16 @@ from ..estimation import butterworth_central, zero_phase_filter
 from ..friction import FrictionModel
 from ..plant import JointModel
 
-__all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "centred",
-           "load_acceleration", "friction_columns", "predict"]
+__all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "centred", "delayed",
+           "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
+           "BAND_MARGIN", "MAX_CUTOFF"]
+
+#: The excitation's band ends where the encoder's acceleration spectrum falls below this
+#: many times that of its own quantisation noise (:func:`motion_band`) [-].
+BAND_MARGIN = 10.0
+#: Highest low-pass cut-off, as a fraction of the sample rate: half the Nyquist frequency
+#: (the zero-phase 4th-order Butterworth still attenuates 48 dB at Nyquist there) [-].
+MAX_CUTOFF = 0.25
 
 
 @njit(cache=True)
@@ -52,14 +61,38 @@ def dahl_state(q, xc, z0):
     return z
 
 
-def centred(tm: np.ndarray, delay: int = 0) -> np.ndarray:
-    """The torque centred on the sample grid, ``(Tm[k-1] + Tm[k])/2``, delayed by ``delay`` samples."""
+def delayed(x: np.ndarray, delay: float) -> np.ndarray:
+    """``x`` delayed by ``delay`` samples, a fraction by linear interpolation.
+
+    For a torque held over each sample, the interpolated value is the mean torque the
+    joint receives over the interval when it acts ``delay`` samples late (exact for the
+    momentum it transfers); the first value is held before the record starts.
+    """
+    if delay <= 0:
+        return np.asarray(x, dtype=float).copy()
+    i = int(math.floor(delay))
+    f = delay - i
+    n = x.size
+    idx = np.arange(n) - i
+    a = x[np.clip(idx, 0, n - 1)]
+    if f == 0.0:
+        return a
+    b = x[np.clip(idx - 1, 0, n - 1)]
+    return (1.0 - f) * a + f * b
+
+
+def centred(tm: np.ndarray, delay: float = 0.0) -> np.ndarray:
+    """The torque centred on the sample grid, ``(Tm[k-1] + Tm[k])/2``, delayed by ``delay``
+    samples (a fraction of a sample by linear interpolation, :func:`delayed`)."""
     u = np.empty_like(tm)
     u[1:] = 0.5 * (tm[1:] + tm[:-1])
     u[0] = tm[0]
-    if delay > 0:
-        u = np.concatenate([np.full(delay, u[0]), u[:-delay]])
-    return u
+    return delayed(u, delay)
+
+
+def delay_in_samples(model: JointModel, sample_time: float) -> float:
+    """The model's delay in samples of ``sample_time``, a fraction kept [-]."""
+    return float(model.delay / sample_time)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -97,7 +130,10 @@ class Signals:
     resolution: float
     """Smallest position step seen [rad]."""
     cutoff: float
-    """Cut-off of the low-pass [Hz]."""
+    """Cut-off of the low-pass [Hz]: the excitation's band, at most half the Nyquist
+    frequency."""
+    band: float
+    """The band the excitation reaches (:func:`motion_band`) [Hz]."""
     units: str
     """``"rotary"`` or ``"linear"``."""
 
@@ -111,26 +147,64 @@ class Signals:
         """
         return zero_phase_filter(self.lp[0], self.lp[1], np.asarray(x, dtype=float) * self.slide)
 
-    def torque_target(self, delay: int = 0, offset: float = 0.0) -> np.ndarray:
+    def torque_target(self, delay: float = 0.0, offset: float = 0.0) -> np.ndarray:
         """LP of the sample-centred torque the joint receives, delayed by ``delay`` samples."""
         return self.filt(centred(self.tm, delay)) - offset
 
-    def centred(self, delay: int = 0) -> np.ndarray:
+    @property
+    def sample_rate(self) -> float:
+        """1/Ts [Hz]."""
+        return 1.0 / self.ts
+
+    def centred(self, delay: float = 0.0) -> np.ndarray:
         """The sample-centred recorded torque, delayed by ``delay`` samples."""
         return centred(self.tm, delay)
 
 
-def estimate_signals(run: Run, n_folds: int) -> Signals:
-    """Velocity, acceleration, direction, rest and the blocks of ``run`` (see the module notes)."""
+def motion_band(q: np.ndarray, ts: float, resolution: float, *,
+                margin: float = BAND_MARGIN) -> float:
+    """The band the excitation reaches: the lowest frequency at which the encoder's motion
+    stops standing above its quantisation noise [Hz].
+
+    The second difference of the encoder record (an acceleration, whitened so that slow
+    motion does not leak into high frequencies) is compared per frequency with that of
+    white quantisation noise of one count (variance ``res^2/12``); the band ends where
+    its power spectral density first falls below ``margin`` times the noise's.  Above
+    it an acceleration estimate is mostly encoder noise, whatever the sample rate.
+    """
+    fs = 1.0 / ts
+    dd = np.diff(q, 2)
+    if resolution <= 0 or dd.size < 64 or not np.any(dd):
+        return 0.5 * fs
+    nper = int(min(4096, 2 ** math.floor(math.log2(dd.size / 8))))
+    f, p = signal.welch(dd, fs=fs, nperseg=nper, detrend=False)
+    noise = resolution ** 2 / (6.0 * fs) * (2 * np.sin(np.pi * f / fs)) ** 4
+    low = f > 4.0 * fs / nper  # the first few bins hold the record's slow trends
+    below = low & (p < margin * noise)
+    return float(f[np.argmax(below)]) if below.any() else 0.5 * fs
+
+
+def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = None,
+                     cutoff: float | None = None) -> Signals:
+    """Velocity, acceleration, direction, rest and the blocks of ``run`` (see the module notes).
+
+    The low-pass cut-off is the band the excitation reaches (:func:`motion_band`: above
+    it the encoder sees its own quantisation more than the motion), at most
+    :data:`MAX_CUTOFF` times the sample rate (or ``cutoff`` [Hz] when given: a twin of a
+    record is read through the record's own filter).  ``exclude`` (bool per sample) leaves
+    samples out of the equation error, with the filter's reach around them.
+    """
     ts = run.sample_time
-    cutoff = 0.1 / ts  # a fifth of the Nyquist frequency (100 Hz at 1 kHz, the EMPS choice)
-    est = butterworth_central(run.t, run.position, cutoff=cutoff)
-    b, a = signal.butter(4, cutoff * 2 * ts)
     q = np.asarray(run.position, dtype=float)
+    n = q.size
     steps = np.abs(np.diff(q))
     nz = steps[steps > 0]
     res = float(np.min(nz)) if nz.size else 0.0
-    n = q.size
+    band = motion_band(q, ts, res)
+    if cutoff is None:  # at least 50 cycles of the cut-off over the record, whatever the band
+        cutoff = min(MAX_CUTOFF / ts, max(band, 50.0 / (q.size * ts)))
+    est = butterworth_central(run.t, run.position, cutoff=cutoff)
+    b, a = signal.butter(4, cutoff * 2 * ts)
     # at rest: no encoder change across a sample on either side
     still = np.zeros(n, dtype=bool)
     same = steps == 0.0
@@ -140,6 +214,9 @@ def estimate_signals(run: Run, n_folds: int) -> Signals:
     border = max(5 * guard, 20)
     edge[:border] = edge[-border:] = True
     moving = (~still) & (~edge)
+    if exclude is not None:
+        reach = np.convolve(np.asarray(exclude, float), np.ones(2 * guard + 1), mode="same") > 0
+        moving &= ~reach
     if moving.sum() < 50 * n_folds:
         raise ValueError(f"too little motion: {int(moving.sum())} sliding samples for {n_folds} "
                          f"blocks (need at least {50 * n_folds}); record longer or move more")
@@ -169,7 +246,7 @@ def estimate_signals(run: Run, n_folds: int) -> Signals:
     return Signals(t=np.asarray(run.t, float), ts=ts, tm=np.asarray(run.torque, float), q=q,
                    qf=qf, w=w, seff=seff, a=acc, lp=(b, a), slide=(~still).astype(float),
                    moving=moving, rest=still, folds=folds, n_folds=n_folds, resolution=res,
-                   cutoff=cutoff, units=run.units)
+                   cutoff=cutoff, band=band, units=run.units)
 
 
 def _reversal_signs(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -215,9 +292,13 @@ def _reversal_signs(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
 # ============================================================================ torque prediction
 def load_acceleration(sig: Signals, wl: float, zeta: float) -> np.ndarray:
     """Acceleration of a load on a spring (natural frequency wl [rad/s], damping zeta) driven by qf."""
-    num = [2 * zeta * wl, wl * wl]
-    den = [1.0, 2 * zeta * wl, wl * wl]
-    bz, az = signal.bilinear(num, den, fs=1.0 / sig.ts)
+    # the bilinear (Tustin) transform of (2*zeta*wl*s + wl^2)/(s^2 + 2*zeta*wl*s + wl^2),
+    # written out (scipy.signal.bilinear gives the same, ten times slower)
+    k = 2.0 / sig.ts
+    b1, b0, a1, a0 = 2 * zeta * wl, wl * wl, 2 * zeta * wl, wl * wl
+    az = np.array([k * k + a1 * k + a0, 2 * (a0 - k * k), k * k - a1 * k + a0])
+    bz = np.array([b1 * k + b0, 2 * b0, b0 - b1 * k]) / az[0]
+    az = az / az[0]
     # start at equilibrium with the first position: filter the deviation
     ql = signal.lfilter(bz, az, sig.qf - sig.qf[0]) + sig.qf[0]
     vl = np.gradient(ql, sig.ts)
@@ -268,8 +349,7 @@ class TorquePrediction:
 
 def predict(model: JointModel, sig: Signals) -> TorquePrediction:
     """LP of the torque the joint receives and the model's LP torque along the measured motion."""
-    d = model.delay_samples(sig.ts)
-    u = sig.centred(d)
+    u = sig.centred(delay_in_samples(model, sig.ts))
     target = sig.filt(u)
     pred = (model.inertia * sig.a + sig.filt(friction_columns(sig, model.friction, u))
             + model.offset * sig.filt(np.ones(u.size)))

@@ -18,7 +18,7 @@ from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import replay
-from .signals import Signals, dahl_state, estimate_signals
+from .signals import Signals, dahl_state, delay_in_samples, delayed, estimate_signals
 
 __all__ = ["SimulationRMS", "WindowedSimulation", "WindowGrid", "window_grid", "simulate_windows",
            "windowed_simulation"]
@@ -105,7 +105,7 @@ def window_grid(sig: Signals, window: float) -> WindowGrid:
 def simulate_windows(model: JointModel, sig: Signals, starts, length: int) -> WindowedSimulation:
     """Re-simulate ``model`` over the windows starting at ``starts`` (``length`` samples each)."""
     joint = model.joint()
-    d = model.delay_samples(sig.ts)
+    torque_all = delayed(sig.tm, delay_in_samples(model, sig.ts)) - model.offset
     n = sig.t.size
     qs = np.full(n, np.nan)
     ws = np.full(n, np.nan)
@@ -121,8 +121,7 @@ def simulate_windows(model: JointModel, sig: Signals, starts, length: int) -> Wi
         zlug = dahl_state(sig.qf, xc, 0.0) * xc
     for i, k0 in enumerate(starts):
         idx = np.arange(k0, k0 + length)
-        src = np.clip(idx - d, 0, n - 1)
-        torque = sig.tm[src] - model.offset
+        torque = torque_all[idx]
         w0 = 0.0 if sig.rest[k0] else float(sig.w[k0])
         state = None
         if zlug is not None:  # bristle deflection from the Dahl state along the measured motion

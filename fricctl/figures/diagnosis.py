@@ -1,5 +1,6 @@
 """Figures of the diagnosis: measured vs simulated, residual against velocity, position,
-time and torque, residual spectrum (:func:`fricctl.diagnose.diagnose` results)."""
+time and torque, residual spectrum, the forward selection's steps
+(:func:`fricctl.diagnose.diagnose` results)."""
 
 from __future__ import annotations
 
@@ -9,9 +10,15 @@ from scipy import signal
 from ..units import units
 from ._common import get_ax
 
-__all__ = ["plot_simulation", "plot_residual", "plot_residual_spectrum", "plot_diagnosis"]
+__all__ = ["plot_simulation", "plot_residual", "plot_residual_spectrum", "plot_steps",
+           "plot_diagnosis"]
 
 _AGAINST = ("velocity", "position", "time", "torque")
+
+
+def _extended_label(result) -> str:
+    """``+ a + b`` for the named causes (the extended model's label)."""
+    return "+ " + " + ".join(result.causes)
 
 
 def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
@@ -46,7 +53,8 @@ def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
         ax.set_ylabel(rf"velocity $\omega$ [{u.velocity}]")
     ax.plot(t[sel], b[sel], color="tab:red", lw=1.0, label="baseline, simulated")
     if result.cause != "none":
-        ax.plot(t[sel], a[sel], color="tab:blue", lw=1.0, ls="--", label=f"+ {result.cause}, simulated")
+        ax.plot(t[sel], a[sel], color="tab:blue", lw=1.0, ls="--",
+                label=f"{_extended_label(result)}, simulated")
     ax.set_xlabel("time $t$ [s]")
     ax.legend(loc="best", fontsize="small")
     return ax
@@ -82,7 +90,7 @@ def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = F
     if after and result.cause != "none":
         ok2 = ~np.isnan(result.residual_after)
         ax.plot(x[ok2], result.residual_after[ok2], ".", ms=1.5, color="tab:blue", alpha=0.5,
-                label=f"+ {result.cause}")
+                label=_extended_label(result))
     ax.axhline(0.0, color="0.3", lw=0.8)
     ax.set_xlabel(label)
     ax.set_ylabel(f"torque residual [{u.torque}]")
@@ -101,7 +109,7 @@ def plot_residual_spectrum(result, *, ax=None):
     tu = units(result.units).torque
     fs = 1.0 / float(result.t[1] - result.t[0])
     for res, color, lab in ((result.residual_before, "tab:red", "baseline"),
-                            (result.residual_after, "tab:blue", f"+ {result.cause}")):
+                            (result.residual_after, "tab:blue", _extended_label(result))):
         if lab != "baseline" and result.cause == "none":
             continue
         r = np.nan_to_num(res, nan=0.0)
@@ -110,6 +118,29 @@ def plot_residual_spectrum(result, *, ax=None):
     ax.set_xlabel("frequency $f$ [Hz]")
     ax.set_ylabel(f"residual PSD [({tu})$^2$/Hz]")
     ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def plot_steps(result, *, ax=None):
+    """The forward selection step by step: held-out torque residual RMS of the model before
+    the first step and after each, each bar labelled with the cause and its net score.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = get_ax(ax)
+    tu = units(result.units).torque
+    names = ["baseline"] + [f"+ {s.cause}" for s in result.steps]
+    values = [result.gain.torque_rms_before] + [s.torque_rms_after for s in result.steps]
+    bars = ax.bar(range(len(values)), values, color=["tab:red"] + ["tab:blue"] * len(result.steps))
+    for bar, step in zip(bars[1:], result.steps):
+        ax.annotate(f"{100 * step.score:.0f} %", (bar.get_x() + bar.get_width() / 2,
+                                                 bar.get_height()),
+                    ha="center", va="bottom", fontsize="small")
+    ax.set_xticks(range(len(values)), names, rotation=20)
+    ax.set_ylabel(f"held-out torque residual RMS [{tu}]")
+    ax.set_xlabel("step of the forward selection (net score above each bar)")
     return ax
 
 
@@ -123,5 +154,5 @@ def plot_diagnosis(result):
     plot_simulation(result, ax=axes[0, 1], quantity="velocity")
     for ax, against in zip(axes.ravel()[2:], _AGAINST):
         plot_residual(result, against, ax=ax, after=True)
-    fig.suptitle(f"diagnosis: {result.cause}")
+    fig.suptitle(f"diagnosis: {' + '.join(result.causes)}")
     return fig

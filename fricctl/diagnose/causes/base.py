@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Callable, Iterable, Mapping
+from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from ...friction import Coulomb, FrictionModel, Viscous
 from ...plant import FlexibleJoint, JointModel, RigidJoint
 from ...units import Units, units
 from ..crossval import Variant
-from ..signals import Signals, friction_columns, predict
+from ..signals import Signals, delay_in_samples, friction_columns, predict
 
 __all__ = ["Cause", "Term", "Baseline", "BenchActuator", "Injection", "identifiable_always",
            "coulomb_level"]
@@ -86,9 +86,11 @@ class Cause:
     """``refine(base, variants)``: a finer variant grid for the final fit on all data, or None."""
     identifiable: Callable[["Baseline", Term], str | None] = identifiable_always
     """``identifiable(base, term)``: None when the term fitted on all data can be told apart on
-    this record, else the reason why not (a cause that cannot be told is never named).  Every
-    cause accepts every term today; issue 12 fills this in (collinearity with the baseline,
-    a coefficient at its bound, a resonance beyond what the sample rate resolves)."""
+    this record, else the reason why not, a clause completing "cannot be told on this record,
+    because ..." (a cause that cannot be told is never named): a coefficient at its bound, a
+    hyper-parameter at the end of what the record resolves, a resonance above the band the
+    excitation reaches.  Collinearity of the term's columns with the model's is checked for
+    every cause by the selection itself."""
 
     def __post_init__(self):
         if not (isinstance(self.name, str) and self.name.isidentifier()):
@@ -137,8 +139,8 @@ class Baseline:
         if self.fit_mode:
             #: (N, 3) columns of the baseline (fit mode), or None
             self.columns = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(self.sign)])
-            #: delay of the baseline [samples]
-            self.delay = 0
+            #: delay of the baseline [samples] (a fraction kept)
+            self.delay = 0.0
             #: the target every candidate fits (LP torque, or the nominal residual)
             self.target = sig.torque_target(0)
             #: what the target is measured from (the nominal prediction, or zeros)
@@ -146,7 +148,7 @@ class Baseline:
             self.theta = theta
         else:
             self.columns = None
-            self.delay = nominal.delay_samples(sig.ts)
+            self.delay = delay_in_samples(nominal, sig.ts)
             tp = predict(nominal, sig)
             self.target = tp.target - tp.prediction
             self.reference = tp.prediction
@@ -167,7 +169,7 @@ class Baseline:
     @cached_property
     def fitted(self) -> JointModel:
         """The baseline model fitted on all data (fit mode), or the nominal model."""
-        return self.model(None, None, self.theta if self.fit_mode else np.zeros(0))
+        return self.model((), self.theta if self.fit_mode else np.zeros(0))
 
     @cached_property
     def residual(self) -> np.ndarray:
@@ -176,13 +178,28 @@ class Baseline:
             return self.target - self.columns @ self.theta
         return self.target.copy()
 
+    @cached_property
+    def model_torque(self) -> np.ndarray:
+        """The torque the baseline model needs along the measured motion, low-passed like
+        the target (``I*a + b*w + Fc*sign(w)`` fitted on all data, or the nominal model's
+        prediction): the recorded torque without its noise [N*m]."""
+        if self.fit_mode:
+            return self.columns @ self.theta
+        return self.reference.copy()
+
+    @property
+    def inertia(self) -> float:
+        """The baseline's inertia (fitted on all data, or the nominal one) [kg*m^2]."""
+        return float(self.theta[0]) if self.fit_mode else self.nominal.inertia
+
     def variant(self, h, cols, signs, y=None, upper=()) -> Variant:
-        """A :class:`Variant` with extra columns ``cols`` against the baseline's target (or ``y``)."""
+        """A :class:`Variant` with extra columns ``cols`` against the baseline's target, or
+        against ``y`` (a shifted target: the variant then sets the target of a composition)."""
         cols = np.asarray(cols, dtype=float)
         if cols.ndim == 1:
             cols = cols[:, None]
         return Variant(h=h, extra=cols, y=self.target if y is None else y, signs=tuple(signs),
-                       upper=tuple(upper))
+                       upper=tuple(upper), shifts_target=y is not None)
 
     def variants(self, cause: Cause, fold: int | None = None) -> list:
         """The cause's variants (computed once per cause, or once per fold when it says so)."""
@@ -191,21 +208,24 @@ class Baseline:
             self._variants[key] = list(cause.variants(self, key[1]))
         return self._variants[key]
 
-    def model(self, cause: Cause | None, h, theta: np.ndarray) -> JointModel:
-        """The model of a fit: the baseline (from ``theta`` in fit mode), extended by ``cause``."""
+    def model(self, parts: Sequence, theta: np.ndarray) -> JointModel:
+        """The model of a fit: the baseline (from ``theta`` in fit mode) extended by each
+        ``(cause, h)`` of ``parts`` in turn, their coefficients following in ``theta``."""
         units_ = self.sig.units
+        theta = np.asarray(theta, dtype=float)
         if self.fit_mode:
             inertia, b, fc = theta[:3]
-            ex = theta[3:]
-            base = JointModel(inertia=max(inertia, 1e-12),
-                              friction=Viscous(max(float(b), 0.0)) + Coulomb(max(float(fc), 0.0)),
-                              units=units_)
+            k = 3
+            model = JointModel(inertia=max(inertia, 1e-12),
+                               friction=Viscous(max(float(b), 0.0)) + Coulomb(max(float(fc), 0.0)),
+                               units=units_)
         else:
-            base = replace(self.nominal, units=units_)
-            ex = theta
-        if cause is None:
-            return base
-        return cause.extend(base, Term(h=h, coef=ex), self)
+            model = replace(self.nominal, units=units_)
+            k = 0
+        for cause, h in parts:
+            model = cause.extend(model, Term(h=h, coef=theta[k:k + cause.n_extra]), self)
+            k += cause.n_extra
+        return model
 
 
 # ============================================================================ bench

@@ -1,8 +1,11 @@
 """Compliance: the joint is elastic (paper Eq. 1), a resonance the rigid model lacks.
 
 Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load on a spring driven by
-the measured motion, for 22 natural frequencies from 3 Hz to 0.45/Ts and damping ratios
-0.02, 0.05, 0.12; coefficient: the load inertia (>= 0, at most 0.95 of the total).
+the measured motion, for natural frequencies on a log grid (8 per decade) from 20 cycles
+over the record up to the low-pass cut-off (the band the excitation reaches: above it the
+column only smooths encoder noise) and damping ratios 0.02, 0.05, 0.12; coefficient:
+the load inertia (>= 0, at most :data:`MAX_LOAD_SHARE` of the baseline's).  Cannot be
+told when the coupled resonance lies above that band or the load share sits at its bound.
 Bench: link 0.5 .. 1.5 x actuator inertia, coupled resonance 12 .. 40 Hz, structural damping
 ratio 0.02 .. 0.1.
 """
@@ -20,19 +23,46 @@ from ..signals import load_acceleration
 from .base import Cause, Injection
 
 
+#: Largest share of the inertia a fitted load behind the spring may hold [-].
+MAX_LOAD_SHARE = 0.95
+
+
 def _variants(base, fold):
     sig = base.sig
-    fmax = 0.45 / sig.ts
-    for wl in 2 * np.pi * np.logspace(np.log10(3.0), np.log10(fmax), 22):
+    lowest = 20.0 / (sig.t[-1] - sig.t[0])
+    n = max(int(np.floor(8 * np.log10(sig.cutoff / lowest))), 0) + 1
+    for wl in 2 * np.pi * lowest * 10.0 ** (np.arange(n) / 8):
         for zeta in (0.02, 0.05, 0.12):
             col = sig.filt(load_acceleration(sig, wl, zeta)) - sig.a
-            yield base.variant((float(wl), zeta), col, (1,))
+            yield base.variant((float(wl), zeta), col, (1,),
+                               upper=(MAX_LOAD_SHARE * max(base.inertia, 0.0),))
 
 
 def _extend(model, term, base):
     wl, zeta = term.h
-    jl = min(max(term.coef[0], 1e-12), 0.95 * model.inertia)
+    jl = min(max(term.coef[0], 1e-12), MAX_LOAD_SHARE * model.inertia)
     return replace(model, load_inertia=jl, stiffness=jl * wl * wl, damping=2 * zeta * wl * jl)
+
+
+def _resonance(inertia, jl, wl) -> float:
+    """Coupled resonance of a motor (inertia - jl) and a load jl on a spring of natural
+    frequency wl (load side) [Hz]."""
+    jm = max(inertia - jl, 1e-300)
+    return wl * math.sqrt(1.0 + jl / jm) / (2 * math.pi)
+
+
+def _identifiable(base, term):
+    wl, _ = term.h
+    jl = float(term.coef[0])
+    sig = base.sig
+    if jl >= 0.999 * MAX_LOAD_SHARE * base.inertia:
+        return (f"the load behind the spring takes {100 * MAX_LOAD_SHARE:.0f} % of the inertia "
+                f"(its bound): the term smooths the acceleration instead of resolving a resonance")
+    fr = _resonance(base.inertia, jl, wl)
+    if fr > sig.cutoff:
+        return (f"the fitted resonance ({fr:.3g} Hz) lies above the band the excitation reaches "
+                f"on this record ({sig.cutoff:.3g} Hz; sampled at {sig.sample_rate:.4g} Hz)")
+    return None
 
 
 def _evidence(base, term, extended):
@@ -72,4 +102,4 @@ CAUSE = Cause(
     physical="the joint is elastic: a resonance the rigid model lacks",
     changes=("load_inertia", "stiffness", "damping"),
     params=("load_inertia",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject)
+    identifiable=_identifiable, inject=_inject)

@@ -1,7 +1,19 @@
 """Load-dependent friction: friction grows with the transmitted torque |Tm| (mesh friction).
 
-Regressor: ``LP(|Tm| * sign(w))``; coefficient ``mu`` in [0, :data:`MAX_LOAD_COEFFICIENT`].
+Regressor: ``LP(|T| * sign(w))`` with ``T`` the (low-passed) torque the baseline model
+needs along the measured motion (:attr:`~fricctl.diagnose.causes.base.Baseline.model_torque`),
+not the recorded one; coefficient ``mu`` in [0, :data:`MAX_LOAD_COEFFICIENT`].
 Bench: mu = 0.08 .. 0.20 (friction + mu*|Tm|; harmonic drives lose 10-30 %).
+
+Notes
+-----
+Why the model's torque: ``|Tm|*sign(w)`` equals ``Tm`` itself whenever the drive pushes the
+way it moves, so a column built on the recorded torque "explains" the target -- its noise
+included (a closed loop feeds encoder noise into ``Tm``) -- and the fit slides to the bound
+with I, b, Fc shrunk.  Built on the model's low-passed torque, the column holds neither
+the recorded noise nor the rectified noise of the acceleration estimate, and without
+braking phases it is the baseline's own prediction: collinear with the baseline's
+columns, which the selection reports as "cannot be told".
 """
 
 from __future__ import annotations
@@ -13,16 +25,13 @@ import numpy as np
 from ...friction import LoadDependent
 from .base import Cause
 
-#: Largest load-dependence mu (friction + mu*|Tm|) a diagnosis will fit [-].
+#: Largest load-dependence mu (friction + mu*|Tm|) a diagnosis will fit [-]: a drive whose
+#: mesh friction grows by more than half the torque it transmits would hardly move a load.
 MAX_LOAD_COEFFICIENT = 0.5
 
 
 def _variants(base, fold):
-    # |Tm|*sign(w) equals Tm itself whenever the drive pushes the way it moves, so without
-    # braking phases in the training blocks the fit can slide to mu ~ 1 with I, b, Fc ~ 0
-    # (the column "explains" the target). A drive whose mesh friction grows by more than
-    # half the torque it transmits would hardly move a load; the bound excludes that.
-    yield base.variant(None, base.sig.filt(np.abs(base.torque) * base.sign), (1,),
+    yield base.variant(None, base.sig.filt(np.abs(base.model_torque) * base.sign), (1,),
                        upper=(MAX_LOAD_COEFFICIENT,))
 
 
@@ -30,13 +39,28 @@ def _extend(model, term, base):
     return replace(model, friction=model.friction + LoadDependent(max(term.coef[0], 0.0)))
 
 
+def _braking(base) -> float:
+    """Share of the sliding samples where the model's torque opposes the motion [-]."""
+    m = base.sig.moving
+    return float(np.mean(base.model_torque[m] * base.sign[m] < 0))
+
+
 def _evidence(base, term, extended):
     m = base.sig.moving
-    u = np.abs(base.torque[m])
+    u = np.abs(base.model_torque[m])
     rr = (base.residual * np.sign(base.sig.w))[m]
     c = float(np.corrcoef(u, rr)[0, 1]) if u.std() > 0 else float("nan")
     return (f"the baseline residual in the direction of motion grows with |Tm| "
-            f"(correlation {c:.2f}); fitted friction + {extended.friction.load_coefficient:.3g} x |Tm|")
+            f"(correlation {c:.2f}; the drive brakes on {100 * _braking(base):.0f} % of the "
+            f"sliding samples); fitted friction + {extended.friction.load_coefficient:.3g} x |Tm|")
+
+
+def _identifiable(base, term):
+    if term.coef[0] >= 0.999 * MAX_LOAD_COEFFICIENT:
+        return (f"the load coefficient sits at its bound ({MAX_LOAD_COEFFICIENT}): the record does "
+                f"not determine it (the drive brakes on {100 * _braking(base):.1f} % of the "
+                f"sliding samples)")
+    return None
 
 
 def _inject(rng, act):
@@ -49,4 +73,4 @@ CAUSE = Cause(
     physical="friction grows with the transmitted torque |Tm|",
     changes=("load_coefficient",),
     params=("load_coefficient",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject)
+    identifiable=_identifiable, inject=_inject)

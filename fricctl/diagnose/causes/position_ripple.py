@@ -34,12 +34,12 @@ def _variants(base, fold):
     span = float(np.ptp(q))
     res = sig.resolution if sig.resolution > 0 else 1e-6 * span
     pmin = max(30 * res, 2e-5 * span)
-    pmax = span / 4
+    pmax = span / 2
     out = []
     if pmax > 2 * pmin:
         # Schuster periodogram of the residual as a function of position: residual
-        # summed into bins of pmin/8, FFT (zero-padded x2 for a finer grid).
-        nb = int(min(2 ** 21, 2 ** math.ceil(math.log2(span / (pmin / 8) + 1))))
+        # summed into bins of pmin/4, FFT (zero-padded x2 for a finer grid).
+        nb = int(min(2 ** 20, 2 ** math.ceil(math.log2(span / (pmin / 4) + 1))))
         width = span / (nb - 1) if nb > 1 else span
         idx = np.minimum(((q - q.min()) / width).astype(np.int64), nb - 1)
         binned = np.bincount(idx, weights=r - r.mean(), minlength=nb)

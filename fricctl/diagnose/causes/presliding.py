@@ -1,16 +1,18 @@
 """Presliding: friction depends on motion history near reversals and stops (LuGre bristles).
 
-Regressor: ``LP(z - sign(w))`` with ``z`` the normalised Dahl bristle state along the filtered
-position, for 14 presliding lengths ``xc`` from 3 to 150 encoder counts (shorter is below
-what the encoder resolves); coefficient: the level ``>= 0`` the bristles carry.  The fitted
-model is LuGre with ``sigma0 = Fc/xc``.
+Regressors: ``LP(z - sign(w))`` and ``LP(w*(1 - sign(w)*z))`` with ``z`` the normalised Dahl
+bristle state along the encoder position, for 14 presliding lengths ``xc`` from 3 to 150
+encoder counts (shorter is below what the encoder resolves); coefficients: the level the
+bristles carry and the bristle damping ``sigma1``, both ``>= 0``, the damping at most
+critical (``2*sqrt(sigma0*I)`` with the baseline's Coulomb level and inertia).  The fitted model is
+LuGre with ``sigma0 = Fc/xc`` and the fitted ``sigma1``.
 Bench: LuGre bristles, presliding length Fc/sigma0 = 6 .. 20 encoder counts, bristle damping
 ratio 0.3 .. 1.
 
 Notes
 -----
-The bristle damping is not identified (one column): the fitted model takes a damping ratio
-of 0.5 of the bristle mode, which keeps the re-simulation from ringing.
+With no damping fitted the model takes a damping ratio of 0.5 of the bristle mode, which
+keeps the re-simulation from ringing.
 """
 
 from __future__ import annotations
@@ -22,22 +24,32 @@ import numpy as np
 
 from ...friction import FrictionModel, LuGre
 from ..signals import dahl_state
-from .base import Cause
+from .base import Cause, coulomb_level
+
+
+#: Shortest and longest presliding length searched [encoder counts].
+COUNTS = (3.0, 150.0)
 
 
 def _variants(base, fold):
     sig = base.sig
     res = sig.resolution if sig.resolution > 0 else 1e-6 * np.ptp(sig.q)
-    for nc in np.logspace(np.log10(3.0), np.log10(150.0), 14):
+    fc = coulomb_level(base.fitted)
+    for nc in np.logspace(np.log10(COUNTS[0]), np.log10(COUNTS[1]), 14):
         xc = nc * res
-        z = dahl_state(sig.qf, xc, 0.0)
-        yield base.variant(float(xc), sig.filt(z - base.sign), (1,))
+        z = dahl_state(sig.q, xc, 0.0)
+        damping = sig.w * (1.0 - np.sign(sig.w) * z)
+        # the bristles at most critically damped: sigma1 <= 2*sqrt(sigma0*I), sigma0 = Fc/xc
+        yield base.variant(float(xc), np.column_stack([sig.filt(z - base.sign),
+                                                       sig.filt(damping)]), (1, 1),
+                           upper=(np.inf, 2.0 * math.sqrt(max(fc, 0.0) / xc * base.inertia)))
 
 
 def _extend(model, term, base):
     d = model.friction.as_dict()
     sigma0 = max(0.5 * (d["coulomb_pos"] + d["coulomb_neg"]), 1e-12) / term.h
-    s1 = math.sqrt(sigma0 * model.inertia)
+    s1 = float(term.coef[1]) if term.coef.size > 1 and term.coef[1] > 0 else math.sqrt(
+        sigma0 * model.inertia)
     if min(d["coulomb_pos"], d["coulomb_neg"]) <= 0:
         return model
     d["static_pos"] = d["static_neg"] = 0.0
@@ -51,7 +63,8 @@ def _evidence(base, term, extended):
     return (f"the friction builds up over a presliding displacement of {xc:.3g} {u.position} "
             f"({counts:.0f} encoder counts) after each reversal instead of switching with the "
             f"sign of the velocity; LuGre bristle stiffness sigma0 = "
-            f"{extended.friction.lugre_sigma0:.4g} {u.stiffness}")
+            f"{extended.friction.lugre_sigma0:.4g} {u.stiffness}, bristle damping sigma1 = "
+            f"{extended.friction.lugre_sigma1:.4g} {u.viscous}")
 
 
 def _inject(rng, act):
@@ -69,5 +82,6 @@ CAUSE = Cause(
     name="presliding", order=80,
     physical="friction depends on motion history near reversals and stops",
     changes=("lugre_sigma0", "lugre_sigma1", "static_pos", "static_neg"),
-    params=("presliding_level",), variants=_variants, extend=_extend, evidence=_evidence,
+    params=("presliding_level", "bristle_damping"), variants=_variants, extend=_extend,
+    evidence=_evidence,
     inject=_inject)

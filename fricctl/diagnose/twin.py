@@ -1,0 +1,227 @@
+"""The record's effect-free twin: what the measuring chain alone lets a candidate "explain".
+
+A term can lower the equation-error residual without any physical effect: the
+encoder's quantisation, the filter, the timing of reversals and stops leave a
+residual near every event, and a flexible term (a short presliding length, a
+resonance, a sub-sample shift) fits part of it.  How much depends on the record (its
+rate, encoder, excitation, feedback, noise), so it is measured on the record itself.
+
+The twin: the model as it stands (the baseline fitted on all data, or the nominal
+one, with the causes named so far) is simulated in the sampled loop
+(:func:`fricctl.simulate.simulate_schedule`, exact stick-slip) driven by the recorded
+torque, plus a slow proportional correction toward the measured position that keeps
+it on the record's motion (its bandwidth a fiftieth of the diagnosis's cut-off), and
+read through an encoder of the record's resolution.  Where the record was made in
+closed loop its torque holds the controller's reaction to the encoder
+(``- Kd*w_hat``): the gain is estimated window by window from that reaction above the
+excitation's band, where the encoder shows its own quantisation and the torque the
+controller's answer to it (:func:`feedback_gains`), and the twin's loop applies it to
+its own encoder in place of the record's.  The twin's torque is what its joint
+received, corrections included, so its model holds on it exactly: it has the record's
+excitation, feedback and measuring chain and no further effect.  Torque noise at the
+joint (not in the recorded torque) is added at the level that gives the twin the
+held-out residual the record keeps once the candidate's term is in (what is left
+besides it: chain, noise and any other effect); noise moves every breakaway and stop,
+which the chain turns into a residual far above the noise's own.  The noise is drawn
+from a fixed seed: a diagnosis is reproducible.
+
+The candidate is scored on the twin by the same blocked cross-validation, after the
+causes already named (:func:`chain_shares`); the held-out fraction of the residual it
+removes there -- the chain's share -- is taken off its score on the record.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+from scipy import signal
+
+from ..datasets import Run
+from ..plant import JointModel
+from .causes import Baseline
+from .crossval import Problem, cross_validate, empty_variant, full_fit
+from ..simulate import Schedule, simulate_schedule
+from .signals import Signals, delay_in_samples, estimate_signals
+
+__all__ = ["Twin", "FeedbackGains", "effect_free_twin", "feedback_gains", "chain_shares",
+           "TWIN_SEED", "FEEDBACK_SHARE", "MIN_COUNTS"]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Twin:
+    """The effect-free twin of a record and the residual the chain leaves on it."""
+
+    run: Run
+    """The twin record: the recorded torque, the re-simulated encoder position."""
+    base: Baseline
+    """The baseline as every candidate sees it on the twin."""
+    problem: Problem
+    """The twin's normal equations."""
+    test: np.ndarray
+    """Held-out torque residual (sum of squares) per block of the baseline on the twin
+    [N^2*m^2]."""
+
+    @property
+    def rms(self) -> float:
+        """Held-out torque residual RMS the measuring chain alone leaves [N*m]."""
+        n = max(int(self.base.sig.moving.sum()), 1)
+        return math.sqrt(float(np.nansum(self.test)) / n)
+
+
+#: Seed of the twin's noise sequence (a diagnosis is a function of the record).
+TWIN_SEED = 12
+#: A window's feedback gains count when they explain this share of the torque's variation
+#: above the excitation's band [-].
+FEEDBACK_SHARE = 0.3
+#: Count changes a window needs for its feedback to be estimated [-].
+MIN_COUNTS = 20
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class FeedbackGains:
+    """The record's position feedback, per sample (zero where the loop was open)."""
+
+    kp: np.ndarray
+    """Proportional gain [N*m/rad] (taken from :attr:`kd`, see :func:`feedback_gains`)."""
+    kd: np.ndarray
+    """Gain on the backward-difference velocity of the encoder [N*m*s/rad]."""
+
+
+def feedback_gains(sig: Signals, inertia: float, window: float = 0.5) -> FeedbackGains:
+    """Estimate the record's velocity feedback ``Tm[k+1] = ... - Kd*(y[k] - y[k-1])/Ts``
+    window by window, and a proportional gain to go with it.
+
+    Above the excitation's band (the diagnosis's cut-off) the encoder reading is its own
+    quantisation and a closed loop's torque is the controller's answer to it; a window's
+    least-squares ``Kd`` counts when the encoder changes count at least :data:`MIN_COUNTS`
+    times in it, it explains :data:`FEEDBACK_SHARE` of the torque's variation there and is
+    positive (else the window ran open loop, or stood still), held below ``I/Ts`` (a stable
+    sampled loop).  ``Kp`` is not estimated (a set-point step moves the torque and the
+    encoder together and biases it): the twin takes the gain of a loop damped at 0.7 with
+    that ``Kd``, ``Kp = (Kd/1.4)^2/I``.
+    """
+    n = sig.t.size
+    y = sig.q - sig.q[0]
+    wh = np.zeros(n)
+    wh[1:] = np.diff(y) / sig.ts
+    u = np.concatenate([sig.tm[1:], sig.tm[-1:]])
+    nyq = 0.5 / sig.ts
+    kd = np.zeros(n)
+    if sig.cutoff < 0.9 * nyq and n >= 64 and inertia > 0:
+        b, a = signal.butter(2, sig.cutoff / nyq, btype="high")
+        hu, hw = signal.filtfilt(b, a, u), signal.filtfilt(b, a, wh)
+        length = max(int(round(window / sig.ts)), 32)
+        moves = np.concatenate([[0], np.cumsum(np.diff(y) != 0)])
+        for k0 in range(0, n, length):
+            sl = slice(k0, min(k0 + length, n))
+            sww, swu, suu = float(hw[sl] @ hw[sl]), float(hw[sl] @ hu[sl]), float(hu[sl] @ hu[sl])
+            if moves[sl.stop - 1] - moves[sl.start] < MIN_COUNTS or sww <= 0 or suu <= 0:
+                continue
+            gd = -swu / sww
+            if gd > 0 and swu * swu / (sww * suu) >= FEEDBACK_SHARE:
+                kd[sl] = min(gd, inertia / sig.ts)
+    return FeedbackGains(kp=(kd / 1.4) ** 2 / max(inertia, 1e-300), kd=kd)
+
+
+def effect_free_twin(base: Baseline, target_sse: float | None = None, *,
+                     model: JointModel | None = None) -> Twin:
+    """The record re-made by ``model`` (default: the baseline fitted on all data, or the
+    nominal model), through the record's encoder, with the joint torque noise that gives it
+    the held-out residual ``target_sse`` (sum of squares) when that exceeds what the chain
+    alone leaves (module notes)."""
+    sig = base.sig
+    model = base.fitted if model is None else model
+    xi = np.random.default_rng(TWIN_SEED).standard_normal(sig.t.size)
+    gains = feedback_gains(sig, model.inertia)
+    twin = _make_twin(base, model, np.zeros(sig.t.size), gains)
+    sse0 = float(np.sum(twin.test))
+    if target_sse is None or not target_sse > sse0 * 1.02:
+        return twin
+    m = max(int(sig.moving.sum()), 1)
+    sigma = math.sqrt((target_sse - sse0) / m)
+    # the residual grows as sigma^2 (noise, and the breakaways and stops it moves):
+    # one probe gives the slope, the second twin has the record's residual
+    for _ in range(2):
+        probe = _make_twin(base, model, sigma * xi, gains)
+        slope = (float(np.sum(probe.test)) - sse0) / sigma ** 2
+        if not slope > 0:
+            return probe
+        new = math.sqrt((target_sse - sse0) / slope)
+        if abs(new / sigma - 1) < 0.1:
+            return probe
+        sigma = min(new, 10.0 * float(np.std(sig.tm)))
+    return _make_twin(base, model, sigma * xi, gains)
+
+
+def _make_twin(base: Baseline, model: JointModel, noise: np.ndarray,
+               gains: FeedbackGains) -> Twin:
+    sig = base.sig
+    n = sig.t.size
+    wn = 2 * math.pi * sig.cutoff / 50.0
+    kp_slow = model.inertia * wn ** 2
+    y = sig.q - sig.q[0]
+    wh = np.zeros(n)
+    wh[1:] = np.diff(y) / sig.ts
+    # the loop's torque acts one sample after it is computed: feed the recorded torque early;
+    # the record's own reaction to its encoder (-Kd*w_hat) is given back, the twin's loop
+    # reacts to its own encoder instead
+    ff = np.concatenate([sig.tm[1:], sig.tm[-1:]]) + gains.kd * wh
+    start = np.zeros(n, dtype=bool)
+    start[0] = True
+    kp = gains.kp + kp_slow
+    tmax = 10.0 * (float(np.max(np.abs(sig.tm))) + float(np.max(kp)) * float(np.ptp(y))
+                   + float(np.max(gains.kd * np.abs(wh)))) + 1e-9
+    sim = simulate_schedule(model.joint(), Schedule(kp=kp, kd=gains.kd, reference=y,
+                                                     feedforward=ff, segment_start=start),
+                            sample_time=sig.ts, max_torque=tmax,
+                            encoder_resolution=sig.resolution,
+                            delay=int(round(delay_in_samples(model, sig.ts))), noise=noise)
+    run = Run(t=sig.t, torque=sim.torque_motor, position=sim.q_meas + sig.q[0], units=sig.units,
+              source="effect-free twin of the record")
+    tsig = estimate_signals(run, sig.n_folds, cutoff=sig.cutoff)
+    tbase = _twin_baseline(tsig, base)
+    problem = Problem(tsig, tbase.columns)
+    cv = cross_validate(problem, lambda f: [empty_variant(tbase.target)])
+    return Twin(run=run, base=tbase, problem=problem, test=np.nan_to_num(cv.test))
+
+
+def _twin_baseline(tsig: Signals, base: Baseline) -> Baseline:
+    if not base.fit_mode:
+        return Baseline(tsig, base.nominal, None)
+    probe = Baseline(tsig, None, np.zeros(3))
+    fit = full_fit(Problem(tsig, probe.columns), [empty_variant(probe.target)])
+    return Baseline(tsig, None, fit.theta.copy())
+
+
+def chain_shares(twin: Twin, named: Sequence) -> Callable:
+    """``share(cause)``: the held-out fraction of the twin's residual the term of ``cause``
+    removes when it is added after the causes ``named`` [-].
+
+    The twin walks the record's path: each named cause is added in turn, its variant
+    chosen on the twin's own training blocks as on the record's, so that a candidate is
+    measured against what the same steps leave on a record without effects.
+    """
+    problem, tb = twin.problem, twin.base
+    test = twin.test
+    chosen: list = []  # per named cause, the variant chosen per fold (None: no variant)
+
+    def fixed(f):
+        return tuple(c[f] for c in chosen if c[f] is not None)
+
+    for cause in named:
+        cv = cross_validate(problem, lambda f, c=cause: tb.variants(c, f), fixed)
+        test = np.where(np.isnan(cv.test), test, cv.test)
+        chosen.append([fit.variant if fit is not None else None for fit in cv.fits])
+    base_sse = float(np.sum(test))
+    shares: dict = {}
+
+    def share(cause) -> float:
+        if cause.name not in shares:
+            cv = cross_validate(problem, lambda f: tb.variants(cause, f), fixed)
+            after = float(np.sum(np.where(np.isnan(cv.test), test, cv.test)))
+            shares[cause.name] = 1.0 - after / base_sse if base_sse > 0 else 0.0
+        return shares[cause.name]
+    return share
