@@ -110,6 +110,11 @@ def test_resonance_above_the_band_cannot_be_told():
     assert reason is not None and "above the band" in reason
     at_bound = hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.95 * base.inertia])))
     assert at_bound is not None and "bound" in at_bound
+    # the bound is the share of the inertia fitted with the term (a rigid fit of a
+    # compliant joint sees mostly the motor side): not at the bound of a heavier model
+    heavier = base.fitted.__class__(inertia=3 * base.inertia, friction=base.fitted.friction)
+    assert hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.95 * base.inertia]),
+                           extended=heavier)) is None
 
 
 def test_no_braking_leaves_the_load_term_collinear():

@@ -133,7 +133,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                      residual_before=_sliding_residual(baseline_model, sig),
                      residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
                      sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
-                     not_identifiable=dict(sel.not_identifiable),
+                     not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=effect_free_twin(base).rms,
                      cutoff=sig.cutoff)
 

@@ -101,6 +101,9 @@ class Diagnosis:
     not_identifiable : dict
         Candidates that reached :data:`MIN_SCORE` but cannot be told apart on this
         record, with the reason ("cannot be told on this record, because ...").
+    last_ranking : tuple of (str, float)
+        The candidates of the step that named nothing, with their net scores: why the
+        selection stopped (none reached :data:`MIN_SCORE`).
     chain_rms : float
         Held-out torque residual RMS the measuring chain alone leaves on the record's
         effect-free twin [N*m].
@@ -130,6 +133,7 @@ class Diagnosis:
     nominal: bool
     units: str = "rotary"
     not_identifiable: dict
+    last_ranking: tuple = ()
     chain_rms: float = float("nan")
     cutoff: float = float("nan")
 
@@ -146,6 +150,7 @@ class Diagnosis:
             "steps": [s.as_dict() for s in self.steps],
             "ranking": [{"cause": c, "score": float(s)} for c, s in self.ranking],
             "not_identifiable": dict(self.not_identifiable),
+            "last_ranking": [{"cause": c, "score": float(s)} for c, s in self.last_ranking],
             "evidence": self.evidence,
             "baseline": self.baseline.parameters(),
             "extended": self.extended.parameters(),
@@ -175,6 +180,10 @@ class Diagnosis:
                              f"{st.simulation_rms_after:.4g} |")
         else:
             lines.append("No candidate reaches the score: nothing named.")
+        if self.last_ranking:
+            best = self.last_ranking[0]
+            lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
+                          f"{100 * best[1]:.1f} % of what is left (net)."]
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
                       f"record's effect-free twin (the measuring chain alone leaves "

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..plant import JointModel
 from .causes import Baseline, Cause, Term
-from .crossval import BlockedCV, Problem, cross_validate, full_fit
+from .crossval import BlockedCV, Problem, compose, cross_validate, full_fit
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity",
@@ -92,6 +92,9 @@ class Selection:
     """One :class:`Step` per named cause."""
     first_ranking: tuple
     """The first step's candidates with their net scores, best first."""
+    last_ranking: tuple
+    """The candidates of the step that named nothing, with their net scores, best first
+    (why the selection stopped; empty when every candidate was named or dropped)."""
     simulation_scores: dict
     """First step: per candidate, the held-out fraction of the windowed simulation error
     (position, sum of squares) its term removes [-] (computed for the supported ones)."""
@@ -161,6 +164,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
     not_told: dict = {}
     sim_scores0: dict = {}
     first_ranking: tuple = ()
+    last_ranking: tuple = ()
     remaining = list(candidates)
     while remaining:
         sse_prev = float(np.sum(cur_test))
@@ -185,6 +189,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                 share = max(chain(sse_prev * (1.0 - gross), named, cur_model)(c), 0.0)
             scored[c.name] = (gross - share, gross, share, cv, test)
         ranking = tuple(sorted(((n, s[0]) for n, s in scored.items()), key=lambda kv: -kv[1]))
+        last_ranking = ranking
         if not steps:
             first_ranking = ranking
         supported = [n for n, s in ranking if s >= MIN_SCORE]
@@ -205,7 +210,9 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                           f"{100 * share:.2g} % of it lies outside their span)")
             else:
                 coef = best.theta[best.theta.size - cause.n_extra:]
-                reason = cause.identifiable(base, Term(h=best.variant.h, coef=coef))
+                parts = [(s.cause, s.variant.h) for s in selected] + [(cause, best.variant.h)]
+                reason = cause.identifiable(base, Term(h=best.variant.h, coef=coef,
+                                                       extended=base.model(parts, best.theta)))
             if reason is None:
                 told.append((cause, best))
             else:
@@ -231,6 +238,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         cur_models = [_fold_model(base, selected, cause, cv, f, cur_models[f]) for f in range(F)]
         selected.append(Selected(cause=cause, fold_variants=fold_variants, variant=best.variant))
         cur_model = base.model([(s.cause, s.variant.h) for s in selected], best.theta)
+        base.advance(_residual(problem, all_fixed + (best.variant,), best.theta))
         new_sim = sims[cause.name]
         steps.append(Step(cause=cause.name, score=net, gross=gross, chain=share,
                           torque_rms_before=math.sqrt(sse_prev / nmov),
@@ -239,7 +247,9 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                           simulation_rms_after=new_sim.rms().position, ranking=ranking))
         cur_test, cur_sim = test, new_sim
         remaining = [c for c in remaining if c is not cause]
-        # a cause whose term cannot sit in one model with those named is dropped, said why
+        last_ranking = ()
+        # a cause whose term cannot sit in one model with those named is not tried again
+        # (LuGre bristles on an elastic joint): a limit of the models, not of the record
         parts = [(s.cause, s.variant.h) for s in selected]
         for c in list(remaining):
             probe = base.variants(c, None)
@@ -248,14 +258,18 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
             try:
                 base.model(parts + [(c, probe[0].h)],
                            np.concatenate([best.theta, np.full(c.n_extra, 1e-6)]))
-            except ValueError as exc:
-                not_told[c.name] = (f"its term cannot be combined with "
-                                    f"{', '.join(s.cause.name for s in selected)} in one model "
-                                    f"({str(exc).splitlines()[0]})")
+            except ValueError:
                 remaining.remove(c)
     return Selection(selected=tuple(selected), steps=tuple(steps), first_ranking=first_ranking,
+                     last_ranking=last_ranking,
                      simulation_scores=sim_scores0, not_identifiable=not_told, test=cur_test,
                      baseline_test=cv0.test, sim_before=sim_base, sim_after=cur_sim)
+
+
+def _residual(problem: Problem, parts: tuple, theta: np.ndarray) -> np.ndarray:
+    """The residual on all samples of a composition of variants with coefficients ``theta``."""
+    v = compose(parts)
+    return v.y - problem.design(v) @ theta
 
 
 def _fold_model(base: Baseline, selected: list, cause: Cause, cv: BlockedCV, f: int,

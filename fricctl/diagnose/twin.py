@@ -42,7 +42,7 @@ from scipy import signal
 from ..datasets import Run
 from ..plant import JointModel
 from .causes import Baseline
-from .crossval import Problem, cross_validate, empty_variant, full_fit
+from .crossval import Problem, compose, cross_validate, empty_variant, full_fit
 from ..simulate import Schedule, simulate_schedule
 from .signals import Signals, delay_in_samples, estimate_signals
 
@@ -211,10 +211,16 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
     def fixed(f):
         return tuple(c[f] for c in chosen if c[f] is not None)
 
+    done: tuple = ()
     for cause in named:
         cv = cross_validate(problem, lambda f, c=cause: tb.variants(c, f), fixed)
         test = np.where(np.isnan(cv.test), test, cv.test)
         chosen.append([fit.variant if fit is not None else None for fit in cv.fits])
+        full = full_fit(problem, tb.variants(cause, None), done)
+        if full is not None:
+            done = done + (full.variant,)
+            comp = compose(done)
+            tb.advance(comp.y - problem.design(comp) @ full.theta)
     base_sse = float(np.sum(test))
     shares: dict = {}
 

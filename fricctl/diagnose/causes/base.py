@@ -34,6 +34,9 @@ class Term:
     samples, ``(wl, zeta)`` of the resonance, presliding length ...), or None."""
     coef: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """Coefficients of the cause's extra columns, in the order of :attr:`Cause.params`."""
+    extended: JointModel | None = None
+    """The model with this term, fitted with it on all data (what :attr:`Cause.identifiable`
+    compares the term with: a refitted baseline's inertia is the joint fit's), or None."""
 
 
 def identifiable_always(base: "Baseline", term: Term) -> str | None:
@@ -82,6 +85,9 @@ class Cause:
     per_fold: bool = False
     """True when :attr:`variants` depends on the training blocks (``fold`` is the block left out,
     None for all data); else it is called once with ``fold=None``."""
+    per_step: bool = False
+    """True when :attr:`variants` reads :attr:`Baseline.current_residual` (the residual of the
+    model as it stands): they are made again after each cause the selection names."""
     refine: Callable[["Baseline", list], list] | None = None
     """``refine(base, variants)``: a finer variant grid for the final fit on all data, or None."""
     identifiable: Callable[["Baseline", Term], str | None] = identifiable_always
@@ -160,6 +166,8 @@ class Baseline:
         #: the sample-centred torque the joint receives under the baseline's delay [N*m]
         self.torque = sig.centred(self.delay)
         self._variants: dict = {}
+        self._step = 0
+        self._current: np.ndarray | None = None
 
     @property
     def labels(self) -> Units:
@@ -177,6 +185,17 @@ class Baseline:
         if self.fit_mode:
             return self.target - self.columns @ self.theta
         return self.target.copy()
+
+    @property
+    def current_residual(self) -> np.ndarray:
+        """The residual on all samples of the model as it stands (the baseline until a cause
+        is named; :meth:`advance`) [N*m]."""
+        return self.residual if self._current is None else self._current
+
+    def advance(self, residual: np.ndarray) -> None:
+        """A cause was named: ``residual`` is the new model's residual on all samples."""
+        self._current = np.asarray(residual, dtype=float)
+        self._step += 1
 
     @cached_property
     def model_torque(self) -> np.ndarray:
@@ -203,7 +222,8 @@ class Baseline:
 
     def variants(self, cause: Cause, fold: int | None = None) -> list:
         """The cause's variants (computed once per cause, or once per fold when it says so)."""
-        key = (cause.name, fold if cause.per_fold else None)
+        key = (cause.name, fold if cause.per_fold else None,
+               self._step if cause.per_step else None)
         if key not in self._variants:
             self._variants[key] = list(cause.variants(self, key[1]))
         return self._variants[key]

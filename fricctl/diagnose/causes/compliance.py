@@ -4,8 +4,9 @@ Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load on a sp
 the measured motion, for natural frequencies on a log grid (8 per decade) from 20 cycles
 over the record up to the low-pass cut-off (the band the excitation reaches: above it the
 column only smooths encoder noise) and damping ratios 0.02, 0.05, 0.12; coefficient:
-the load inertia (>= 0, at most :data:`MAX_LOAD_SHARE` of the baseline's).  Cannot be
-told when the coupled resonance lies above that band or the load share sits at its bound.
+the load inertia (>= 0; the model takes at most :data:`MAX_LOAD_SHARE` of the total inertia
+fitted with it).  Cannot be told when the coupled resonance lies above that band or the
+load share reaches that bound.
 Bench: link 0.5 .. 1.5 x actuator inertia, coupled resonance 12 .. 40 Hz, structural damping
 ratio 0.02 .. 0.1.
 """
@@ -34,8 +35,7 @@ def _variants(base, fold):
     for wl in 2 * np.pi * lowest * 10.0 ** (np.arange(n) / 8):
         for zeta in (0.02, 0.05, 0.12):
             col = sig.filt(load_acceleration(sig, wl, zeta)) - sig.a
-            yield base.variant((float(wl), zeta), col, (1,),
-                               upper=(MAX_LOAD_SHARE * max(base.inertia, 0.0),))
+            yield base.variant((float(wl), zeta), col, (1,))
 
 
 def _extend(model, term, base):
@@ -55,10 +55,11 @@ def _identifiable(base, term):
     wl, _ = term.h
     jl = float(term.coef[0])
     sig = base.sig
-    if jl >= 0.999 * MAX_LOAD_SHARE * base.inertia:
+    total = term.extended.inertia if term.extended is not None else base.inertia
+    if jl >= 0.999 * MAX_LOAD_SHARE * total:
         return (f"the load behind the spring takes {100 * MAX_LOAD_SHARE:.0f} % of the inertia "
                 f"(its bound): the term smooths the acceleration instead of resolving a resonance")
-    fr = _resonance(base.inertia, jl, wl)
+    fr = _resonance(total, jl, wl)
     if fr > sig.cutoff:
         return (f"the fitted resonance ({fr:.3g} Hz) lies above the band the excitation reaches "
                 f"on this record ({sig.cutoff:.3g} Hz; sampled at {sig.sample_rate:.4g} Hz)")

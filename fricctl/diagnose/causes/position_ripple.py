@@ -1,9 +1,9 @@
 """Position ripple: a torque disturbance periodic in position (cogging, gear mesh, kinematic error).
 
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods ``P``
-at the three highest peaks of the training residual's periodogram in position (per block
-left out); on all data a finer period grid around each peak (``1/(6*span)`` in spatial
-frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
+at the three highest peaks of the periodogram in position of the training residual of the
+model as it stands (per block left out, again after each named cause); on all data a
+finer period grid around each peak (``1/(6*span)`` in spatial frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ def _variants(base, fold):
     """Periods at the top peaks of the residual's periodogram in position (training data)."""
     sig = base.sig
     rows = sig.moving & (sig.folds != fold) if fold is not None else sig.moving.copy()
-    r = base.residual[rows]
+    r = base.current_residual[rows]
     q = sig.qf[rows]
     span = float(np.ptp(q))
     res = sig.resolution if sig.resolution > 0 else 1e-6 * span
@@ -98,5 +98,6 @@ CAUSE = Cause(
     name="position_ripple", order=40,
     physical="a torque disturbance periodic in position",
     changes=("ripple_amplitude", "ripple_period", "ripple_phase"),
-    params=("ripple_sin", "ripple_cos"), variants=_variants, per_fold=True, refine=_refine,
+    params=("ripple_sin", "ripple_cos"), variants=_variants, per_fold=True, per_step=True,
+    refine=_refine,
     extend=_extend, evidence=_evidence, inject=_inject)
