@@ -1,4 +1,4 @@
-"""Benchmark of the friction network (issue 5).
+"""Benchmark of the friction network (issues 5 and 11).
 
 1. Training: wall time for the CasADi Levenberg-Marquardt trainer
    (:func:`fricctl.nn.train_casadi`) to reach the final training loss of the
@@ -17,7 +17,9 @@ Run: ``.venv/bin/python benchmarks/bench_nn.py`` (about a minute on 2 cores).
 
 from __future__ import annotations
 
+import argparse
 import ctypes
+import math
 import platform
 import shutil
 import subprocess
@@ -27,7 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fricctl import nn
+from fricctl import nn, paper
+from fricctl.bench.experiments import train_network
+from fricctl.nn.train.backprop import CONVERGING
 from fricctl.nn.train.lm import clear_cache
 
 SEEDS = range(5)
@@ -138,11 +142,108 @@ def bench_c():
         print(f"| {name} | {t:.1f} | {t / budget:.1e} |")
 
 
+TOLERANCE = 0.05   # back-prop reaches LM when its final loss <= (1 + TOLERANCE) x LM's
+PAPER_BP = dict(learning_rate=0.05, momentum=0.9, epochs=2000)  # chapter 04, full mode
+
+
+def _mse(net, pats) -> float:
+    return float(np.mean((net(pats.tm, pats.omega) - pats.friction) ** 2))
+
+
+def backprop_to_lm(*, fast: bool, seed: int) -> dict:
+    """One seed of part 3: LM and back-prop on the same paper patterns (see the docstring)."""
+    run = paper.train_paper_network(fast=fast, seed=seed)  # the patterns (its LM net may be cached)
+    lm = train_network(run.train, trainer="casadi", rng=np.random.default_rng(seed))
+    bp = train_network(run.train, trainer="backprop", rng=np.random.default_rng(seed), **CONVERGING)
+    const = train_network(run.train, trainer="backprop", rng=np.random.default_rng(seed),
+                          **PAPER_BP)
+    lm_loss = float(lm.history.loss[-1])
+    target = (1.0 + TOLERANCE) * lm_loss
+    hit = np.flatnonzero(bp.history.loss <= target)
+    t_bp = bp.history.time_to_reach(target)
+    t_lm = lm.history.time_to_reach(target)
+    return dict(seed=seed, lm_loss=lm_loss, bp_ratio=float(bp.history.loss[-1]) / lm_loss,
+                reached=bool(bp.history.loss[-1] <= target),
+                epochs=int(hit[0]) if hit.size else math.inf, t_bp=t_bp, t_lm=t_lm,
+                t_lm_total=float(lm.history.elapsed[-1]), t_bp_total=float(bp.history.elapsed[-1]),
+                const_ratio=float(const.history.loss[-1]) / lm_loss,
+                const_last_half=(float(np.min(const.history.loss[PAPER_BP["epochs"] // 2:])),
+                                 float(np.max(const.history.loss[PAPER_BP["epochs"] // 2:]))),
+                held_ratio=_mse(bp.net, run.held_out) / _mse(lm.net, run.held_out),
+                g_bp=bp.net.gain_at_rest(), g_lm=lm.net.gain_at_rest(),
+                best_restart=bp.net.metadata["best_restart"])
+
+
+def bench_paper_patterns(*, fast: bool, seeds) -> list[dict]:
+    rows = []
+    for seed in seeds:
+        rows.append(backprop_to_lm(fast=fast, seed=seed))
+        print(".", end="", flush=True)
+    mode = "fast" if fast else "full"
+    opts = ", ".join(f"{k}={v}" for k, v in CONVERGING.items())
+    print(f"\n\n### Back-prop to LM's loss, paper's patterns ({mode} mode, {len(rows)} seeds; "
+          f"back-prop {opts}; tolerance {TOLERANCE:.0%})\n")
+    print("| seed | LM loss [(N*m)^2] | back-prop / LM, final | reached | epochs to LM's loss "
+          "| back-prop time to it [s] | LM time to it [s] | ratio | held-out MSE back-prop / LM "
+          "| paper's constant rate: final / LM |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        ratio = r["t_bp"] / r["t_lm"]
+        print(f"| {r['seed']} | {r['lm_loss']:.5f} | {r['bp_ratio']:.3f} | "
+              f"{'yes' if r['reached'] else 'no'} | {r['epochs']} | {r['t_bp']:.2f} | "
+              f"{r['t_lm']:.2f} | {ratio:.1f}x | {r['held_ratio']:.3f} | {r['const_ratio']:.1f} |")
+    ok = [r for r in rows if r["reached"]]
+
+    def mmm(xs, fmt):
+        xs = np.asarray(xs, dtype=float)
+        return (f"{fmt.format(np.median(xs))} / {fmt.format(xs.min())} / {fmt.format(xs.max())}"
+                if xs.size else "-")
+
+    print(f"\nReached LM's loss (within {TOLERANCE:.0%}): **{len(ok)}/{len(rows)}** seeds.  "
+          "Median / min / max:\n")
+    print("| quantity | median / min / max |")
+    print("|---|---|")
+    print(f"| back-prop final loss / LM's, all seeds | {mmm([r['bp_ratio'] for r in rows], '{:.3f}')} |")
+    print(f"| back-prop final loss [(N*m)^2], all seeds | "
+          f"{mmm([r['bp_ratio'] * r['lm_loss'] for r in rows], '{:.5f}')} |")
+    print(f"| LM final loss [(N*m)^2], all seeds | {mmm([r['lm_loss'] for r in rows], '{:.5f}')} |")
+    print(f"| epochs to LM's loss, seeds reached | {mmm([r['epochs'] for r in ok], '{:.0f}')} |")
+    print(f"| back-prop time to LM's loss [s], seeds reached | {mmm([r['t_bp'] for r in ok], '{:.2f}')} |")
+    print(f"| LM time to the same loss [s] | {mmm([r['t_lm'] for r in ok], '{:.2f}')} |")
+    print(f"| ratio back-prop / LM time, seeds reached | "
+          f"{mmm([r['t_bp'] / r['t_lm'] for r in ok], '{:.1f}')} |")
+    print(f"| back-prop total time ({CONVERGING['restarts']} starts) / LM total time | "
+          f"{mmm([r['t_bp_total'] / r['t_lm_total'] for r in rows], '{:.1f}')} |")
+    print(f"| held-out MSE back-prop / LM, all seeds | {mmm([r['held_ratio'] for r in rows], '{:.3f}')} |")
+    print(f"| gain at rest dTat/dTm, back-prop | {mmm([r['g_bp'] for r in rows], '{:.2f}')} |")
+    print(f"| gain at rest dTat/dTm, LM | {mmm([r['g_lm'] for r in rows], '{:.2f}')} |")
+    print(f"| best of the {CONVERGING['restarts']} starts (0 = first) | "
+          f"{mmm([r['best_restart'] for r in rows], '{:.0f}')} |")
+    print(f"| paper's constant rate ({PAPER_BP}): final / LM | "
+          f"{mmm([r['const_ratio'] for r in rows], '{:.1f}')} |")
+    print(f"| paper's constant rate: min over the last half / LM | "
+          f"{mmm([r['const_last_half'][0] / r['lm_loss'] for r in rows], '{:.2f}')} |")
+    print(f"| paper's constant rate: max over the last half / LM | "
+          f"{mmm([r['const_last_half'][1] / r['lm_loss'] for r in rows], '{:.1f}')} |")
+    return rows
+
+
 if __name__ == "__main__":
     import casadi
     import numba
 
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--only", choices=("training", "c", "paper"), default=None)
+    ap.add_argument("--seeds", type=int, default=20, help="seeds of part 3 (full mode)")
+    ap.add_argument("--fast-seeds", type=int, default=10, help="seeds of part 3 (fast mode)")
+    args = ap.parse_args()
     print(f"Python {platform.python_version()}, numpy {np.__version__}, casadi "
           f"{casadi.__version__}, numba {numba.__version__}, {platform.machine()}")
-    bench_training()
-    bench_c()
+    if args.only in (None, "training"):
+        bench_training()
+    if args.only in (None, "c"):
+        bench_c()
+    if args.only in (None, "paper"):
+        bench_paper_patterns(fast=False, seeds=range(args.seeds))
+        if args.fast_seeds:
+            bench_paper_patterns(fast=True, seeds=range(args.fast_seeds))
