@@ -101,9 +101,7 @@ def test_extension_fitted_where_the_effect_hides(name):
     sig = estimate_signals(rec.run, 8)
     base = Baseline(sig, rec.nominal, None)
     cause = REGISTRY[name]
-    variants = base.variants(cause, None)
-    if cause.refine is not None:
-        variants = cause.refine(base, variants)
+    variants = base.variants(cause, None)  # refined where the cause has a finer grid
     assert all(v.extra.shape[1] == cause.n_extra == len(v.signs) for v in variants)
     best = full_fit(Problem(sig, None), variants)
     term = Term(h=best.variant.h, coef=best.theta)

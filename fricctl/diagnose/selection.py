@@ -79,7 +79,7 @@ class Selected:
     fold_variants: tuple
     """Per fold, the variant chosen on the training blocks."""
     variant: object
-    """The variant chosen on all data (refined grid)."""
+    """The variant chosen on all data."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -197,10 +197,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         all_fixed = tuple(s.variant for s in selected)
         for name in supported:
             cause = next(c for c in remaining if c.name == name)
-            variants = base.variants(cause, None)
-            if cause.refine is not None:
-                variants = cause.refine(base, variants)
-            best = full_fit(problem, variants, all_fixed)
+            best = full_fit(problem, base.variants(cause, None), all_fixed)
             if best is None:
                 not_told[name] = "no variant of the term can be fitted to all the data"
                 continue

@@ -14,6 +14,16 @@ __all__ = ["plot_simulation", "plot_residual", "plot_residual_spectrum", "plot_s
            "plot_diagnosis"]
 
 _AGAINST = ("velocity", "position", "time", "torque")
+#: Most points a residual scatter draws (a longer record is thinned evenly: the cloud's shape
+#: is what the eye reads, and drawing 10^5 markers per panel is slow).
+MAX_POINTS = 20000
+
+
+def _thin(mask: np.ndarray) -> np.ndarray:
+    """Indices of the True samples of ``mask``, at most :data:`MAX_POINTS`, evenly spread."""
+    idx = np.flatnonzero(mask)
+    step = max(int(np.ceil(idx.size / MAX_POINTS)), 1)
+    return idx[::step]
 
 
 def _extended_label(result) -> str:
@@ -61,7 +71,8 @@ def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
 
 
 def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = False):
-    """Equation-error torque residual against velocity, position, time or torque.
+    """Equation-error torque residual against velocity, position, time or torque (at most
+    :data:`MAX_POINTS` sliding samples, evenly thinned).
 
     Parameters
     ----------
@@ -84,11 +95,11 @@ def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = F
     label = {"velocity": rf"velocity $\omega$ [{u.velocity}]",
              "position": f"position $q$ [{u.position}]", "time": "time $t$ [s]",
              "torque": f"recorded torque $T_m$ [{u.torque}]"}[against]
-    ok = ~np.isnan(result.residual_before)
+    ok = _thin(~np.isnan(result.residual_before))
     ax.plot(x[ok], result.residual_before[ok], ".", ms=1.5, color="tab:red", alpha=0.5,
             label="baseline")
     if after and result.cause != "none":
-        ok2 = ~np.isnan(result.residual_after)
+        ok2 = _thin(~np.isnan(result.residual_after))
         ax.plot(x[ok2], result.residual_after[ok2], ".", ms=1.5, color="tab:blue", alpha=0.5,
                 label=_extended_label(result))
     ax.axhline(0.0, color="0.3", lw=0.8)

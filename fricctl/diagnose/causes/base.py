@@ -89,7 +89,9 @@ class Cause:
     """True when :attr:`variants` reads :attr:`Baseline.current_residual` (the residual of the
     model as it stands): they are made again after each cause the selection names."""
     refine: Callable[["Baseline", list], list] | None = None
-    """``refine(base, variants)``: a finer variant grid for the final fit on all data, or None."""
+    """``refine(base, variants)``: a finer grid around the variants, or None; applied to every
+    set of variants (:meth:`Baseline.variants`), so that a named cause's term is as good on
+    each fold's training blocks as on all data."""
     identifiable: Callable[["Baseline", Term], str | None] = identifiable_always
     """``identifiable(base, term)``: None when the term fitted on all data can be told apart on
     this record, else the reason why not, a clause completing "cannot be told on this record,
@@ -221,11 +223,15 @@ class Baseline:
                        upper=tuple(upper), shifts_target=y is not None)
 
     def variants(self, cause: Cause, fold: int | None = None) -> list:
-        """The cause's variants (computed once per cause, or once per fold when it says so)."""
+        """The cause's variants, refined when it has :attr:`Cause.refine` (computed once per
+        cause, or once per fold or per step when it says so)."""
         key = (cause.name, fold if cause.per_fold else None,
                self._step if cause.per_step else None)
         if key not in self._variants:
-            self._variants[key] = list(cause.variants(self, key[1]))
+            variants = list(cause.variants(self, key[1]))
+            if cause.refine is not None:
+                variants = cause.refine(self, variants)
+            self._variants[key] = variants
         return self._variants[key]
 
     def model(self, parts: Sequence, theta: np.ndarray) -> JointModel:

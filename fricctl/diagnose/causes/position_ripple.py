@@ -2,8 +2,8 @@
 
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods ``P``
 at the three highest peaks of the periodogram in position of the training residual of the
-model as it stands (per block left out, again after each named cause); on all data a
-finer period grid around each peak (``1/(6*span)`` in spatial frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
+model as it stands (per block left out, again after each named cause), and a finer period
+grid around each peak (steps of ``1/(12*span)`` in spatial frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
 """
 
 from __future__ import annotations
@@ -56,13 +56,14 @@ def _variants(base, fold):
 
 
 def _refine(base, variants):
-    """A finer period grid around each periodogram peak (full data)."""
+    """A finer period grid around each periodogram peak: +-1/(12*span) and +-1/(6*span) in
+    spatial frequency."""
     out = list(variants)
     sig = base.sig
     span = float(np.ptp(sig.qf[sig.moving]))
     for v in variants:
         dnu = 1.0 / (6 * span)
-        for k in np.linspace(-1.0, 1.0, 9):
+        for k in (-1.0, -0.5, 0.5, 1.0):
             nu = 1.0 / v.h + k * dnu
             if nu <= 0:
                 continue
