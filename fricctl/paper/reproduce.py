@@ -187,8 +187,9 @@ class PaperResults:
                     f"**{name} pipeline, Figs. 16-17 (s = {AGED_SCALE:g}, friction x {AGED_SCALE:g}):** "
                     f"the stuck loop's gain is s*g = {sg:.3f}, which leaves "
                     f"+-{AGED_SCALE:g}*Fs*(1 - s*g)/Kp = +-{np.rad2deg(band):.2f} deg with the link "
-                    f"design's Kp = {kp16:.3f} N*m/rad: the 0.3 deg of fig16-nn and fig17-nn holds only "
-                    "for approaches that happen to stop close to the reference.")
+                    f"design's Kp = {kp16:.3f} N*m/rad in the worst case: the 0.3 deg of fig16-nn and "
+                    "fig17-nn is not guaranteed for every approach; it holds where the joint happens to "
+                    "stop closer to the reference.")
         out.append("**The paper's own statements that conflict on this bench** (fig11-stuck and fig17-none "
                    "pass trivially, fig18-without cannot pass: the commanded torques stay below "
                    "breakaway) are tabulated, with the unknowns searched, in "
