@@ -84,13 +84,16 @@ class FitReport:
     outside_envelope: int = 0
     """Patterns outside the net's training box (when computed from a net)."""
 
-    def report(self) -> str:
-        """A few readable lines."""
+    def report(self, units: str = "rotary") -> str:
+        """A few readable lines; ``units`` (``"rotary"``/``"linear"``) labels the torque or force."""
+        from ..units import units as units_of
+
+        tu = units_of(units).torque
         lines = [f"patterns      {self.n}",
                  f"fit           {self.fit_percent:.2f} %  (100*(1 - ||e||/||y - mean y||))",
                  f"R^2           {self.r_squared:.5f}",
-                 f"RMSE          {self.rmse:.4g} N*m",
-                 f"max |error|   {self.max_abs_error:.4g} N*m"]
+                 f"RMSE          {self.rmse:.4g} {tu}",
+                 f"max |error|   {self.max_abs_error:.4g} {tu}"]
         if self.outside_envelope:
             lines.append(f"outside envelope: {self.outside_envelope} patterns")
         return "\n".join(lines)
