@@ -284,7 +284,7 @@ def plot_fig18(result: Fig18Result, ax=None):
 
 
 def plot_sweep(result: SweepResult, ax=None):
-    """|e_ss| with NN compensation over friction scale x link inertia; hatched where >= tolerance."""
+    """``|e_ss|`` with NN compensation over friction scale x link inertia; hatched where >= tolerance."""
     _check(result, SweepResult)
     ax = get_ax(ax)
     e = _DEG * result.error_nn

@@ -45,7 +45,7 @@ class IdentificationResult:
     condition_number: float
     """2-norm condition number of the observation (Jacobian) matrix [-]."""
     abs_diag_r: np.ndarray
-    """|diag(R)| of the QR factorisation of the observation matrix (EMPS prints it)."""
+    """``|diag(R)|`` of the QR factorisation of the observation matrix (EMPS prints it)."""
     measured: np.ndarray
     """Measured torque/force the fit used [N*m] or [N]."""
     predicted: np.ndarray

@@ -27,7 +27,7 @@ class SweepResult:
     ----------
     friction_scales : true friction / nominal [-], shape (S,)
     link_inertias : [kg*m^2], shape (L,)
-    error_nn : |steady-state error| with NN compensation [rad], shape (L, S)
+    error_nn : ``|steady-state error|`` with NN compensation [rad], shape (L, S)
     error_none : without compensation [rad], shape (L, S)
     tolerance : the accuracy asked for [rad]
     step : reference step [rad]
@@ -51,7 +51,7 @@ class SweepResult:
         return self.error_nn < self.tolerance
 
     def report(self) -> str:
-        """A table of |e_ss| [deg] with NN compensation (* marks >= tolerance)."""
+        """A table of ``|e_ss|`` [deg] with NN compensation (* marks >= tolerance)."""
         head = "J_link [kg*m^2] | " + " | ".join(f"x{s:.2f}" for s in self.friction_scales)
         rows = [f"|e_ss| [deg] with NN compensation, step {np.rad2deg(self.step):.1f} deg, "
                 f"tolerance {np.rad2deg(self.tolerance):.2f} deg (* = not met)", head]
@@ -65,7 +65,7 @@ class SweepResult:
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class _Row:
-    """One link inertia of the sweep: |e_ss| over the friction scales [rad]."""
+    """One link inertia of the sweep: ``|e_ss|`` over the friction scales [rad]."""
 
     error_nn: np.ndarray
     error_none: np.ndarray
