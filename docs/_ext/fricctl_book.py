@@ -1,0 +1,209 @@
+"""What the book adds to Sphinx + myst-nb (``docs/book_authoring.md`` is the author's side).
+
+* :func:`read_chapter` reads a jupytext percent-format chapter into a notebook (myst-nb's
+  ``nb_custom_formats`` entry for ``.py``) and turns the house's two semantic cell tags into
+  myst-nb's: ``solution`` -> ``hide-cell`` with the prompts "Show the solution" / "Hide the
+  solution" (the cell runs; input and output are collapsed), ``widget`` -> ``remove-cell``
+  (the cell runs; the book shows the static fallback that follows it instead).
+* At ``builder-inited``, ``fricctl reproduce`` runs into ``fricctl_reproduce_dir`` (the
+  command a reader runs, not a re-implementation of it; a failure fails the build), and the
+  page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` and the PNGs of the
+  representative seeds in that place.
+* ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`).
+* A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
+  ``your_own_actuator.md``) is read one heading level up, so that it has a title.
+* In the API reference, the reST sections of a *module* docstring (``Notes``, ``Modules``)
+  become rubrics: a page's sections are its modules, and two modules' ``Notes`` must not
+  collide as labels.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import jupytext
+from sphinx.errors import ExtensionError
+from sphinx.util import logging
+
+logger = logging.getLogger(__name__)
+
+# -- chapters --------------------------------------------------------------------------------
+
+#: Semantic cell tag -> (myst-nb tags added, myst-nb cell options added).
+TAGS = {
+    "solution": (("hide-cell",), {"code_prompt_show": "Show the solution",
+                                  "code_prompt_hide": "Hide the solution"}),
+    "widget": (("remove-cell",), {}),
+}
+
+
+def read_chapter(text: str):
+    """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's."""
+    nb = jupytext.reads(text, fmt="py:percent")
+    # the kernel fills this in when it runs; set here so that a build without execution
+    # (nb_execution_mode=off, an author's quick look) still highlights the code
+    nb.metadata.setdefault("language_info", {"name": "python"})
+    for cell in nb.cells:
+        tags = list(cell.metadata.get("tags", []))
+        for tag in [t for t in tags if t in TAGS]:
+            extra_tags, options = TAGS[tag]
+            tags += [t for t in extra_tags if t not in tags]
+            cell.metadata.setdefault("mystnb", {}).update(options)
+        if tags:
+            cell.metadata["tags"] = tags
+    return nb
+
+
+def execute_only(app, config) -> None:
+    """``config-inited``: with ``fricctl_book_only = "01,05"`` only those chapters are executed
+    (the others are rendered without outputs): an author's quick look at one chapter."""
+    only = [n.strip() for n in config.fricctl_book_only.split(",") if n.strip()]
+    if not only:
+        return
+    chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
+    unknown = [n for n in only if not any(c.name.startswith(f"{n}_") for c in chapters)]
+    if unknown:
+        raise ExtensionError(f"fricctl_book_only: no chapter numbered {unknown[0]!r}")
+    config.nb_execution_excludepatterns = [f"chapters/{c.name}" for c in chapters
+                                           if not c.name.startswith(tuple(f"{n}_" for n in only))]
+
+
+# -- the paper reproduced --------------------------------------------------------------------
+
+#: The line of a page that is replaced by the claims table and the figures.
+PLACEHOLDER = "<!-- fricctl-reproduce: claims.md and the figures are inserted here -->"
+_SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
+
+
+def _fast() -> bool:
+    return os.environ.get("FRICCTL_FAST") == "1"
+
+
+def reproduce_dir(app) -> Path:
+    """Where ``fricctl reproduce`` writes: ``fricctl_reproduce_dir``, or ``_reproduce`` in the site."""
+    folder = app.config.fricctl_reproduce_dir
+    return Path(folder).resolve() if folder else Path(app.outdir) / "_reproduce"
+
+
+def run_reproduce(app) -> None:
+    """``fricctl reproduce --seeds N --force [--fast]`` (``--fast`` when FRICCTL_FAST=1).
+
+    ``fricctl_reproduce = "reuse"`` keeps what an earlier build wrote (for an author who is
+    rebuilding a chapter, not the claims).
+    """
+    out = reproduce_dir(app)
+    if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
+        logger.info("fricctl reproduce: reusing %s", out)
+        return
+    seeds = app.config.fricctl_reproduce_seeds or ("2" if _fast() else "10")
+    cmd = [sys.executable, "-m", "fricctl", "reproduce", "--out", str(out), "--seeds", str(seeds),
+           "--force"] + (["--fast"] if _fast() else [])
+    logger.info("running fricctl %s", " ".join(cmd[3:]))
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=dict(os.environ, MPLBACKEND="Agg"), capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise ExtensionError(f"`fricctl reproduce` exited with {proc.returncode}:\n"
+                             f"{proc.stdout[-3000:]}\n{proc.stderr[-5000:]}")
+    logger.info("fricctl reproduce took %.0f s:\n%s", time.perf_counter() - t0,
+                "\n".join(proc.stdout.strip().splitlines()[-3:]))
+
+
+def shift_headings(text: str, by: int) -> str:
+    """``text`` with every Markdown heading outside code fences ``by`` levels deeper (< 0: higher)."""
+    out, fence = [], False
+    for line in text.splitlines():
+        if line.lstrip().startswith(("```", "~~~")):
+            fence = not fence
+        elif not fence and re.match(r"#{1,6} ", line):
+            level = len(line) - len(line.lstrip("#"))
+            line = "#" * min(6, max(1, level + by)) + line[level:]
+        out.append(line)
+    return "\n".join(out)
+
+
+def _repo_links(text: str, srcdir: Path, here: Path) -> str:
+    """Links written relative to the repository's root (``docs/x.md``) made relative to ``here``
+    when they point into the book; any other link is left as it is."""
+    root = srcdir.parent
+
+    def fix(m):
+        target = m.group(1)
+        path = (root / target).resolve()
+        if _SCHEME.match(target) or not path.is_file() or srcdir not in path.parents:
+            return m.group(0)
+        return f"]({Path(os.path.relpath(path, here)).as_posix()}{m.group(2)})"
+
+    return re.sub(r"\]\(([^)#\s]+)([^)]*)\)", fix, text)
+
+
+def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
+    """MyST text: ``claims.md`` of ``out`` (headings one level down), then every figure.
+
+    The figures are the PNGs of ``figures/<pipeline>-seed<K>/``, one section per pipeline;
+    paths are relative to ``here`` (the folder of the page).
+    """
+    claims = out / "claims.md"
+    if not claims.is_file():
+        raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
+    lines = [_repo_links(shift_headings(claims.read_text(encoding="utf-8"), 1), srcdir, here), ""]
+    rel = Path(os.path.relpath(out, here)).as_posix()
+    for folder in sorted(p for p in (out / "figures").iterdir() if p.is_dir()):
+        pipeline, seed = folder.name.rsplit("-seed", 1)
+        lines += [f"## Figures: {pipeline} pipeline, seed {seed}", ""]
+        for png in sorted(folder.glob("*.png")):
+            lines += ["```{image} " + f"{rel}/figures/{folder.name}/{png.name}",
+                      f":alt: {png.stem}, {pipeline} pipeline, seed {seed}", "```", ""]
+    return "\n".join(lines)
+
+
+# -- source-read and autodoc hooks -----------------------------------------------------------
+
+def on_source_read(app, docname, source) -> None:
+    """The placeholder becomes the claims and figures (top level, so that their headings are
+    sections of the page); a page that starts at ``##`` is read one level up."""
+    text = source[0]
+    if PLACEHOLDER in text:
+        here = Path(app.env.doc2path(docname)).parent
+        text = text.replace(PLACEHOLDER, reproduce_markdown(reproduce_dir(app), Path(app.srcdir), here))
+    if str(app.env.doc2path(docname)).endswith(".md"):
+        first = next((ln for ln in text.splitlines() if re.match(r"#{1,6} ", ln)), "")
+        if first.startswith("## "):
+            text = shift_headings(text, -1)
+    source[0] = text
+
+
+_UNDERLINE = re.compile(r"""^([-=~^"'`#*+])\1{2,}\s*$""")
+
+
+def module_sections_as_rubrics(app, what, name, obj, options, lines) -> None:
+    """``autodoc-process-docstring``: a module docstring's reST section titles become rubrics."""
+    if what != "module":
+        return
+    out, i = [], 0
+    while i < len(lines):
+        title = lines[i]
+        if (i + 1 < len(lines) and title.strip() and not title[0].isspace()
+                and _UNDERLINE.match(lines[i + 1]) and len(lines[i + 1].strip()) >= len(title.strip())):
+            out += [f".. rubric:: {title.strip()}", ""]
+            i += 2
+        else:
+            out.append(title)
+            i += 1
+    lines[:] = out
+
+
+def setup(app):
+    app.add_config_value("fricctl_reproduce_dir", "", "env", types=[str])
+    app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
+    app.add_config_value("fricctl_reproduce", "run", "env", types=[str])
+    app.add_config_value("fricctl_book_only", "", "env", types=[str])
+    app.connect("config-inited", execute_only, priority=400)  # before myst-nb reads its config
+    app.connect("builder-inited", run_reproduce)
+    app.connect("source-read", on_source_read)
+    app.connect("autodoc-process-docstring", module_sections_as_rubrics)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -1,0 +1,90 @@
+"""Sphinx configuration of the fricctl book (``make book``; ``docs/book_authoring.md``).
+
+Sphinx + myst-nb + sphinx-book-theme (the Jupyter Book stack), all from PyPI (``.[book]``),
+nothing fetched at build or reading time: MathJax is served from the site itself
+(``sphinx-mathjax-offline``), no widget JavaScript is loaded from a CDN.
+
+* ``chapters/`` (a symbolic link to the repository's ``chapters/``): the jupytext chapters,
+  read by ``_ext/fricctl_book.read_chapter`` and executed in a fresh kernel each build
+  (``FRICCTL_FAST=1`` in the environment gives their short version);
+* ``reproduction.md``: the README's tables (included from README.md) and the output of
+  ``fricctl reproduce``, run into ``fricctl_reproduce_dir`` at the start of the build;
+* ``api/``: the reference, from the numpydoc docstrings.
+
+A cell error or any Sphinx warning fails the build (``-W --keep-going`` in the Makefile).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "_ext"))
+
+import fricctl  # noqa: E402
+
+# the chapters' plt.show() must reach the kernel's inline backend: a MPLBACKEND=Agg inherited
+# from `make test` or a CI job would make every figure of the book silently disappear
+os.environ.pop("MPLBACKEND", None)
+
+project = "fricctl"
+author = "the fricctl authors"
+copyright = "2024-2026, the fricctl authors (MIT licence)"
+release = version = fricctl.__version__
+
+extensions = [
+    "myst_nb",
+    "sphinx.ext.autodoc",
+    "numpydoc",
+    "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: no CDN
+    "fricctl_book",
+]
+
+root_doc = "index"
+exclude_patterns = [
+    "conf.py", "_ext", "_build", "book_readme_section.md",
+    "chapters/__pycache__", "**/.ipynb_checkpoints",
+]
+templates_path = ["_templates"]
+html_static_path = ["_static"]
+
+# -- MyST -----------------------------------------------------------------------------------
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
+myst_heading_anchors = 3
+# links to files outside the book (README.md, source files) stay plain links, not warnings
+myst_url_schemes = ["http", "https", "mailto"]
+
+# -- myst-nb: execution and rendering -------------------------------------------------------
+nb_custom_formats = {".py": ["fricctl_book.read_chapter", {}, False]}
+nb_execution_mode = "force"           # the book shows what today's code does
+nb_execution_raise_on_error = True    # a cell error fails the build
+nb_execution_show_tb = True
+nb_execution_in_temp = True           # chapters must not depend on the working directory
+# a hang guard only (seconds per cell): full-mode cells take up to a minute or two
+nb_execution_timeout = int(os.environ.get("FRICCTL_BOOK_CELL_TIMEOUT", "1800"))
+nb_merge_streams = True
+nb_ipywidgets_js = {}                 # widgets are Jupyter-only; the book shows static fallbacks
+nb_render_markdown_format = "myst"
+
+# -- API reference ---------------------------------------------------------------------------
+autodoc_default_options = {"members": True, "member-order": "bysource"}
+autodoc_typehints = "none"            # numpydoc's Parameters sections carry types and units
+numpydoc_show_class_members = False   # no autosummary stubs
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+
+# -- HTML ------------------------------------------------------------------------------------
+html_theme = "sphinx_book_theme"
+html_title = "fricctl"
+html_theme_options = {
+    "home_page_in_toc": True,
+    "show_toc_level": 2,
+    "use_download_button": True,
+    "use_fullscreen_button": False,
+    "navigation_with_keys": False,
+}
+html_show_sourcelink = True
+html_last_updated_fmt = None
