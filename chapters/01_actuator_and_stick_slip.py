@@ -27,16 +27,24 @@
 #   between sticking and jumping.
 #
 # All quantities are on the load side of the gear, in SI units.  Friction has the
-# sign of the velocity and enters as `I q'' = Tm - Tat` (paper Eq. 2).
+# sign of the velocity and enters the rigid joint of paper Eq. (2) as
+#
+# $$ I\,\ddot q = T_m - T_{at}, \qquad \dot q\,T_{at} \ge 0, $$
+#
+# with $q$ the joint position [rad], $I$ the inertia of motor, gear and link
+# [kg m²], $T_m$ the motor torque [N m] and $T_{at}$ the friction torque [N m]:
+# friction only ever takes energy out of the joint.
 
 # %%
 import os
+import sys
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 from fricctl import controllers as ctl
 from fricctl.design import design_p, design_pd
+from fricctl.figures import plot_response
 from fricctl.friction import Coulomb, Stribeck, Viscous
 from fricctl.params import PAPER_STATIC_FRACTION, paper_actuator
 from fricctl.plant import FlexibleJoint, RigidJoint
@@ -117,9 +125,13 @@ assert above.q[-1] > 0.0 and not above.stuck[-1]      # ...and breaks loose just
 # Now close a proportional loop `Tc = Kp (r - q)` with the paper's P gain (rise
 # time 0.2 s, damping 0.3, designed on the linear viscous model; Chapter 6 explains
 # the design).  Once the joint stops, it stays stuck as long as the controller's
-# torque `Kp |r - q|` is below the breakaway level.  Every error inside the band
-# `|e| <= Fs / Kp` is an equilibrium: a **dead band** of the position loop, and
-# the smaller the gain, the wider it is.
+# torque $K_p\,|r - q|$ is below the breakaway level $F_s$ [N m].  Every error
+# inside the band
+#
+# $$ |e| = |r - q| \le \frac{F_s}{K_p} $$
+#
+# is an equilibrium: a **dead band** of the position loop, and the smaller the
+# gain $K_p$ [N m/rad], the wider it is.
 
 # %%
 d_p = design_p(p, rise_time=0.2, damping=0.3)
@@ -143,6 +155,45 @@ for step_deg in (25.0, 60.0):
 # breakaway level.  The larger one moves, but freezes short of the reference, where
 # its velocity first reaches zero inside the band.  The linear model the gain was
 # designed on predicts an overshoot instead (Chapter 6).
+#
+# The band shrinks as $1/K_p$, but where inside it the joint stops depends on how
+# it arrives.  In Jupyter, move the gain with the slider below (it needs
+# `ipywidgets`); the book, and a run as a script, show the paper's gain and three
+# times that gain side by side instead.
+
+# %%
+def dead_band_step(kp, ax=None, step_deg=60.0):
+    """The P loop's step of `step_deg` [deg] with gain `kp` [N*m/rad], its band r +- Fs/kp shaded."""
+    run = simulate(p, ctl.p_control(kp, ctl.step(np.deg2rad(step_deg))), duration=3.0)
+    ax = plot_response(run, ax=ax)
+    half = np.rad2deg(p.static / kp)
+    ax.axhspan(step_deg - half, step_deg + half, color="tab:orange", alpha=0.15, lw=0,
+               label="dead band r +- Fs/Kp")
+    ax.set_title(f"Kp = {kp:.3f} N*m/rad", fontsize="medium")
+    ax.legend(fontsize="small")
+    return run
+
+
+# %% tags=["widget"]
+if "ipykernel" in sys.modules:  # in Jupyter: a slider; the book shows the figure below instead
+    from ipywidgets import FloatSlider, interact
+
+    def show_dead_band(kp):
+        dead_band_step(kp)
+        plt.show()
+
+    interact(show_dead_band, kp=FloatSlider(value=d_p.kp, min=0.1, max=1.5, step=0.05,
+                                            description="Kp [N*m/rad]"))
+
+# %% mystnb={"figure": {"caption": "The 60 deg step at the paper's gain and at three times that gain: each run stops inside its own band r +- Fs/Kp (shaded).", "name": "fig-dead-band"}}
+fig, axes = plt.subplots(1, 2, sharey=True, figsize=(9.6, 3.6), layout="constrained")
+for kp, ax in zip((d_p.kp, 3 * d_p.kp), axes):
+    run = dead_band_step(kp, ax=ax)
+    e_ss = run.steady_state_error()
+    print(f"Kp = {kp:.4f} N*m/rad: band +-{np.rad2deg(p.static / kp):.2f} deg, "
+          f"steady-state error {np.rad2deg(e_ss):.2f} deg")
+    assert run.stuck[-1] and abs(e_ss) <= p.static / kp + p.encoder_resolution  # inside its band
+plt.show()
 
 # %% [markdown]
 # ## 5. Stick-slip under a slow ramp
@@ -230,3 +281,14 @@ assert flex.resonance > 10 * d_pd.wn  # resonance well above the loop's bandwidt
 #    and rigid runs visibly differ.  Compare the resonance
 #    (`FlexibleJoint.from_params(...).resonance`) with the Nyquist frequency
 #    `pi / p.sample_time` of the 500 Hz loop.
+
+# %% tags=["solution"]
+# Exercise 1.  Friction x1.1 raises the breakaway level to 1.1 Fs: both torques,
+# 0.999 Fs and 1.01 Fs, are now below it, so neither moves the joint.
+worn = p.friction_model().scaled(1.1)
+print(f"breakaway of the worn joint: {worn.breakaway(+1):.4f} N*m (was {p.static:.4f} N*m)")
+for frac in (0.999, 1.01):
+    run = simulate(p, ctl.open_loop(ctl.constant(frac * p.static)), duration=1.0, friction=worn)
+    print(f"{frac:.3f} Fs = {frac * p.static:.4f} N*m: max |q| = {np.abs(run.q).max():.3g} rad, "
+          f"stuck at every sample: {bool(run.stuck.all())}")
+    assert np.all(run.q == 0.0) and run.stuck.all()  # below the worn breakaway: no motion at all

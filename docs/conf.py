@@ -57,6 +57,10 @@ myst_heading_anchors = 3
 # links to files outside the book (README.md, source files) stay plain links, not warnings
 myst_url_schemes = ["http", "https", "mailto"]
 
+# an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
+# not red text
+mathjax3_config = {"tex": {"packages": {"[-]": ["noundefined"]}}}
+
 # -- myst-nb: execution and rendering -------------------------------------------------------
 nb_custom_formats = {".py": ["fricctl_book.read_chapter", {}, False]}
 nb_execution_mode = "force"           # the book shows what today's code does
