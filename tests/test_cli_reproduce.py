@@ -82,7 +82,7 @@ def test_reproduce_writes_every_net_reloadable(reproduced):
             net = load_net(out / "nets" / f"{p}-seed{s}.json")
             # the certified band of the fricctl pipeline, and the paper pipeline's g > 1
             if p == "fricctl":
-                assert 0.965 - 1e-6 <= net.gain_at_rest() <= 0.99 + 1e-6
+                assert 0.98 - 1e-6 <= net.gain_at_rest() <= 0.99 + 1e-6
             else:
                 assert net.gain_at_rest() > 1.0
             assert g[p]["n_seeds"] == 2

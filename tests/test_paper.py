@@ -220,7 +220,7 @@ def test_fig10_dead_zone(figs, claims, network):
 def test_fig10_fricctl_follows_the_control_torque(ffigs, fclaims, fnetwork):
     r = ffigs[10]
     g = fnetwork.net.gain_at_rest()
-    assert 0.965 <= g <= 0.99 and fnetwork.trained.certificate.passed  # the certified band
+    assert 0.98 <= g <= 0.99 and fnetwork.trained.certificate.passed  # the certified band
     # the stuck loop amplifies Tc by 1/(1 - g) (the closed form): 10 % of Tmax breaks away
     assert r.with_nn.torque_cmd.max() / (1 - g) > P.static
     assert r.wind_up.passed and r.reversal.passed and r.coast.passed

@@ -78,7 +78,7 @@ def test_pipelines_on_the_fast_bench(name):
     assert net.pipeline == name and net.net.metadata["pipeline"] == name
     if name == "fricctl":
         c = net.trained.certificate
-        assert c.passed and 0.965 <= c.gain_min <= c.gain_max <= 0.99
+        assert c.passed and 0.98 <= c.gain_min <= c.gain_max <= 0.99
         # the viscous term taken out is the bench's b = 0.0169 (paper) within 10 %: the patterns
         # are sliding friction measured through the encoder and the estimator
         assert net.trained.viscous_removed == pytest.approx(0.0169, rel=0.1)

@@ -54,7 +54,7 @@ def register(subparsers) -> None:
                         "at rest certified inside --gain-band)")
     p.add_argument("--gain-band", default=None, metavar="LO,HI",
                    help="fricctl pipeline: band of dTat/dTm at rest, 0 < LO <= HI < 1 "
-                        "(default 0.965,0.99)")
+                        "(default 0.98,0.99)")
     p.add_argument("--max-patterns", type=int, default=None, metavar="N",
                    help="pipelines: patterns drawn at random for training (default: the "
                         "pipeline's, 4000 paper / 2000 fricctl)")

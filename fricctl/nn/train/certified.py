@@ -183,7 +183,7 @@ def _structured_start(problem: TrainingProblem, band, rest_x: float, torque_x: f
     return theta
 
 
-def loop(problem: TrainingProblem, *, gain_band=(0.965, 0.99), sliding_slope: float = 0.3,
+def loop(problem: TrainingProblem, *, gain_band=(0.98, 0.99), sliding_slope: float = 0.3,
          sliding_limit: float = 1.5, rest_torque: float | None = None,
          sliding_velocity: float | None = None, attempts: int = 4,
          max_iterations: int = 300) -> LoopResult:
@@ -297,12 +297,12 @@ def loop(problem: TrainingProblem, *, gain_band=(0.965, 0.99), sliding_slope: fl
         th = _structured_start(problem, (lo, hi), fs / ts_, tmax / ts_, ws / wsc, coulomb,
                                problem.rng, perturb=0.0 if k == 0 else 0.05 * k)
         if k == 0:
-            losses.append(0.5 * float(np.sum(np.asarray(fun(th, 0.0)[0]).ravel() ** 2)))
+            losses.append(0.5 * float(np.sum(fun(th, 0.0)[0].full().ravel() ** 2)))
             elapsed.append(problem.elapsed())
         for stage_weight in PENALTY_WEIGHTS:
             th = _levenberg_marquardt(fun, th, stage_weight, max_iterations)
-        r0, _, vv = fun(th, 0.0)
-        f = 0.5 * float(np.sum(np.asarray(r0).ravel() ** 2))
+        r0, _, vv = (x.full() for x in fun(th, 0.0))
+        f = 0.5 * float(np.sum(r0.ravel() ** 2))
         net = _net(th, h, sc)
         cert = certify(net, gain_band=(lo, hi), sliding_slope=sb, rest_torque=fs,
                        sliding_velocity=ws, torque_range=tmax, velocity_range=wmax)
@@ -332,7 +332,7 @@ PENALTY_WEIGHTS = (1e2, 1e4, 1e6, 1e8)
 
 def _levenberg_marquardt(fun, theta, weight, max_iterations):
     """Minimise 0.5*|r(theta)|^2 from ``theta`` (Nielsen's damping update)."""
-    r, jac, _ = (np.asarray(x) for x in fun(theta, weight))
+    r, jac, _ = (x.full() for x in fun(theta, weight))
     r = r.ravel()
     cost = 0.5 * float(r @ r)
     a, grad = jac.T @ jac, jac.T @ r
@@ -346,7 +346,7 @@ def _levenberg_marquardt(fun, theta, weight, max_iterations):
         except np.linalg.LinAlgError:
             d = None
         if d is not None and np.all(np.isfinite(d)):
-            r_new, jac_new, _ = (np.asarray(x) for x in fun(theta + d, weight))
+            r_new, jac_new, _ = (x.full() for x in fun(theta + d, weight))
             r_new = r_new.ravel()
             cost_new = 0.5 * float(r_new @ r_new)
             predicted = 0.5 * float(d @ (mu * d - grad))
