@@ -277,3 +277,25 @@ def test_schedule_segments_restart_the_reference_where_the_joint_is():
     with pytest.raises(ValueError, match="segment_start"):
         Schedule(kp=np.ones(k), kd=np.ones(k), reference=np.zeros(k), feedforward=np.zeros(k),
                  segment_start=np.zeros(k))
+
+
+def test_substeps_follow_the_plants_fastest_rate_and_never_return_non_finite():
+    # issue 15: a viscous coefficient of 20 N*m*s/rad on the paper actuator (b/I = 6980 1/s)
+    # with the default 4 RK4 sub-steps gave |q| = 1.8e300; the rule h*rate <= 1 asks for
+    # ceil(0.002*6980) = 14, and the run is then a bounded open-loop sinusoid response
+    from fricctl.controllers import sinusoid
+
+    fr = (Viscous(20.0) + Coulomb(0.01)).model()
+    r = simulate(P, open_loop(sinusoid(1.4, 1.0)), duration=1.0, friction=fr)
+    assert r.info.substeps == 14
+    # the steady response of I q'' + b q' = A sin(wt) has speed amplitude <= A/b = 0.07 rad/s
+    assert np.all(np.isfinite(r.q)) and np.abs(r.omega).max() <= 1.4 / 20.0 * 1.01
+    with pytest.raises(ValueError, match="needs at least 14 RK4 sub-steps"):
+        simulate(P, open_loop(sinusoid(1.4, 1.0)), duration=1.0, friction=fr, substeps=4)
+    # a stiff spring: sqrt(K (1/Jm + 1/Jl)) = 23 800 rad/s at K = 1e6 -> 48 sub-steps
+    stiff = P.with_link().replace(stiffness=1e6)
+    r = simulate(stiff, p_control(1.0, step(0.3)), duration=0.5, plant="flexible")
+    assert r.info.substeps == 48 and np.all(np.isfinite(r.q_load))
+    with pytest.raises(ValueError, match="too stiff for this sample time"):
+        simulate(P.with_link().replace(stiffness=1e14), p_control(1.0, step(0.3)), duration=0.5,
+                 plant="flexible")

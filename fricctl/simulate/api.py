@@ -15,8 +15,9 @@ from ..compensators import Compensator, NoCompensation
 from ..controllers import Controller
 from ..friction import NPARAM, FrictionLaw, FrictionModel
 from ..params import ActuatorParams
-from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, JointModel, RigidJoint
+from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, JointModel, KernelArgs, RigidJoint
 from ..plant.joints import checked_state, checked_substeps
+from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps
 from ..plant.kernels import advance, state_torque
 from .loop import OUTPUTS, run_compiled, run_python
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
@@ -37,6 +38,49 @@ def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
         if 1.0 + friction.drift * t <= 0.0:
             raise ValueError(f"friction drift {friction.drift:g} 1/s makes the friction scale "
                              f"1 + drift*t <= 0 at t = {t:g} s: friction would drive the joint")
+
+
+def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, t1: float) -> int:
+    """RK4 sub-steps: the kind's default raised to what the plant's fastest rate needs
+    (:mod:`fricctl.plant.stability`); an explicit count below that need is refused, as is a
+    need above :data:`~fricctl.plant.stability.MAX_SUBSTEPS` (with the number)."""
+    need, rate = 1, 0.0
+    for a, fr in zip(args_list, frictions):
+        # the drifting scale is largest at one end of the run
+        peak = max(1.0 + fr.drift * t0, 1.0 + fr.drift * t1, 1e-300)
+        r = fastest_rate(inertia=a.motor_inertia, friction=fr.scaled(peak) if peak != 1.0 else fr,
+                         load_inertia=a.load_inertia if a.stiffness > 0 else 0.0,
+                         stiffness=a.stiffness, damping=a.damping)
+        rate = max(rate, r)
+        need = max(need, required_substeps(sample_time=ts, rate=r))
+    if requested is None:
+        n = max(DEFAULT_SUBSTEPS[kind], need)
+    else:
+        n = checked_substeps(requested)
+        if n < need:
+            raise ValueError(f"substeps={n} is too few: the plant's fastest rate {rate:.4g} 1/s "
+                             f"needs at least {need} RK4 sub-steps per sample of {ts:g} s "
+                             "(fewer diverge)")
+    if n > MAX_SUBSTEPS:
+        raise ValueError(f"this would take {n} RK4 sub-steps per sample (the plant's fastest rate "
+                         f"{rate:.4g} 1/s against Ts = {ts:g} s), more than {MAX_SUBSTEPS}: the "
+                         "plant is too stiff for this sample time")
+    return n
+
+
+def _check_finite(t, out, res) -> None:
+    """Refuse a run whose record turned non-finite, or whose position left what the encoder
+    counts exactly (2**53 counts: the compiled floor() wraps there and would hide it)."""
+    bad = ~np.all(np.isfinite(out), axis=tuple(i for i in range(out.ndim) if i != out.ndim - 1))
+    if np.ndim(res) == 0:
+        res = np.array([res])
+    for r in np.atleast_1d(res):
+        if r > 0:
+            q = out[0] if out.ndim == 3 else out
+            bad |= ~np.all(np.abs(q) <= 2.0 ** 53 * r, axis=tuple(range(q.ndim - 1)))
+    if bad.any():
+        raise ValueError(f"the simulation diverged at t = {t[int(np.argmax(bad))]:g} s (the state "
+                         "is no longer finite): the closed loop is unstable")
 
 
 def _as_list(x, n, name, types):
@@ -148,7 +192,6 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
     nsamp = _samples(duration, ts, n)
-    substeps = DEFAULT_SUBSTEPS[kind] if substeps is None else checked_substeps(substeps)
     delay = v.integer("delay", delay, low=0)
     quantize = v.flag("quantize", quantize)
     noise_std, noise = _noise(noise_std, rng, (n, nsamp))
@@ -163,9 +206,15 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
         raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
     for f in frs:
         _check_drift(f, 0.0, nsamp * ts)
+    flex = kind == FLEXIBLE
+    substeps = _substeps(substeps, kind, ts, [
+        KernelArgs(kind=kind, motor_inertia=p.inertia if flex else p.total_inertia,
+                   load_inertia=p.link_inertia if flex else p.total_inertia,
+                   stiffness=p.stiffness if flex else 0.0,
+                   damping=p.joint_damping if flex else 0.0) for p in plist],
+        frs, 0.0, nsamp * ts)
 
     t = np.arange(nsamp) * ts
-    flex = kind == FLEXIBLE
     plant_args = dict(
         kind=kind, fps=np.array([f.vector() for f in frs]).reshape(n, NPARAM),
         jm=np.array([p.inertia if flex else p.total_inertia for p in plist]),
@@ -199,6 +248,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     else:
         run_python(plant_args, loop_args, control, comps, scales, out, stuck)
         path = "python"
+    _check_finite(t, out, res)
     infos = tuple(SimInfo(
         params=plist[i], friction_model=frs[i], controller=clist[i].name, kp=clist[i].kp,
         kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
@@ -299,7 +349,7 @@ def simulate_model(model: JointModel, controller: Controller,
     fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
     joint = (replace(model, friction=fr)).joint()
     a = joint.kernel_args()
-    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    substeps = _substeps(substeps, a.kind, ts, [a], [fr], 0.0, nsamp * ts)
     res = model.encoder_resolution if v.flag("quantize", quantize) and model.encoder_resolution else 0.0
     noise_std, noise = _noise(noise_std, rng, (1, nsamp))
     if model.offset != 0.0:  # the joint receives Tm - offset: a constant term of the loop's noise
@@ -325,15 +375,7 @@ def simulate_model(model: JointModel, controller: Controller,
         raise ValueError("the compensator's parameters contain NaN or inf")
     else:
         run_python(plant_args, loop_args, control, [comp], np.array([comp.scale]), out, stuck)
-    # diverged: a non-finite record, or a position beyond what the encoder counts exactly
-    # (2**53 counts; the compiled floor() wraps there and would hide the divergence)
-    bad = ~np.all(np.isfinite(out[:, 0, :]), axis=0)
-    if res > 0:
-        bad |= ~(np.abs(out[0, 0, :]) <= 2.0 ** 53 * res)
-    if bad.any():
-        raise ValueError(f"the simulation diverged at t = {t[np.argmax(bad)]:g} s: the loop is "
-                         f"unstable; give the model a max_torque or change the controller or "
-                         f"the compensator")
+    _check_finite(t, out, res)
     info = SimInfo(params=None, friction_model=fr, controller=controller.name, kp=controller.kp,
                    kd=controller.kd, compensator=comp.name, compensation_scale=comp.scale,
                    plant={RIGID: "rigid", FLEXIBLE: "flexible", LUGRE: "rigid (LuGre)"}[a.kind],
@@ -416,7 +458,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     nsamp = len(schedule)
     _samples(nsamp * ts, ts, 1)
     a = joint.kernel_args()
-    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], 0.0, nsamp * ts)
     delay = v.integer("delay", delay, low=0)
     noise = (np.zeros((1, 1)) if noise is None
              else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
@@ -433,6 +475,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     run_compiled(plant_args, loop_args, control,
                  dict(kind=NoCompensation().compiled().kind, params=np.zeros((1, 1)),
                       scale=np.ones(1)), out, stuck)
+    _check_finite(np.arange(nsamp) * ts, out, res)
     info = SimInfo(params=None, friction_model=joint.friction, controller="schedule",
                    kp=float(schedule.kp.max()), kd=float(schedule.kd.max()), compensator="none",
                    compensation_scale=1.0,
@@ -493,8 +536,9 @@ def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float 
     st = joint.initial_state(q0, omega0) if state is None else checked_state(state)
     t0 = v.real("t0", t0)
     _check_drift(joint.friction, t0, t0 + tq.size * ts)
-    substeps = DEFAULT_SUBSTEPS[a.kind] if substeps is None else checked_substeps(substeps)
+    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], t0, t0 + tq.size * ts)
     o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
     _replay(a.kind, st, joint.friction.vector(), tq, t0, ts, substeps, a.motor_inertia,
             a.load_inertia, a.stiffness, a.damping, o_q, o_w, o_f)
+    _check_finite(t0 + np.arange(tq.size) * ts, np.vstack([o_q, o_w, o_f]), 0.0)
     return ReplayResult(q=o_q, omega=o_w, friction=o_f)
