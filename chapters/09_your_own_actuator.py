@@ -9,7 +9,7 @@
 # the records of another drive -- a ball-screw axis, a prismatic joint: forces in N,
 # positions in m, a mass in kg -- and asks at each step what the records can and cannot
 # tell.  One file carries the actuator from step to step: the **model file**
-# (`fricctl.joint_model`, version 2).  `docs/your_own_actuator.md` runs the same chain as
+# (`fricctl.joint_model`, version 2).  The README's "Your own actuator" section runs the same chain as
 # seven `fricctl` commands.
 
 # %%

@@ -1,4 +1,4 @@
-"""``docs/your_own_actuator.md`` works as written on EMPS, and every number it prints is recomputed.
+"""The README's "Your own actuator" section works as written on EMPS, and every number it prints is recomputed.
 
 The commands are parsed from the document (each ```sh block is one command; the ```text block
 right after it lists lines its output must contain, in order; a ```c file=NAME block lists lines
@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-#: Where the section lives (the lead engineer may move it into README.md: change this path;
+#: Where the section lives: the README (its "## Your own actuator" section;
 #: only the "## Your own actuator" section of the file is read).
-DOC = Path(__file__).resolve().parents[1] / "docs" / "your_own_actuator.md"
+DOC = Path(__file__).resolve().parents[1] / "README.md"
 _SECTION = re.compile(r"^## Your own actuator\n(.*?)(?=^## |\Z)", re.S | re.M)
 _BLOCK = re.compile(r"^```(\w+)([^\n]*)\n(.*?)^```", re.S | re.M)
 _NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
