@@ -40,7 +40,7 @@ BOOK_SEEDS ?=
 BOOK_ONLY ?=
 BOOK_REPRODUCE ?= run
 SPHINXOPTS ?=
-BOOK_FLAGS = -E -W --keep-going -d $(BOOK)/doctrees -D fricctl_reproduce_dir=$(abspath $(BOOK))/reproduce \
+BOOK_FLAGS = -E -W --keep-going -T -d $(BOOK)/doctrees -D fricctl_reproduce_dir=$(abspath $(BOOK))/reproduce \
 	-D fricctl_reproduce=$(BOOK_REPRODUCE) $(if $(BOOK_SEEDS),-D fricctl_reproduce_seeds=$(BOOK_SEEDS)) \
 	$(if $(BOOK_ONLY),-D fricctl_book_only=$(BOOK_ONLY))
 

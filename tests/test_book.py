@@ -49,15 +49,18 @@ def book(tmp_path_factory) -> Path:
     for module in ("sphinx", "myst_nb", "sphinx_book_theme", "numpydoc", "ipykernel"):
         pytest.importorskip(module, reason="the book needs: pip install -e '.[book]'")
     tmp = tmp_path_factory.mktemp("book")
-    cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-E", "-W", "--keep-going",
+    cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-E", "-W", "--keep-going", "-T",
            "-d", str(tmp / "doctrees"), "-D", f"fricctl_reproduce_dir={tmp / 'reproduce'}",
            str(ROOT / "docs"), str(tmp / "html")]
     env = dict(os.environ, FRICCTL_FAST="1")
     # no timeout: the build's length depends on the machine's load (CI's job limit finds a hang)
     proc = subprocess.run(cmd, cwd=tmp, env=env, capture_output=True, text=True)
     if proc.returncode != 0:
-        pytest.fail(f"the book's build exited with {proc.returncode}\n--- stdout (tail)\n"
-                    f"{proc.stdout[-4000:]}\n--- stderr (tail)\n{proc.stderr[-8000:]}")
+        out = proc.stdout + proc.stderr
+        cell = out.find("CellExecutionError")  # a chapter's cell failed: show that cell's error
+        pytest.fail(f"the book's build exited with {proc.returncode}\n--- output (tail)\n"
+                    f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
+                    + (f"\n--- the failing cell\n{out[cell:cell + 8000]}" if cell >= 0 else ""))
     return tmp / "html"
 
 
