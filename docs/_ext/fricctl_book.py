@@ -3,7 +3,8 @@
 * :func:`read_chapter` reads a jupytext percent-format chapter into a notebook (myst-nb's
   ``nb_custom_formats`` entry for ``.py``) and turns the house's two semantic cell tags into
   myst-nb's: ``solution`` -> ``hide-cell`` with the prompts "Show the solution" / "Hide the
-  solution" (the cell runs; input and output are collapsed), ``widget`` -> ``remove-cell``
+  solution" (+ " to exercise N" when its first line is ``# Exercise N...``; the cell runs,
+  input and output collapsed), ``widget`` -> ``remove-cell``
   (the cell runs; the book shows the static fallback that follows it instead).
 * At ``builder-inited``, ``fricctl reproduce`` runs into ``fricctl_reproduce_dir`` (the
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
@@ -42,6 +43,10 @@ TAGS = {
 }
 
 
+#: A solution cell whose first line names its exercise ("# Exercise 2. ...") says so in its prompt.
+_EXERCISE = re.compile(r"#\s*Exercise\s+(\d+[a-z]?)\b", re.I)
+
+
 def read_chapter(text: str):
     """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's."""
     nb = jupytext.reads(text, fmt="py:percent")
@@ -53,7 +58,12 @@ def read_chapter(text: str):
         for tag in [t for t in tags if t in TAGS]:
             extra_tags, options = TAGS[tag]
             tags += [t for t in extra_tags if t not in tags]
-            cell.metadata.setdefault("mystnb", {}).update(options)
+            if options:
+                cell.metadata.setdefault("mystnb", {}).update(options)
+            named = _EXERCISE.match(cell.source)
+            if tag == "solution" and named:  # "Show the solution to exercise 2"
+                which = f" to exercise {named.group(1)}"
+                cell.metadata["mystnb"].update({k: v + which for k, v in options.items()})
         if tags:
             cell.metadata["tags"] = tags
     return nb
