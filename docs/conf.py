@@ -30,8 +30,8 @@ import fricctl  # noqa: E402
 os.environ.pop("MPLBACKEND", None)
 
 project = "fricctl"
-author = "the fricctl authors"
-copyright = "2024-2026, the fricctl authors (MIT licence)"
+author = "the fricctl contributors"
+copyright = "2026, the fricctl contributors (MIT License)"
 release = version = fricctl.__version__
 
 extensions = [
@@ -54,8 +54,6 @@ html_static_path = ["_static"]
 # -- MyST -----------------------------------------------------------------------------------
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
 myst_heading_anchors = 3
-# links to files outside the book (README.md, source files) stay plain links, not warnings
-myst_url_schemes = ["http", "https", "mailto"]
 
 # an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
 # not red text
