@@ -4,8 +4,10 @@ made on seeds never used while building the method, and the time of one 40 s rec
 
 Seeds.  Used while building the issue-12 method (and so never here): the package bench
 ``[9100..9400, ...]`` and the tests' ``[2026..2028, i]``; the independent bench's
-``[31, i]`` (tests) and ``[40, i]``.  This benchmark: ``[12001..12005, ...]`` (package
-bench) and ``[32, i]`` (independent bench), run for the tables of ``benchmarks/README.md``.
+``[31, i]`` (tests), ``[40, i]`` and ``[41, i]``.  A first measurement on
+``[12001..12005, ...]`` and ``[32, i]`` led to two changes (the band's definition and the
+delay range, see ``benchmarks/README.md``), so those seeds count as used too.  This
+benchmark: ``[12101..12105, ...]`` (package bench) and ``[33, i]`` (independent bench).
 
 Record sets (durations 20-60 s, rates 200 Hz-2 kHz, rotary and linear axes):
 
@@ -64,7 +66,7 @@ def singles():
             for m in range(2):
                 ts = RATES[(j + k + 2 * m) % 4]
                 t0 = time.perf_counter()
-                rec = hidden_effect_record(np.random.default_rng([12001, j, k, m]), cause=cause,
+                rec = hidden_effect_record(np.random.default_rng([12101, j, k, m]), cause=cause,
                                            sample_time=ts, duration=DURATIONS[(j + k + m) % 4],
                                            excitation=exc, axis=axis,
                                            sensors=("fixed", "drawn")[m])
@@ -72,7 +74,7 @@ def singles():
     for j, cause in enumerate(NOMINAL_CAUSES):
         for k in range(6):
             t0 = time.perf_counter()
-            rec = hidden_effect_record(np.random.default_rng([12001, 50 + j, k]), cause=cause,
+            rec = hidden_effect_record(np.random.default_rng([12101, 50 + j, k]), cause=cause,
                                        sample_time=RATES[k % 4], axis=AXES[k % 2],
                                        excitation=EXCITATIONS[k % 3], duration=30.0)
             rows.append(_row(rec, "single", f"{cause} (nominal)", t0))
@@ -85,7 +87,7 @@ def pairs():
         for m in range(2):
             exc = ("mixed", "closed_loop", "mixed")[(i + m) % 3]
             t0 = time.perf_counter()
-            rec = hidden_effect_record(np.random.default_rng([12002, i, m]), cause=pair,
+            rec = hidden_effect_record(np.random.default_rng([12102, i, m]), cause=pair,
                                        sample_time=RATES[(i + m) % 4], axis=AXES[(i + m) % 2],
                                        excitation=exc, duration=DURATIONS[(i + 2 * m) % 4])
             rows.append(_row(rec, "pair", f"{'+'.join(pair)} {exc}", t0))
@@ -100,7 +102,7 @@ def none():
             for ts in RATES:
                 for sensors in (("fixed", "drawn") if exc != "mixed" else ("drawn",)):
                     t0 = time.perf_counter()
-                    rec = hidden_effect_record(np.random.default_rng([12003, i]), cause="none",
+                    rec = hidden_effect_record(np.random.default_rng([12103, i]), cause="none",
                                                sample_time=ts, axis=axis, excitation=exc,
                                                sensors=sensors, duration=DURATIONS[i % 4])
                     rows.append(_row(rec, "none", f"none {exc} {axis} {1 / ts:.0f} Hz {sensors}", t0))
@@ -113,7 +115,7 @@ def line():
     for j, cause in enumerate(FIT_CAUSES):
         for m, strength in enumerate((0.15, 0.3, 0.6)):
             t0 = time.perf_counter()
-            rec = hidden_effect_record(np.random.default_rng([12004, j, m]), cause=cause,
+            rec = hidden_effect_record(np.random.default_rng([12104, j, m]), cause=cause,
                                        strength=strength, sample_time=RATES[(j + m) % 4],
                                        axis=AXES[(j + m) % 2], duration=40.0)
             rows.append(_row(rec, "line", f"{cause} x{strength}", t0))
@@ -130,7 +132,7 @@ def independent():
     rows = []
     for i, effects in enumerate(specs):
         t0 = time.perf_counter()
-        run, _ = simulate_record([32, i], effects=effects, axis=AXES[i % 2],
+        run, _ = simulate_record([33, i], effects=effects, axis=AXES[i % 2],
                                  sample_time=RATES[i % 4], duration=DURATIONS[i % 3])
         d = diagnose(run)
         rows.append(dict(kind="independent", label=" + ".join(effects) or "none", hidden=effects,
@@ -140,18 +142,19 @@ def independent():
 
 
 def report(rows, title):
-    """Confusion table (rows: expected causes; columns: named) and the rates."""
+    """Confusion table (rows: expected causes; columns: named) and the rates.
+
+    A *false* cause is named but not hidden at all; a hidden effect below the line that is
+    named anyway is counted apart (the record carries it, only weakly)."""
     print(f"\n### {title} ({len(rows)} records)\n")
     exact = sum(r["named"] == r["expected"] for r in rows)
     print(f"named exactly as expected: {exact}/{len(rows)} = {100 * exact / max(len(rows), 1):.1f} %")
-    false = Counter(c for r in rows for c in r["named"] - r["expected"])
+    false = Counter(c for r in rows for c in r["named"] - set(r["hidden"]))
     missed = Counter(c for r in rows for c in r["expected"] - r["named"])
-    print(f"false causes: {sum(false.values())} {dict(false)}; missed: {sum(missed.values())} "
-          f"{dict(missed)}")
-    below = [r for r in rows if set(r["hidden"]) - r["expected"]]
-    if below:
-        print(f"effects hidden below the line: {len(below)} records; named anyway: "
-              f"{sum(bool((set(r['hidden']) - r['expected']) & r['named']) for r in below)}")
+    weak = Counter(c for r in rows for c in (r["named"] & set(r["hidden"])) - r["expected"])
+    print(f"false causes (named, not hidden): {sum(false.values())} {dict(false)}; missed: "
+          f"{sum(missed.values())} {dict(missed)}; hidden below the line and named anyway: "
+          f"{sum(weak.values())} {dict(weak)}")
     names = sorted({c for r in rows for c in r["named"] | r["expected"]}) + ["none"]
     print("\n| expected \\ named | " + " | ".join(names) + " |")
     print("|---" * (len(names) + 1) + "|")
@@ -183,7 +186,7 @@ def timing():
     diagnose(hidden_effect_record(np.random.default_rng(0), cause="none", duration=10.0).run)
     for cause in (("asymmetry", "position_ripple"), "none"):
         t0 = time.perf_counter()
-        rec = hidden_effect_record(np.random.default_rng([12005, 1]), cause=cause,
+        rec = hidden_effect_record(np.random.default_rng([12105, 1]), cause=cause,
                                    sample_time=0.001, duration=40.0)
         t1 = time.perf_counter()
         d = diagnose(rec.run)

@@ -198,8 +198,9 @@ class Diagnosis:
         lines += ["## Candidates of the first step", "",
                   "| cause | net score | simulation score |", "|---|---|---|"]
         for c, sc in self.ranking:
-            ss = self.simulation_scores.get(c, float("nan"))
-            lines.append(f"| {c} | {100 * sc:.1f} % | {100 * ss:.1f} % |")
+            ss = self.simulation_scores.get(c)
+            sim = "-" if ss is None else f"{100 * ss:.1f} %"  # simulated for the supported only
+            lines.append(f"| {c} | {100 * sc:.1f} % | {sim} |")
         lines += ["", "## Held-out gain", "", "| quantity | before | after | change |",
                   "|---|---|---|---|"]
         for name, b, a, unit in (

@@ -34,8 +34,9 @@ __all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "cen
            "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
            "BAND_MARGIN", "MAX_CUTOFF"]
 
-#: The excitation's band ends where the encoder's acceleration spectrum falls below this
-#: many times that of its own quantisation noise (:func:`motion_band`) [-].
+#: The excitation's band ends where the encoder's acceleration spectrum (a third of an octave
+#: averaged) last stands this many times above its own quantisation noise
+#: (:func:`motion_band`) [-].
 BAND_MARGIN = 10.0
 #: Highest low-pass cut-off, as a fraction of the sample rate: half the Nyquist frequency
 #: (the zero-phase 4th-order Butterworth still attenuates 48 dB at Nyquist there) [-].
@@ -163,14 +164,16 @@ class Signals:
 
 def motion_band(q: np.ndarray, ts: float, resolution: float, *,
                 margin: float = BAND_MARGIN) -> float:
-    """The band the excitation reaches: the lowest frequency at which the encoder's motion
-    stops standing above its quantisation noise [Hz].
+    """The band the excitation reaches: the highest frequency at which the encoder's motion
+    stands above its quantisation noise [Hz].
 
     The second difference of the encoder record (an acceleration, whitened so that slow
     motion does not leak into high frequencies) is compared per frequency with that of
-    white quantisation noise of one count (variance ``res^2/12``); the band ends where
-    its power spectral density first falls below ``margin`` times the noise's.  Above
-    it an acceleration estimate is mostly encoder noise, whatever the sample rate.
+    white quantisation noise of one count (variance ``res^2/12``), the ratio averaged
+    over a third of an octave around each frequency (so that one narrow line -- mains
+    pick-up -- does not count as motion, while a resonance does); the band ends at the
+    last frequency where that average reaches ``margin``.  Above it an acceleration
+    estimate is mostly encoder noise, whatever the sample rate.
     """
     fs = 1.0 / ts
     dd = np.diff(q, 2)
@@ -180,8 +183,14 @@ def motion_band(q: np.ndarray, ts: float, resolution: float, *,
     f, p = signal.welch(dd, fs=fs, nperseg=nper, detrend=False)
     noise = resolution ** 2 / (6.0 * fs) * (2 * np.sin(np.pi * f / fs)) ** 4
     low = f > 4.0 * fs / nper  # the first few bins hold the record's slow trends
-    below = low & (p < margin * noise)
-    return float(f[np.argmax(below)]) if below.any() else 0.5 * fs
+    ratio = np.where(low, p / np.maximum(noise, 1e-300), 0.0)
+    csum = np.concatenate([[0.0], np.cumsum(ratio)])
+    count = np.concatenate([[0], np.cumsum(low)])
+    lo = np.searchsorted(f, f * 2.0 ** (-1.0 / 6.0))
+    hi = np.searchsorted(f, f * 2.0 ** (1.0 / 6.0), side="right")
+    smooth = (csum[hi] - csum[lo]) / np.maximum(count[hi] - count[lo], 1)
+    above = np.flatnonzero(low & (smooth >= margin))
+    return float(f[above[-1]]) if above.size else float(f[np.argmax(low)])
 
 
 def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = None,

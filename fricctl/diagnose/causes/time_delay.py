@@ -2,7 +2,7 @@
 
 No extra column: each variant shifts the target by ``d`` samples beyond the baseline's
 delay -- quarter samples up to 2, half samples up to 4, whole samples up to 12, then
-steps of a quarter of the delay up to two periods of the low-pass cut-off (at least 6
+steps of a quarter of the delay up to four periods of the low-pass cut-off (at least 12
 samples), a fraction by linear interpolation of the held torque
 (:func:`fricctl.diagnose.signals.delayed`); the delay with the least training error is
 chosen.  Cannot be told when it takes the longest value searched.
@@ -19,8 +19,8 @@ from .base import Cause
 
 
 def _max_shift(sig) -> float:
-    """The longest delay searched: two periods of the cut-off, at least 6 samples [samples]."""
-    return max(2.0 / (sig.cutoff * sig.ts), 6.0)
+    """The longest delay searched: four periods of the cut-off, at least 12 samples [samples]."""
+    return max(4.0 / (sig.cutoff * sig.ts), 12.0)
 
 
 def shifts(sig) -> np.ndarray:
