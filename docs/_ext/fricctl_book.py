@@ -160,12 +160,19 @@ def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
     claims = out / "claims.md"
     if not claims.is_file():
         raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
-    lines = [_repo_links(shift_headings(claims.read_text(encoding="utf-8"), 1), srcdir, here), ""]
+    text = claims.read_text(encoding="utf-8")
+    lines = [_repo_links(shift_headings(text, 1), srcdir, here), ""]
     rel = Path(os.path.relpath(out, here)).as_posix()
-    for folder in sorted(p for p in (out / "figures").iterdir() if p.is_dir()):
+
+    def first_mention(folder):  # the pipelines in the order of the claims table
+        at = text.find(f"{folder.name.rsplit('-seed', 1)[0]} pipeline")
+        return (at < 0, at, folder.name)
+
+    for folder in sorted((p for p in (out / "figures").iterdir() if p.is_dir()), key=first_mention):
         pipeline, seed = folder.name.rsplit("-seed", 1)
         lines += [f"## Figures: {pipeline} pipeline, seed {seed}", ""]
-        for png in sorted(folder.glob("*.png")):
+        # the paper's figures in their order, then the extras (coast test, sweep)
+        for png in sorted(folder.glob("*.png"), key=lambda f: (not f.stem.startswith("fig"), f.stem)):
             lines += ["```{image} " + f"{rel}/figures/{folder.name}/{png.name}",
                       f":alt: {png.stem}, {pipeline} pipeline, seed {seed}", "```", ""]
     return "\n".join(lines)
