@@ -48,8 +48,6 @@ exclude_patterns = [
     "conf.py", "_ext", "_build", "book_readme_section.md",
     "chapters/__pycache__", "**/.ipynb_checkpoints",
 ]
-templates_path = ["_templates"]
-html_static_path = ["_static"]
 
 # -- MyST -----------------------------------------------------------------------------------
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
