@@ -45,7 +45,7 @@ extensions = [
 
 root_doc = "index"
 exclude_patterns = [
-    "conf.py", "_ext", "_build", "book_readme_section.md",
+    "conf.py", "_ext", "_build",
     "chapters/__pycache__", "**/.ipynb_checkpoints",
 ]
 

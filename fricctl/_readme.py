@@ -19,7 +19,7 @@ def parameters() -> str:
     p = paper_actuator()
     rows = ["| field | value | unit | source |", "|---|---|---|---|"]
     for f in fields(ActuatorParams):
-        rows.append(f"| `{f.name}` | {getattr(p, f.name):.6g} | {f.metadata['unit']} | {f.metadata['source']} |")
+        rows.append(f"| `{f.name}` | {getattr(p, f.name):.6g} | `{f.metadata['unit']}` | {f.metadata['source']} |")
     return "\n".join(rows)
 
 

@@ -76,8 +76,8 @@ def design_table(designs: Mapping[str, Design]) -> str:
     def f(x, fmt):
         return "-" if x is None or not math.isfinite(x) else format(x, fmt)
 
-    head = ("| design | law | I [kg*m^2] | tr req [s] | zeta req | Kp [N*m/rad] | "
-            "Kd [N*m*s/rad] | tr [s] | zeta | OS [%] | ts [s] | tr Ts [s] | zeta Ts | "
+    head = ("| design | law | I [`kg*m^2`] | tr req [s] | zeta req | Kp [`N*m/rad`] | "
+            "Kd [`N*m*s/rad`] | tr [s] | zeta | OS [%] | ts [s] | tr Ts [s] | zeta Ts | "
             "OS Ts [%] | ts Ts [s] |")
     rows = [head, "|" + "|".join(["---"] * (head.count("|") - 1)) + "|"]
     for key, d in designs.items():
