@@ -140,7 +140,7 @@ class HiddenEffectRecord:
         """
         from ..diagnose.signals import estimate_signals, predict
 
-        sig = estimate_signals(self.run, folds)
+        sig = estimate_signals(self.run, v.integer("folds", folds, low=3, high=20))
         m = sig.moving
         sse_truth = float(np.sum(predict(self.truth, sig).residual[m] ** 2))
         X = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]

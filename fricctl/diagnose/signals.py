@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 from scipy import signal
 
+from .. import _validate as v
 from ..datasets import Run
 from ..estimation import butterworth_central, zero_phase_filter
 from ..friction import FrictionModel
@@ -69,8 +70,10 @@ def delayed(x: np.ndarray, delay: float) -> np.ndarray:
     joint receives over the interval when it acts ``delay`` samples late (exact for the
     momentum it transfers); the first value is held before the record starts.
     """
-    if delay <= 0:
-        return np.asarray(x, dtype=float).copy()
+    x = v.array("x", x, min_size=1)
+    delay = v.real("delay", delay, nonneg=True)
+    if delay == 0:
+        return x.copy()
     i = int(math.floor(delay))
     f = delay - i
     n = x.size
@@ -175,7 +178,10 @@ def motion_band(q: np.ndarray, ts: float, resolution: float, *,
     last frequency where that average reaches ``margin``.  Above it an acceleration
     estimate is mostly encoder noise, whatever the sample rate.
     """
-    fs = 1.0 / ts
+    q = v.array("q", q, min_size=3)
+    fs = 1.0 / v.real("ts", ts, positive=True, unit="s")
+    resolution = v.real("resolution", resolution, nonneg=True)
+    margin = v.real("margin", margin, positive=True)
     dd = np.diff(q, 2)
     if resolution <= 0 or dd.size < 64 or not np.any(dd):
         return 0.5 * fs

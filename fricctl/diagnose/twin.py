@@ -39,11 +39,12 @@ from typing import Callable, Sequence
 import numpy as np
 from scipy import signal
 
+from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel
+from ..simulate import Schedule, simulate_schedule
 from .causes import Baseline
 from .crossval import Problem, compose, cross_validate, empty_variant, full_fit
-from ..simulate import Schedule, simulate_schedule
 from .signals import Signals, delay_in_samples, estimate_signals
 
 __all__ = ["Twin", "FeedbackGains", "effect_free_twin", "feedback_gains", "chain_shares",
@@ -103,6 +104,8 @@ def feedback_gains(sig: Signals, inertia: float, window: float = 0.5) -> Feedbac
     encoder together and biases it): the twin takes the gain of a loop damped at 0.7 with
     that ``Kd``, ``Kp = (Kd/1.4)^2/I``.
     """
+    inertia = v.real("inertia", inertia, nonneg=True)
+    window = v.real("window", window, positive=True, unit="s")
     n = sig.t.size
     y = sig.q - sig.q[0]
     wh = np.zeros(n)

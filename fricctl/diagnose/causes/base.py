@@ -208,6 +208,16 @@ class Baseline:
             return self.columns @ self.theta
         return self.reference.copy()
 
+    @cached_property
+    def model_torque_raw(self) -> np.ndarray:
+        """:attr:`model_torque` before the low-pass, sample by sample [N*m]."""
+        sig = self.sig
+        if self.fit_mode:
+            inertia, b, fc = self.theta[:3]
+            return inertia * sig.a + b * sig.w + fc * self.sign
+        return (self.nominal.inertia * sig.a + self.nominal_friction_raw
+                + self.nominal.offset)
+
     @property
     def inertia(self) -> float:
         """The baseline's inertia (fitted on all data, or the nominal one) [kg*m^2]."""

@@ -1,8 +1,10 @@
 """Load-dependent friction: friction grows with the transmitted torque |Tm| (mesh friction).
 
-Regressor: ``LP(|T| * sign(w))`` with ``T`` the (low-passed) torque the baseline model
-needs along the measured motion (:attr:`~fricctl.diagnose.causes.base.Baseline.model_torque`),
-not the recorded one; coefficient ``mu`` in [0, :data:`MAX_LOAD_COEFFICIENT`].
+Regressor: ``LP(|T| * sign(w))`` with ``T`` the torque the baseline model needs along the
+measured motion (:attr:`~fricctl.diagnose.causes.base.Baseline.model_torque`), not the
+recorded one, and the braking phases (torque against the motion) read from the recorded
+torque: ``LP(T) - 2*LP(T*[Tm*sign(w) < 0])``; coefficient ``mu`` in
+[0, :data:`MAX_LOAD_COEFFICIENT`].
 Bench: mu = 0.08 .. 0.20 (friction + mu*|Tm|; harmonic drives lose 10-30 %).
 
 Notes
@@ -31,8 +33,13 @@ MAX_LOAD_COEFFICIENT = 0.5
 
 
 def _variants(base, fold):
-    yield base.variant(None, base.sig.filt(np.abs(base.model_torque) * base.sign), (1,),
-                       upper=(MAX_LOAD_COEFFICIENT,))
+    # |T|*sign(w) = T - 2*T*[T*sign(w) < 0]: the baseline's own (low-passed) prediction, less
+    # twice the model's torque where the recorded torque brakes (opposes the motion) -- so
+    # without braking the column is the baseline's prediction exactly, and neither the
+    # recorded noise nor the model's low-pass ringing at starts and stops enters it
+    braking = (base.torque * base.sign < 0).astype(float)
+    col = base.model_torque - 2.0 * base.sig.filt(base.model_torque_raw * braking)
+    yield base.variant(None, col, (1,), upper=(MAX_LOAD_COEFFICIENT,))
 
 
 def _extend(model, term, base):
@@ -40,9 +47,9 @@ def _extend(model, term, base):
 
 
 def _braking(base) -> float:
-    """Share of the sliding samples where the model's torque opposes the motion [-]."""
+    """Share of the sliding samples where the recorded torque opposes the motion [-]."""
     m = base.sig.moving
-    return float(np.mean(base.model_torque[m] * base.sign[m] < 0))
+    return float(np.mean(base.torque[m] * base.sign[m] < 0))
 
 
 def _evidence(base, term, extended):
