@@ -46,9 +46,10 @@ from fricctl import controllers as ctl
 from fricctl.design import design_p, design_pd
 from fricctl.figures import plot_response
 from fricctl.friction import Coulomb, Stribeck, Viscous
-from fricctl.params import PAPER_STATIC_FRACTION, paper_actuator
+from fricctl.params import PAPER_LINK_INERTIA, PAPER_STATIC_FRACTION, paper_actuator
 from fricctl.plant import FlexibleJoint, RigidJoint
 from fricctl.simulate import simulate
+from fricctl.units import to_rotor_side
 
 FAST = os.environ.get("FRICCTL_FAST") == "1"
 RAMP_DURATION = 6.0 if FAST else 12.0  # length of the stick-slip experiment [s]
@@ -70,24 +71,103 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
       f"{100 * p.static / p.max_torque:.1f} % of it (paper: {100 * PAPER_STATIC_FRACTION:.1f} %)")
 
 # %% [markdown]
+# ### Paper Eq. (1): the elastic joint
+#
+# Between the rotor and the link sits the flexspline, an elastic cup.  On the rotor side
+# of the gear are the rotor inertia $I_r$ [kg m²], the rotor angle $\theta_r$ [rad] and
+# the motor torque $T_r$ [N m]; the gear ratio $n$ [-] divides angles
+# ($\theta_r = n\,q$) and multiplies torques ($T_m = n\,T_r$) and inertias
+# ($n^2 I_r$) on their way to the load side.  There, with the link inertia $I_s$
+# [kg m²], the flexspline stiffness $K$ [N m/rad] and the friction $T_{at}$ [N m] acting on
+# the motor side of the spring (where the encoder also sits), the simulator integrates
+#
+# $$
+# \begin{aligned}
+# n^2 I_r\,\ddot q &= T_m - T_{at} - K\,(q - q_s) - d\,(\dot q - \dot q_s),\\
+# I_s\,\ddot q_s &= K\,(q - q_s) + d\,(\dot q - \dot q_s),
+# \end{aligned}
+# $$
+#
+# with $q$ the motor position seen from the load side [rad] (what the encoder measures),
+# $q_s$ the link position [rad] and $d$ a small damping across the spring [N m s/rad].
+#
+# ### Paper Eq. (2): the rigid joint
+#
+# A stiff enough spring keeps $q_s = q$; adding the two equations removes the spring and
+# leaves one inertia,
+#
+# $$ I\,\ddot q = T_m - T_{at}, \qquad I = n^2 I_r + I_s, $$
+#
+# the total inertia reflected to the load side.  Which of these numbers the paper gives:
+# the link inertia $I_s$ (0.0046 kg m², the SCARA link of Figs. 16-18), and nothing else
+# of Eq. (1).  The actuator's inertia $n^2 I_r$ is *derived* (the one value that makes the
+# paper's P design self-consistent, Chapter 6); the gear ratio $n = 100$, the stiffness $K$
+# and the damping $d$ are *assumptions*, so $I_r$ itself is known only through the assumed
+# $n$.  The cell below reads all of them from the simulator's own joint objects and checks
+# that their accelerations are the right-hand sides above.
+
+# %%
+n = p.gear_ratio
+i_r = to_rotor_side(gear_ratio=n, inertia=p.inertia)["inertia"]  # rotor (and flange) inertia
+p_link = p.with_link()
+flex = FlexibleJoint.from_params(p_link)
+rigid = RigidJoint.from_params(p_link)
+for name, symbol in (("gear_ratio", "n"), ("inertia", "n^2 Ir"), ("link_inertia", "Is"),
+                     ("stiffness", "K"), ("joint_damping", "d")):
+    print(f"{symbol:7s} = {getattr(p_link, name):10.6g} [{p.unit(name)}]  ({p.source(name)})")
+print(f"Ir      = {i_r:10.4g} [kg*m^2] on the rotor side (with the assumed n)")
+print(f"I = n^2 Ir + Is = {rigid.inertia:.6g} kg*m^2 (rigid joint, with the link)")
+assert p.source("link_inertia") == "paper" and p.source("inertia") == "derived" and n == 100
+assert all(p.source(k) == "assumption" for k in ("gear_ratio", "stiffness", "joint_damping"))
+assert np.isclose(flex.motor_inertia, n**2 * i_r, rtol=1e-12) and flex.load_inertia == PAPER_LINK_INERTIA
+assert np.isclose(rigid.inertia, n**2 * i_r + p_link.link_inertia, rtol=1e-12)
+# the right-hand sides above, against the kernels: a sliding state with the spring twisted
+q, w, q_s, w_s, tm = 0.01, 0.3, 0.009, 0.25, 0.5  # [rad], [rad/s], [rad], [rad/s], [N*m]
+t_at = p.friction_model().torque(w)
+spring = flex.stiffness * (q - q_s) + flex.damping * (w - w_s)
+acc = flex.resistive_torque([q, w, q_s, w_s, 0.0], tm).acceleration
+assert np.isclose(acc, (tm - t_at - spring) / (n**2 * i_r), rtol=1e-12)
+acc = rigid.resistive_torque([q, w, q, w, 0.0], tm).acceleration
+assert np.isclose(acc, (tm - t_at) / (n**2 * i_r + p_link.link_inertia), rtol=1e-12)
+
+# %% [markdown]
 # ## 2. Friction laws
 #
 # The nominal friction is the sum of three laws from `fricctl.friction`:
 #
-# * viscous `b*w`, proportional to velocity;
-# * Coulomb `Fc*sign(w)`, a constant level whenever the joint slides;
-# * Stribeck: extra friction near zero speed that decays to the Coulomb level, so
-#   breaking loose takes more torque (`Fs`) than keeping moving (`Fc`).
+# * viscous $b\,\omega$, proportional to the velocity $\omega = \dot q$ [rad/s], with
+#   $b$ [N m s/rad];
+# * Coulomb $F_c\operatorname{sign}(\omega)$, a constant level $F_c$ [N m] whenever the
+#   joint slides;
+# * Stribeck: extra friction near zero speed that decays to the Coulomb level over the
+#   Stribeck velocity $v_s$ [rad/s], so breaking loose takes more torque (the static level
+#   $F_s$ [N m]) than keeping moving ($F_c$).
 #
-# At `w = 0` friction is *not* a function of velocity: it is whatever reaction
-# keeps the joint at rest, anywhere in `[-Fs, +Fs]`.  The curve below therefore
-# leaves out the point `w = 0`.
+# Together, while the joint slides,
+#
+# $$
+# T_{at}(\omega) = b\,\omega + \operatorname{sign}(\omega)\Big[F_c + (F_s - F_c)\,
+# e^{-(|\omega|/v_s)^2}\Big], \qquad \omega \ne 0.
+# $$
+#
+# At $\omega = 0$ friction is *not* a function of velocity: it is whatever reaction
+# keeps the joint at rest, anywhere in $-F_s \le T_{at} \le F_s$; the joint breaks loose
+# when $|T_m|$ exceeds $F_s$.  The curve below therefore leaves out the point
+# $\omega = 0$.  Of the four coefficients the paper gives $b$ and $F_s$; $F_c$ (80 % of
+# $F_s$) and $v_s$ are assumptions (the table above).
 
 # %%
 law = p.friction_model()
 print(law)
 print(f"breakaway +{law.breakaway(+1):.4f} / -{law.breakaway(-1):.4f} N*m, "
       f"sliding level at high speed {law.sliding_level(+1):.4f} N*m")
+# the formula above, written out independently of fricctl.friction, at 1e-12
+w_check = np.array([-0.5, -0.02, -1e-4, 1e-4, 0.003, 0.02, 0.5])  # [rad/s]
+by_hand = p.viscous * w_check + np.sign(w_check) * (
+    p.coulomb + (p.static - p.coulomb) * np.exp(-(np.abs(w_check) / p.stribeck_velocity) ** 2))
+assert np.allclose(law.torque(w_check), by_hand, rtol=1e-12, atol=0.0)
+assert law.breakaway(+1) == law.breakaway(-1) == p.static
+assert np.isclose(p.coulomb, 0.8 * p.static, rtol=1e-12) and p.source("stribeck_velocity") == "assumption"
 
 w = np.linspace(-0.3, 0.3, 601)
 w = w[w != 0.0]
@@ -236,10 +316,16 @@ plt.show()
 # %% [markdown]
 # ## 6. Rigid or flexible joint?
 #
-# Paper Eq. (1) models the flexspline as a spring `K` (with a little damping)
-# between the motor inertia and the link; Eq. (2) lumps both into one rigid
-# inertia.  The simulator has both (`plant="rigid"` or `plant="flexible"`).  Run the
-# same PD step with the SCARA link attached, on both plants, and compare.
+# Paper Eq. (1) (Section 1) models the flexspline as a spring $K$ (with a little
+# damping $d$) between the actuator inertia $n^2 I_r$ and the link $I_s$; Eq. (2) lumps
+# both into one rigid inertia $I$.  The simulator has both (`plant="rigid"` or
+# `plant="flexible"`).  Run the same PD step with the SCARA link attached, on both plants,
+# and compare.  The two-mass system of Eq. (1) has, with the motor free, the resonance
+#
+# $$ \omega_r = \sqrt{K\left(\frac{1}{n^2 I_r} + \frac{1}{I_s}\right)} \quad \text{[rad/s]}, $$
+#
+# and the sampled loop sees frequencies up to the Nyquist frequency $\pi/T_s$ [rad/s],
+# with $T_s$ the sample time [s].
 
 # %%
 p_link = p.with_link()
@@ -257,6 +343,9 @@ for kind, run in runs.items():
 gap = np.abs(runs["rigid"].q - runs["flexible"].q).max()
 print(f"largest difference between the two motor positions: {np.rad2deg(gap):.4f} deg")
 print(f"closed-loop natural frequency of the PD design: {d_pd.wn:.1f} rad/s")
+assert np.isclose(flex.resonance, np.sqrt(flex.stiffness * (1 / p_link.inertia + 1 / p_link.link_inertia)),
+                  rtol=1e-12)
+print(f"Nyquist frequency pi/Ts = {np.pi / p.sample_time:.0f} rad/s")
 twist = np.abs(runs["flexible"].q - runs["flexible"].q_load).max()
 assert twist < 0.01 * abs(runs["flexible"].steady_state_error())  # twist << friction error
 assert flex.resonance > 10 * d_pd.wn  # resonance well above the loop's bandwidth
@@ -292,3 +381,68 @@ for frac in (0.999, 1.01):
     print(f"{frac:.3f} Fs = {frac * p.static:.4f} N*m: max |q| = {np.abs(run.q).max():.3g} rad, "
           f"stuck at every sample: {bool(run.stuck.all())}")
     assert np.all(run.q == 0.0) and run.stuck.all()  # below the worn breakaway: no motion at all
+
+# %% tags=["solution"]
+# Exercise 2.  Three ramp speeds on the same P loop, as in Section 5.  While the joint is
+# stuck q is constant and the error grows at the ramp speed v, so a stuck interval that
+# starts with error e_a ends when Kp e reaches Fs: it lasts (Fs/Kp - e_a)/v (+ a sample or
+# two of the loop's delay).  The start-up (e_a = 0) lasts Fs/(Kp v): at 0.05 rad/s that is
+# longer than the whole experiment, and the joint never moves.
+for v_ramp in (0.05, slope, 0.5):
+    r = simulate(p, ctl.p_control(d_p.kp, ctl.sawtooth(v_ramp * 100.0, 100.0)),
+                 duration=RAMP_DURATION)
+    st = r.stuck_intervals(min_duration=0.01)
+    t_up = band / v_ramp  # predicted start-up [s]
+    print(f"ramp {v_ramp} rad/s: start-up predicted {t_up:.3f} s; {len(st)} stuck intervals, "
+          f"lengths {np.round([b - a for a, b in st], 3).tolist()} s")
+    if t_up > RAMP_DURATION:
+        assert len(st) == 1 and np.all(r.q == 0.0)  # never breaks loose
+        continue
+    assert abs((st[0][1] - st[0][0]) - t_up) <= 3 * p.sample_time
+    for t_a, t_b in st[1:]:  # each later stop: the ramp rebuilds the error from e_a to Fs/Kp
+        e_a = r.error[np.searchsorted(r.t, t_a)]
+        assert abs((t_b - t_a) - (band - e_a) / v_ramp) <= 3 * p.sample_time
+    k_up = np.searchsorted(r.t, st[0][1])
+    k_up += int(np.argmax(r.omega[k_up:] > v_ramp))  # first time the joint outruns the ramp
+    w_after = r.omega[k_up:]
+    print(f"  after it first outruns the ramp: velocity swings from {w_after.max():.3f} down to "
+          f"{w_after.min():.3f} rad/s")
+    if v_ramp == 0.5:
+        assert len(st) == 1 and w_after.min() > 0.0  # no stick-slip after the start-up
+    else:
+        assert len(st) >= 3 and w_after.min() == 0.0
+# Why a fast ramp slides on: the joint breaks loose with the error Fs/Kp but slides in
+# equilibrium at the smaller (Fc + b v)/Kp.  The excess, released at once, sets the lightly
+# damped loop (zeta = 0.3) swinging about the ramp, and the size of that swing is set by
+# Fs - Fc, not by v.  When v is small against the swing, the velocity swings down to zero
+# and the joint sticks again; a fast ramp keeps it positive throughout (0.5 rad/s here).
+
+# %% tags=["solution"]
+# Exercise 3.  Lower K until the two plants visibly differ (here: the motor positions more
+# than 1 % of the 30 deg step apart).  The resonance falls as sqrt(K).
+nyquist = np.pi / p.sample_time  # [rad/s]
+print(f"Nyquist pi/Ts = {nyquist:.0f} rad/s; PD natural frequency {d_pd.wn:.1f} rad/s")
+ctrl_pd = ctl.pd_control(d_pd.kp, d_pd.kd, ctl.step(np.deg2rad(30.0)))
+for k_soft in (2000.0, 500.0, 200.0, 100.0, 50.0, 20.0, 10.0):
+    soft = p_link.replace(stiffness=k_soft)
+    w_r = FlexibleJoint.from_params(soft).resonance
+    r_flex = simulate(soft, ctrl_pd, duration=2.0, plant="flexible")
+    gap_k = np.abs(runs["rigid"].q - r_flex.q).max()
+    print(f"K = {k_soft:6.0f} N*m/rad: resonance {w_r:6.0f} rad/s ({w_r / nyquist:.2f} x Nyquist, "
+          f"{w_r / d_pd.wn:5.1f} x wn), largest gap to the rigid run {np.rad2deg(gap_k):.3f} deg")
+    if gap_k > 0.01 * np.deg2rad(30.0):
+        break
+assert gap_k > 0.01 * np.deg2rad(30.0)  # found a stiffness where they differ
+assert w_r < 10 * d_pd.wn and w_r < 0.1 * nyquist
+assert flex.resonance < nyquist  # the nominal resonance too lies below Nyquist
+fig, ax = plt.subplots(figsize=(6.4, 3.2), layout="constrained")
+ax.plot(runs["rigid"].t, np.rad2deg(runs["rigid"].q), label="rigid (Eq. 2)")
+ax.plot(r_flex.t, np.rad2deg(r_flex.q), label=f"flexible (Eq. 1), K = {k_soft:g} N*m/rad")
+ax.set_xlabel("time t [s]")
+ax.set_ylabel("motor position q [deg]")
+ax.legend(fontsize="small")
+plt.show()
+# The runs part only once the resonance has come down to within about ten times the loop's
+# natural frequency -- far below the Nyquist frequency.  Even the nominal resonance
+# (K = 2000) lies below pi/Ts, so the 500 Hz loop samples it rather than aliasing it; with
+# a much stiffer joint (or a slower loop) the resonance would fold back below Nyquist.
