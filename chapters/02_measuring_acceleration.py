@@ -16,12 +16,16 @@
 #
 # *Gervini, Gomes & da Rosa (2003), Section 4 and Fig. 4.*
 #
-# To learn friction from experiments we need it as a signal.  The joint's equation
-# `I q'' = Tm - Tat` gives it as `Tat = Tm - I q''`: the motor torque is known (it is
-# what the controller commands), the inertia is known, so friction is as good as
-# our estimate of the **acceleration**.  But the only sensor is an encoder: a
-# position on a grid of counts, sampled at 500 Hz.  Differentiating a staircase
-# twice is the problem of this chapter.
+# To learn friction from experiments we need it as a signal.  The rigid joint of paper
+# Eq. (2), $I\,\ddot q = T_m - T_{at}$, gives it as
+#
+# $$ T_{at} = T_m - I\,\hat\alpha, $$
+#
+# with $T_m$ the motor torque [N m] (known: it is what the controller commands), $I$ the
+# inertia [kg m²] (known), and $\hat\alpha$ [rad/s²] our estimate of the acceleration
+# $\ddot q$: friction is as good as that estimate.  But the only sensor is an encoder: a
+# position on a grid of counts, sampled at 500 Hz.  Differentiating a staircase twice is
+# the problem of this chapter.
 #
 # The virtual bench gives what a real bench never does: the true velocity,
 # acceleration and friction next to the measured encoder signal, so every
@@ -47,10 +51,16 @@ BORDER = 25                       # samples ignored at each end when scoring [-]
 # %% [markdown]
 # ## 1. The model: what one encoder count means
 #
-# The encoder sits on the rotor; one count on the load side is `2 pi / (counts * n)`.
-# The controller's velocity is the backward difference `(y_k - y_(k-1)) / Ts`, so
-# its smallest non-zero value is one count per sample.  Compare it with the
-# Stribeck velocity, the speed range over which friction changes most.
+# The encoder sits on the rotor; with $N_e$ counts per rotor revolution [counts/rev] and
+# the gear ratio $n$ [-], one count on the load side is $\Delta = 2\pi/(N_e\,n)$ [rad], and
+# the reading at $t_k = k\,T_s$ (sample time $T_s$ [s]) is the position rounded down to
+# the grid, $y_k = \Delta\lfloor q(t_k)/\Delta \rfloor$.  The controller's velocity is the
+# backward difference
+#
+# $$ \hat\omega_k = \frac{y_k - y_{k-1}}{T_s}, $$
+#
+# so its smallest non-zero value is one count per sample, $\Delta/T_s$ [rad/s].  Compare it
+# with the Stribeck velocity $v_s$ [rad/s], the speed range over which friction changes most.
 
 # %%
 p = paper_actuator()
@@ -88,25 +98,58 @@ assert np.allclose(np.diff(sim.q_meas) / res, np.round(np.diff(sim.q_meas) / res
 # Four ways to get velocity and acceleration from `(t, q_meas)`, all in
 # `fricctl.estimation`:
 #
-# * **backward difference**, twice: what the controller has, noisy and lagging;
+# * **backward difference**, twice: what the controller has, noisy and lagging,
+#   $\hat\alpha_k = (\hat\omega_k - \hat\omega_{k-1})/T_s = (y_k - 2y_{k-1} + y_{k-2})/T_s^2$;
 # * **polynomial segments**, the paper's method: cut the record where the raw
 #   velocity is non-zero, fit each moving segment with a 6th-order least-squares
-#   polynomial in time, differentiate the polynomial analytically;
+#   polynomial in time, differentiate the polynomial analytically (written out below);
 # * **Savitzky-Golay**: a local polynomial in a sliding window;
 # * **Butterworth + central differences**: zero-phase low-pass, then differences
 #   (the recipe of the EMPS benchmark used in Chapter 3).
 #
 # The last three are non-causal: they use future samples.  That is fine for
 # building a training set offline, not inside the control loop.
+#
+# **The paper's fit.**  On a moving segment, take a window $W$ of at most 200 samples
+# (0.4 s); longer segments are covered by windows overlapping by 100 samples, blended with
+# triangular weights that trust each window's centre most.  In each window, fit the
+# backward differences (each one the mean velocity over its interval, so it belongs to the
+# interval's middle $\tau_k = t_k - T_s/2$) by a polynomial of degree 6:
+#
+# $$ \hat c = \arg\min_{c \in \mathbb{R}^7} \sum_{k \in W}
+#    \Big(\hat\omega_k - \sum_{j=0}^{6} c_j\,\tau_k^{\,j}\Big)^2, \qquad
+#    p(t) = \sum_{j=0}^{6} \hat c_j\,t^j, $$
+#
+# a linear least-squares problem in the seven coefficients.  Then $\hat\omega(t_k) =
+# p(t_k)$ and $\hat\alpha(t_k) = p'(t_k)$: the fit's velocity and, equivalently, the
+# second derivative of the position polynomial $y_0 + \int p\,dt$.  (The mid-interval
+# times are fricctl's choice; the paper does not say.)  The check below refits one whole
+# segment with numpy's own polynomial least squares.
 
 # %%
+def all_four(tt, yy):
+    """The four estimators, in this order."""
+    return [estimation.backward_difference(tt, yy),
+            estimation.polynomial_segments(tt, yy, order=6, window=200, overlap=100),
+            estimation.savitzky_golay(tt, yy, window_length=31, polyorder=3),
+            estimation.butterworth_central(tt, yy, cutoff=20.0)]
+
+
 t, y = sim.t, sim.q_meas
-estimates = [
-    estimation.backward_difference(t, y),
-    estimation.polynomial_segments(t, y, order=6),
-    estimation.savitzky_golay(t, y, window_length=31, polyorder=3),
-    estimation.butterworth_central(t, y, cutoff=20.0),
-]
+estimates = all_four(t, y)
+# one whole segment as one window (window longer than any segment), refitted independently
+one = estimation.polynomial_segments(t, y, order=6, window=t.size, overlap=0)
+raw = np.diff(y) / p.sample_time  # backward differences of samples 1..N-1
+seg_start, seg_stop = (int(i) for i in np.flatnonzero(np.diff(np.r_[False, raw != 0.0, False]))[2:4])
+k = np.arange(seg_start, seg_stop) + 1  # sample indices of that segment's differences
+tau = t[k] - p.sample_time / 2
+c = np.polynomial.polynomial.polyfit(tau - tau.mean(), raw[k - 1], 6)  # centred: well conditioned
+p_vel = np.polynomial.polynomial.polyval(t[k] - tau.mean(), c)
+p_acc = np.polynomial.polynomial.polyval(t[k] - tau.mean(), np.polynomial.polynomial.polyder(c))
+print(f"segment of {k.size} samples refitted by numpy: largest difference "
+      f"{np.abs(one.velocity[k] - p_vel).max():.1e} rad/s, {np.abs(one.acceleration[k] - p_acc).max():.1e} rad/s^2")
+assert np.allclose(one.velocity[k], p_vel, rtol=0, atol=1e-9 * np.abs(p_vel).max())
+assert np.allclose(one.acceleration[k], p_acc, rtol=0, atol=1e-7 * np.abs(p_acc).max())
 
 # %% [markdown]
 # ## 4. Evaluate against the truth
@@ -117,6 +160,17 @@ estimates = [
 # `Tm - I a_hat` against the simulator's true friction.
 
 # %%
+def score(p_run, sim_run, est):
+    """RMS errors of one estimate on the moving samples: [velocity, acceleration, friction]."""
+    keep = np.zeros(sim_run.t.size, dtype=bool)
+    keep[BORDER:-BORDER] = True
+    keep &= ~sim_run.stuck
+    e_w = est.velocity[keep] - sim_run.omega[keep]
+    e_a = est.acceleration[keep] - sim_run.accel[keep]
+    e_f = sim_run.torque_motor[keep] - p_run.total_inertia * est.acceleration[keep] - sim_run.friction[keep]
+    return np.array([np.sqrt(np.mean(e ** 2)) for e in (e_w, e_a, e_f)])
+
+
 inner = np.zeros(t.size, dtype=bool)
 inner[BORDER:-BORDER] = True
 moving = inner & ~sim.stuck
@@ -125,16 +179,33 @@ print(f"{'estimator':22s} {'velocity':>14s} {'acceleration':>16s} {'friction':>1
 print(f"{'(RMS error)':22s} {'[rad/s]':>14s} {'[rad/s^2]':>16s} {'[N*m]':>12s}")
 scores = {}
 for est in estimates:
-    e_w = est.velocity[moving] - sim.omega[moving]
-    e_a = est.acceleration[moving] - sim.accel[moving]
-    e_f = (sim.torque_motor[moving] - p.total_inertia * est.acceleration[moving]) - friction_true
-    scores[est.method] = [float(np.sqrt(np.mean(e ** 2))) for e in (e_w, e_a, e_f)]
+    scores[est.method] = score(p, sim, est)
     print(f"{est.method:22s} {scores[est.method][0]:14.5f} {scores[est.method][1]:16.4f} "
           f"{scores[est.method][2]:12.5f}")
 print(f"RMS of the true friction itself: {np.sqrt(np.mean(friction_true ** 2)):.4f} N*m")
 best = {k: min(scores, key=lambda m: scores[m][k]) for k in range(3)}
 print(f"most accurate: velocity {best[0]}, acceleration {best[1]}, friction {best[2]}")
 assert set(best.values()) == {"polynomial_segments"}  # the paper's method wins all three here
+
+# %% [markdown]
+# Why the raw acceleration is so poor: the reading is $y_k = q(t_k) - e_k$ with a
+# quantisation error $0 \le e_k < \Delta$, so the backward-difference acceleration carries
+# $(e_k - 2e_{k-1} + e_{k-2})/T_s^2$.  While the joint crosses several counts per sample the
+# $e_k$ behave like independent uniform errors (standard deviation $\Delta/\sqrt{12}$), and
+# this term has the RMS value
+#
+# $$ \sqrt{1 + 4 + 1}\;\frac{\Delta}{\sqrt{12}\,T_s^2} = \frac{\Delta}{\sqrt{2}\,T_s^2}, $$
+#
+# of the order of $\Delta/T_s^2$: a single count divided by a very small $T_s^2$.  The
+# prediction, against the table's first row (within 25 %):
+
+# %%
+quant = res / (np.sqrt(2) * p.sample_time ** 2)
+print(f"Delta/(sqrt(2) Ts^2) = {quant:.2f} rad/s^2 (Delta/Ts^2 = {res / p.sample_time ** 2:.2f}); "
+      f"backward difference: {scores['backward_difference'][1]:.2f} rad/s^2; as friction "
+      f"I * {quant:.2f} = {p.total_inertia * quant:.4f} N*m against {scores['backward_difference'][2]:.4f} N*m")
+assert 0.8 < scores["backward_difference"][1] / quant < 1.25
+assert 0.8 < scores["backward_difference"][2] / (p.total_inertia * quant) < 1.25
 
 # %% [markdown]
 # On this record the paper's polynomial segments are the most accurate on all
@@ -186,3 +257,81 @@ plt.show()
 #    (`simulate(..., noise_std=0.005, rng=np.random.default_rng(0))`).  Note that
 #    `torque_motor` is the *commanded* torque: the noise reaches the joint but not
 #    the record.  How does that show up in the friction error?
+
+
+# %% tags=["solution"]
+# Exercise 1.  Four times coarser counts: Delta x4.  The quantisation term of the raw
+# acceleration scales with Delta (Delta/(sqrt(2) Ts^2)), so the backward difference should
+# get about 4 times worse; the filters average the quantisation out and barely move.
+p500 = paper_actuator(encoder_counts=500)
+sim500 = simulate(p500, ctl.open_loop(ctl.sinusoid(TORQUE_AMPLITUDE, TORQUE_FREQUENCY)),
+                  duration=DURATION)
+ratio = {}
+print(f"{'estimator':22s} {'friction RMS, 2000 counts':>26s} {'500 counts':>11s} {'ratio':>6s}")
+for est2000, est500 in zip(estimates, all_four(sim500.t, sim500.q_meas)):
+    s500 = score(p500, sim500, est500)
+    ratio[est2000.method] = s500[2] / scores[est2000.method][2]
+    print(f"{est2000.method:22s} {scores[est2000.method][2]:26.5f} {s500[2]:11.5f} "
+          f"{ratio[est2000.method]:6.2f}")
+    if est500.method == "backward_difference":
+        quant500 = p500.encoder_resolution / (np.sqrt(2) * p500.sample_time ** 2)
+        print(f"  raw acceleration error {s500[1]:.2f} rad/s^2, Delta/(sqrt(2) Ts^2) = {quant500:.2f}")
+        assert 0.8 < s500[1] / quant500 < 1.25
+assert max(ratio, key=ratio.get) == "backward_difference" and 3.0 < ratio["backward_difference"] < 4.5
+assert ratio["savitzky_golay"] < 1.1 and ratio["butterworth_central"] < 1.1
+
+# %% tags=["solution"]
+# Exercise 2.  Friction RMS error against the polynomial degree and the Butterworth cut-off.
+# Too low a degree or cut-off cannot follow the motion (bias); too high a one follows the
+# encoder's staircase (quantisation noise).  The sweep goes past 100 Hz to show the noise side.
+orders = (2, 4, 6, 8, 10, 12)
+cutoffs = (5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0)
+e_order = np.array([score(p, sim, estimation.polynomial_segments(t, y, order=o))[2] for o in orders])
+e_cut = np.array([score(p, sim, estimation.butterworth_central(t, y, cutoff=fc))[2] for fc in cutoffs])
+for o, e in zip(orders, e_order):
+    print(f"polynomial degree {o:2d}: friction RMS {e:.5f} N*m")
+for fc, e in zip(cutoffs, e_cut):
+    print(f"Butterworth {fc:5.0f} Hz:  friction RMS {e:.5f} N*m")
+fig, (ax1, ax2) = plt.subplots(1, 2, sharey=True, figsize=(8.0, 3.2), layout="constrained")
+ax1.semilogy(orders, e_order, "o-")
+ax1.set_xlabel("polynomial degree [-]")
+ax1.set_ylabel("friction RMS error [N*m]")
+ax2.loglog(cutoffs, e_cut, "o-")
+ax2.set_xlabel("Butterworth cut-off [Hz]")
+plt.show()
+i_o, i_c = int(np.argmin(e_order)), int(np.argmin(e_cut))
+print(f"best: degree {orders[i_o]}, cut-off {cutoffs[i_c]:.0f} Hz")
+assert e_order[0] > 10 * e_order.min() and e_order[-1] > e_order.min()  # bias at 2, noise at 12
+assert 0 < i_c < len(cutoffs) - 1 and e_cut[0] > 3 * e_cut.min()        # a minimum inside the sweep
+assert e_order[1:4].max() < 1.05 * e_order.min() and 50.0 <= cutoffs[i_c] <= 150.0
+assert e_order.min() < e_cut.min()  # the best cut-off still loses to the paper's polynomials
+# The polynomial's optimum is flat (degrees 4-8 within a few per cent): one polynomial per
+# stop-to-stop segment is already the right shape.  The Butterworth filter's optimum is sharp
+# and sits near 100 Hz; below it the filter rounds off the stops (bias), above it lets the
+# counts through (noise) -- and even there it stays above the polynomial fit.
+
+# %% tags=["solution"]
+# Exercise 3.  The noise reaches the joint but not the record: the true acceleration gets a
+# part n/I that the recorded Tm does not explain.  An estimator that saw the true acceleration
+# would be off by exactly the noise, Tm - I*accel - Tat = -n.  The encoder barely sees it
+# (n*Ts/I per sample is below one count per sample), so the estimators miss it -- and by
+# missing it they keep Tm - I*alpha_hat close to the friction.
+NOISE = 0.005  # [N*m]
+print(f"velocity change per sample from the noise, NOISE*Ts/I = "
+      f"{NOISE * p.sample_time / p.total_inertia:.4f} rad/s; one count per sample: "
+      f"{res / p.sample_time:.4f} rad/s")
+for seed in (0, 1, 2):
+    noisy = simulate(p, ctl.open_loop(ctl.sinusoid(TORQUE_AMPLITUDE, TORQUE_FREQUENCY)),
+                     duration=DURATION, noise_std=NOISE, rng=np.random.default_rng(seed))
+    keep = np.zeros(noisy.t.size, dtype=bool)
+    keep[BORDER:-BORDER] = True
+    keep &= ~noisy.stuck
+    perfect = noisy.torque_motor[keep] - p.total_inertia * noisy.accel[keep] - noisy.friction[keep]
+    s_poly = score(p, noisy, estimation.polynomial_segments(noisy.t, noisy.q_meas))
+    print(f"seed {seed}: with the TRUE acceleration the friction error is {np.sqrt(np.mean(perfect ** 2)):.4f} "
+          f"N*m (the noise); polynomial segments: acceleration {s_poly[1]:.3f} rad/s^2 "
+          f"(noise-free {scores['polynomial_segments'][1]:.3f}), friction {s_poly[2]:.5f} N*m "
+          f"(noise-free {scores['polynomial_segments'][2]:.5f})")
+    assert 0.8 * NOISE < np.sqrt(np.mean(perfect ** 2)) < 1.2 * NOISE
+    assert s_poly[1] > 2 * scores["polynomial_segments"][1]  # further from the true acceleration
+    assert s_poly[2] < 0.5 * NOISE                               # ...but not from the friction
