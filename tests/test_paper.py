@@ -421,6 +421,16 @@ def test_fig18_sawtooth(figs, claims):
     assert paper.restarts(r.with_nn) >= 2
     if not claims["fig18-with"].passed:
         assert "staircase" in claims["fig18-with"].note or claims["fig18-with"].runaway
+    # the compensation's share of the friction while sliding slowly, by hand: the samples that
+    # slide (true velocity nonzero) no faster than twice the ramp's speed
+    w = r.with_nn
+    speed = np.abs(w.omega)
+    slow = (speed > 0) & (speed <= 2 * r.amplitude / r.period)
+    assert slow.sum() > 10
+    true_mean = np.abs(w.friction[slow]).mean()
+    assert r.slow_friction == pytest.approx(true_mean, rel=1e-12)
+    assert r.slow_share == pytest.approx((w.friction_est[slow] * np.sign(w.friction[slow])).mean()
+                                         / true_mean, rel=1e-12)
     # the extra: a slower, larger ramp shows stick-slip without compensation
     assert r.extra_restarts >= 2 and claims["fig18-extra"].passed
 

@@ -1,7 +1,13 @@
 """The README's generated tables are what the code computes now; the quick start is wired up."""
+import multiprocessing
+import re
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from fricctl import _readme
+import numpy as np
+import pytest
+
+from fricctl import _readme, paper
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -18,3 +24,26 @@ def test_quick_start_commands_exist():
     assert "\nreproduce:" in makefile and "\ntest:" in makefile
     ci = (ROOT / ".ci" / "run").read_text()
     assert "make test" in ci and "FRICCTL_DATA" in ci
+
+
+@pytest.mark.slow
+def test_quick_start_claim_counts_are_the_main_commands():
+    # The README's sentence on the claims ("with the fricctl pipeline N of the 16 claims hold; the
+    # paper's literal recipe ... (gain at rest ~ G) and M hold") is what `make reproduce` computes:
+    # the full run over 10 seeds of both pipelines.
+    text = " ".join((ROOT / "README.md").read_text().split())
+    m = re.search(r"with the fricctl pipeline (\d+) of the (\d+) claims hold; the paper's literal recipe "
+                  r"winds the torque up \(gain at rest ≈ ([\d.]+)\) and (\d+) hold", text)
+    assert m, "the README's claims sentence changed: update this test with it"
+    n_fricctl, n_claims, g_paper, n_paper = int(m[1]), int(m[2]), float(m[3]), int(m[4])
+    makefile = (ROOT / "Makefile").read_text()
+    seeds = int(re.search(r"fricctl reproduce --seeds (\d+)", makefile)[1])
+    with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
+        res = paper.reproduce_paper(seeds=seeds, executor=ex, figures=False)
+    paper_claims = [s for s in res.stats if not s.extra and s.pipeline == "paper"]
+    fricctl_claims = [s for s in res.stats if not s.extra and s.pipeline == "fricctl"]
+    assert len(paper_claims) == len(fricctl_claims) == n_claims
+    assert sum(s.holds for s in fricctl_claims) == n_fricctl
+    assert sum(s.holds for s in paper_claims) == n_paper
+    g = np.median([res.runs[("paper", s)].gain_at_rest for s in res.seeds])
+    assert round(g, 1) == g_paper

@@ -133,9 +133,13 @@ class ClaimStats:
     @property
     def note(self) -> str:
         """Why it fails: the representative seed's note if it fails there, else that of the first
-        failing seed (named); the representative's note otherwise."""
-        if not self.shown.passed or self.n_passed == self.n_seeds:
+        failing seed; the representative's note otherwise.  Over several seeds a failing note
+        names its seed (its numbers are that seed's, not the table's median)."""
+        if self.n_passed == self.n_seeds:
             return self.shown.note
+        if not self.shown.passed:
+            return f"(seed {self.representative}) {self.shown.note}" if self.n_seeds > 1 \
+                else self.shown.note
         seed, c = next((s, c) for s, c in zip(self.seeds, self.claims) if not c.passed)
         return f"(seed {seed}) {c.note}"
 
