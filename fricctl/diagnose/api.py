@@ -4,13 +4,16 @@
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .. import _validate as v
 from ..datasets import Run
+from ..friction import FIELDS as FRICTION_FIELDS
 from ..plant import JointModel
+from ..plant.model import Provenance
 from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
@@ -20,7 +23,19 @@ from .signals import Signals, estimate_signals, predict
 from .twin import chain_shares, effect_free_twin
 from .windows import WindowedSimulation, simulate_windows, window_grid
 
-__all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors"]
+__all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
+           "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET"]
+
+#: Peak memory of a diagnosis per sample of the record, measured (``benchmarks/README.md``:
+#: 120 000 to 960 000 samples at 1 kHz, 6.2-6.5 kB per sample; the candidates' columns on
+#: the record and on its effect-free twins) [bytes].
+BYTES_PER_SAMPLE = 6500
+#: The memory a diagnosis may take [bytes].
+MEMORY_BUDGET = 4e9
+#: Longest record a diagnosis takes [samples]: :data:`MEMORY_BUDGET` at
+#: :data:`BYTES_PER_SAMPLE` (615 384 samples, 10 min at 1 kHz); a longer one is refused
+#: with the number, before any work.
+MAX_SAMPLES = int(MEMORY_BUDGET // BYTES_PER_SAMPLE)
 
 
 def _check_run(run) -> Run:
@@ -28,7 +43,7 @@ def _check_run(run) -> Run:
 
 
 def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
-             folds: int = 8) -> Diagnosis:
+             folds: int = 8, progress: bool | None = None) -> Diagnosis:
     """Show what the model gets wrong on ``run``, name every cause the data support, extend
     the model with them, measure the gain.
 
@@ -43,6 +58,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
         Window of the re-simulation [s].
     folds : int
         Blocks of the blocked cross-validation (3 .. 20).
+    progress : bool, optional
+        Show a progress bar (tqdm) on stderr; default: when stderr is a terminal.
 
     Returns
     -------
@@ -52,7 +69,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     -----
     With a nominal model every candidate fits only its own term on top of it (the
     nominal is trusted otherwise); without, the baseline's I, b and Fc are refitted
-    with each candidate.  ``inertia`` and ``friction_scale`` only apply to a
+    with each candidate.  A record longer than :data:`MAX_SAMPLES` is refused (the
+    diagnosis holds about :data:`BYTES_PER_SAMPLE` bytes per sample).  ``inertia`` and ``friction_scale`` only apply to a
     nominal model.  Causes are named one step at a time (:mod:`.selection`); a
     candidate's score is net of what its term removes on the record's effect-free twin
     (:mod:`.twin`).
@@ -70,32 +88,61 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
         v.instance("model", model, JointModel, "a JointModel (or None)")
     folds = v.integer("folds", folds, low=3, high=20)
     window = v.real("window", window, positive=True, unit="s")
+    show = sys.stderr.isatty() if progress is None else v.flag("progress", progress)
+    if run.n_samples > MAX_SAMPLES:
+        raise ValueError(
+            f"run: {run.n_samples} samples; a diagnosis holds about {BYTES_PER_SAMPLE / 1e3:.1f} kB "
+            f"per sample ({run.n_samples * BYTES_PER_SAMPLE / 1e9:.1f} GB here) and takes at most "
+            f"{MAX_SAMPLES} samples (a {MEMORY_BUDGET / 1e9:g} GB budget): cut the record or "
+            f"decimate it by "
+            f"{math.ceil(run.n_samples / MAX_SAMPLES)}")
     sig = estimate_signals(run, folds)
+    grid = window_grid(sig, window)
+    if model is not None:  # a model the record's sample time cannot re-simulate: refused here
+        try:
+            simulate_windows(model, sig, grid.starts[:1], grid.length)
+        except ValueError as err:
+            raise ValueError(f"model: cannot be re-simulated at the record's sample time "
+                             f"({sig.ts:g} s): {err}") from None
     fit0 = baseline_fit(sig) if model is None else None
     base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
     problem = Problem(sig, base.columns)
     candidates = causes.candidates(nominal=model is not None)
-    grid = window_grid(sig, window)
     twins: dict = {}
+    bar = _ProgressBar(show, run.n_samples)
 
     def chain(floor: float, named: tuple, current: JointModel):
         """The chain's shares on a twin of ``current`` with the residual ``floor``, after
         ``named`` (twins within 10 % of a residual are shared)."""
         key = (named, id(current), round(math.log(max(floor, 1e-300)) / math.log(1.1)))
         if key not in twins:
-            twins[key] = chain_shares(effect_free_twin(base, floor, model=current), named)
+            for old in [k for k in twins if k[:2] != key[:2]]:
+                del twins[old]  # twins of an earlier step are never asked again: free them
+            twins[key] = chain_shares(_twin(base, floor, current), named)
         return twins[key]
 
     wfold = sig.folds[grid.starts]
     inside = sig.folds[np.minimum(grid.starts + grid.length - 1, sig.t.size - 1)] == wfold
 
     def heldout_sim(models) -> WindowedSimulation:
-        """Each block's windows re-simulated with the model fitted without that block."""
-        parts = [simulate_windows(models[f], sig, grid.starts[(wfold == f) & inside], grid.length)
-                 for f in range(sig.n_folds)]
+        """Each block's windows re-simulated with the model fitted without that block (NaN
+        errors and the reason when a fold's model cannot be re-simulated: too stiff for
+        the sample time, or diverging)."""
+        try:
+            parts = [simulate_windows(models[f], sig, grid.starts[(wfold == f) & inside],
+                                      grid.length) for f in range(sig.n_folds)]
+        except ValueError as err:
+            return WindowedSimulation.failed(
+                np.concatenate([grid.starts[(wfold == f) & inside] for f in range(sig.n_folds)]),
+                n=sig.t.size, length=grid.length,
+                reason=f"the model cannot be re-simulated on this record ({err})")
         return WindowedSimulation.merge(parts, n=sig.t.size, length=grid.length)
 
-    sel = forward_selection(problem, base, candidates, chain, heldout_sim)
+    try:
+        sel = forward_selection(problem, base, candidates, chain, heldout_sim,
+                                progress=bar.step if show else None)
+    finally:
+        bar.close()
 
     # ---- the named terms refitted together on all data with CasADi --------------
     refit = None
@@ -123,7 +170,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                 simulation_rms_after=after.position, velocity_rms_after=after.velocity)
     bodies = _evidence_bodies(base, sel.selected, theta, extended)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
-    baseline_model = base.fitted
+    baseline_model = _record_fields(base.fitted, run, sig, model)
+    extended = _diagnosed(_record_fields(extended, run, sig, model), baseline_model, named)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
                                             sel.not_identifiable, sig.units),
@@ -134,8 +182,102 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                      residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
                      sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
-                     chain_rms=effect_free_twin(base).rms,
-                     cutoff=sig.cutoff)
+                     chain_rms=_twin(base).rms,
+                     cutoff=sig.cutoff, notes=_notes(sel))
+
+
+def _provenance_key(name: str) -> str:
+    return f"friction.{name}" if name in FRICTION_FIELDS else name
+
+
+def _record_fields(m: JointModel, run: Run, sig: Signals, nominal: JointModel | None) -> JointModel:
+    """``m`` with the sample time and encoder count of the nominal model, else of the record
+    (provenance "measured"), and in fit mode the baseline's values marked "identified"."""
+    prov = dict(m.provenance)
+    where = run.source or f"the record ({run.n_samples} samples)"
+    ts, res = m.sample_time, m.encoder_resolution
+    if ts is None:
+        ts = sig.ts
+        prov["sample_time"] = Provenance(source="measured", note=f"sample time of {where}")
+    if res is None:
+        res = run.encoder_grid()
+        if res is not None:
+            prov["encoder_resolution"] = Provenance(
+                source="measured", note=f"the grid the positions of {where} lie on")
+    if nominal is None:
+        for name in m.parameters():
+            key = _provenance_key(name)
+            if key not in prov:
+                prov[key] = Provenance(source="identified",
+                                       note="rigid baseline fitted by fricctl diagnose "
+                                            "(inverse-dynamics least squares)")
+    return replace(m, sample_time=ts, encoder_resolution=res, provenance=prov)
+
+
+def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple) -> JointModel:
+    """``extended`` with provenance "diagnosed" on every value the diagnosis added or changed
+    (the other values keep the baseline's provenance)."""
+    pb, pe = baseline.parameters(), extended.parameters()
+    prov = dict(baseline.provenance)
+    prov.update({k: extended.provenance[k] for k in ("sample_time", "encoder_resolution")
+                 if k in extended.provenance})
+    note = "fricctl diagnose: " + " + ".join(named)
+    for name in set(pb) | set(pe):
+        if pb.get(name, 0.0) != pe.get(name, 0.0):
+            prov[_provenance_key(name)] = Provenance(source="diagnosed", note=note)
+    source = (extended.source + "; " if extended.source else "") + note
+    return replace(extended, provenance=prov, source=source if named != (causes.NONE,)
+                   else extended.source)
+
+
+def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None):
+    """The record's effect-free twin; a model that cannot make one (it does not move on the
+    recorded torque, or cannot be simulated) is refused naming the model."""
+    try:
+        return effect_free_twin(base, floor, model=model)
+    except ValueError as err:
+        what = "model" if base.nominal is not None else "the fitted baseline"
+        raise ValueError(f"{what}: its effect-free twin (the model driven by the recorded "
+                         f"torque) cannot be made: {err}") from None
+
+
+def _notes(sel) -> dict:
+    """Why numbers of the result are undefined: a model that could not be re-simulated."""
+    notes = {}
+    if sel.sim_before.failure or sel.sim_after.failure:
+        notes["gain"] = sel.sim_after.failure or sel.sim_before.failure
+    for i, st in enumerate(sel.steps):
+        for key in ("simulation_rms_before", "simulation_rms_after"):
+            if not math.isfinite(getattr(st, key)):
+                notes[f"steps[{i}].{key}"] = (sel.sim_after.failure or "the model of this step cannot be "
+                                              "re-simulated on this record")
+    return notes
+
+
+class _ProgressBar:
+    """A tqdm bar on stderr over the candidates of each step (nothing when not shown)."""
+
+    def __init__(self, show: bool, n_samples: int):
+        self.bar = None
+        if show:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=None, file=sys.stderr, unit="candidate", leave=False,
+                            desc=f"diagnose ({n_samples} samples)")
+
+    def step(self, step: int, done: int, total: int) -> None:
+        """Candidate ``done`` of ``total`` of selection step ``step`` (1, 2, ...) is scored."""
+        if self.bar is None:
+            return
+        if done == 0:
+            self.bar.reset(total=total)
+            self.bar.set_description(f"diagnose: step {step}, scoring the candidates")
+        else:
+            self.bar.update(1)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _evidence_bodies(base: Baseline, selected: tuple, theta: np.ndarray,

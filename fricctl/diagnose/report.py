@@ -18,7 +18,7 @@ from .windows import WindowedSimulation
 if TYPE_CHECKING:
     from ..identify import IdentificationResult
 
-__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text", "json_ready"]
+__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text", "json_ready", "undefined_numbers"]
 
 
 def json_ready(x):
@@ -32,6 +32,31 @@ def json_ready(x):
     if isinstance(x, np.integer):
         return int(x)
     return x
+
+
+def undefined_numbers(x, notes: dict, prefix: str = "") -> dict:
+    """Every number of ``x`` that :func:`json_ready` turns into null, by its path
+    (``"gain.simulation_rms_after"``, ``"steps[0].score"``), with the reason: ``notes``'
+    entry for the path or for its top-level key, else a generic one."""
+    out = {}
+    if isinstance(x, dict):
+        for k, val in x.items():
+            out.update(undefined_numbers(val, notes, f"{prefix}.{k}" if prefix else str(k)))
+    elif isinstance(x, (list, tuple)):
+        for i, val in enumerate(x):
+            out.update(undefined_numbers(val, notes, f"{prefix}[{i}]"))
+    elif isinstance(x, (float, np.floating)) and not np.isfinite(x):
+        head = prefix.split(".")[0].split("[")[0]
+        out[prefix] = notes.get(prefix) or notes.get(head) or (
+            "not a finite number on this record (an overflow or 0/0 of the computation)")
+    return out
+
+
+def _num(x, fmt: str = ".4g", scale: float = 1.0, unit: str = "") -> str:
+    """``x`` formatted for a report table, ``n/a`` when it is not a finite number."""
+    if x is None or not np.isfinite(x):
+        return "n/a"
+    return f"{scale * x:{fmt}}" + (f" {unit}" if unit else "")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -110,6 +135,9 @@ class Diagnosis:
     cutoff : float
         Low-pass cut-off of the diagnosis: the band the excitation reaches, at most
         half the Nyquist frequency [Hz].
+    notes : dict
+        Why a number is undefined (NaN), by its path in :meth:`as_dict` or its top-level
+        key (e.g. ``"gain"``: a model that cannot be re-simulated on the record).
     """
 
     cause: str
@@ -136,6 +164,7 @@ class Diagnosis:
     last_ranking: tuple = ()
     chain_rms: float = float("nan")
     cutoff: float = float("nan")
+    notes: dict = None
 
     @property
     def score(self) -> float:
@@ -143,8 +172,9 @@ class Diagnosis:
         return self.steps[0].score if self.steps else 0.0
 
     def as_dict(self) -> dict:
-        """The ``fricctl diagnose --json`` object (finite numbers or null)."""
-        return json_ready({
+        """The ``fricctl diagnose --json`` object (finite numbers or null; ``undefined``
+        gives the reason for every null number, by its path)."""
+        out = {
             "cause": self.cause,
             "causes": list(self.causes),
             "steps": [s.as_dict() for s in self.steps],
@@ -158,7 +188,9 @@ class Diagnosis:
             "chain_rms": float(self.chain_rms),
             "cutoff": float(self.cutoff),
             "nominal_model": self.nominal,
-            "units": self.units})
+            "units": self.units}
+        out["undefined"] = undefined_numbers(out, dict(self.notes or {}))
+        return json_ready(out)
 
     def report(self) -> str:
         """Markdown report: causes step by step, evidence, ranking, models, gain."""
@@ -174,10 +206,11 @@ class Diagnosis:
                       f"[{u.torque}] | simulation RMS before -> after [{u.position}] |",
                       "|---|---|---|---|---|---|---|"]
             for i, st in enumerate(self.steps, 1):
-                lines.append(f"| {i} | {st.cause} | {100 * st.score:.1f} % | {100 * st.gross:.1f} % | "
-                             f"{100 * st.chain:.1f} % | {st.torque_rms_before:.4g} -> "
-                             f"{st.torque_rms_after:.4g} | {st.simulation_rms_before:.4g} -> "
-                             f"{st.simulation_rms_after:.4g} |")
+                lines.append(f"| {i} | {st.cause} | {_num(st.score, '.1f', 100, '%')} | "
+                             f"{_num(st.gross, '.1f', 100, '%')} | {_num(st.chain, '.1f', 100, '%')} | "
+                             f"{_num(st.torque_rms_before)} -> {_num(st.torque_rms_after)} | "
+                             f"{_num(st.simulation_rms_before)} -> "
+                             f"{_num(st.simulation_rms_after)} |")
         else:
             lines.append("No candidate reaches the score: nothing named.")
         if self.last_ranking:
@@ -199,8 +232,8 @@ class Diagnosis:
                   "| cause | net score | simulation score |", "|---|---|---|"]
         for c, sc in self.ranking:
             ss = self.simulation_scores.get(c)
-            sim = "-" if ss is None else f"{100 * ss:.1f} %"  # simulated for the supported only
-            lines.append(f"| {c} | {100 * sc:.1f} % | {sim} |")
+            sim = "-" if ss is None else _num(ss, ".1f", 100, "%")  # the supported only
+            lines.append(f"| {c} | {_num(sc, '.1f', 100, '%')} | {sim} |")
         lines += ["", "## Held-out gain", "", "| quantity | before | after | change |",
                   "|---|---|---|---|"]
         for name, b, a, unit in (
@@ -209,11 +242,19 @@ class Diagnosis:
                  g.simulation_rms_after, u.position),
                 ("windowed simulation RMS, velocity", g.velocity_rms_before, g.velocity_rms_after,
                  u.velocity)):
-            lines.append(f"| {name} | {b:.4g} {unit} | {a:.4g} {unit} | {100 * (a / b - 1):+.1f} % |")
+            change = (a / b - 1) if np.isfinite(a) and np.isfinite(b) and b > 0 else float("nan")
+            lines.append(f"| {name} | {_num(b, unit=unit)} | {_num(a, unit=unit)} | "
+                         f"{_num(change, '+.1f', 100, '%')} |")
+        failure = self.sim_after.failure or self.sim_before.failure
+        if failure:
+            lines += ["", f"n/a: {failure}."]
         lines += ["", "## Models", "", "| parameter | baseline | extended |", "|---|---|---|"]
         pb, pe = self.baseline.parameters(), self.extended.parameters()
         for k in list(pb) + [k for k in pe if k not in pb]:
-            lines.append(f"| {k} | {pb.get(k, float('nan')):.6g} | {pe.get(k, float('nan')):.6g} |")
+            lines.append(f"| {k} | {_num(pb[k], '.6g') if k in pb else '-'} | "
+                         f"{_num(pe[k], '.6g') if k in pe else '-'} |")
+        if any(k not in pb for k in pe) or any(k not in pe for k in pb):
+            lines += ["", "'-': the model has no such term (the value is 0 or the law's default)."]
         if self.fit is not None:
             lines += ["", "## Refit (CasADi least squares)", "", "```", self.fit.report(), "```"]
         return "\n".join(lines) + "\n"
@@ -230,7 +271,7 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         return (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque residual "
                 f"net of the measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %); "
                 f"the baseline explains the data within noise (held-out torque RMS "
-                f"{gain.torque_rms_before:.3g} {u.torque})." + cannot)
+                f"{_num(gain.torque_rms_before, '.3g')} {u.torque})." + cannot)
     parts = []
     for i, (st, body) in enumerate(zip(steps, bodies)):
         lead = "" if i == 0 else "Then "
@@ -239,7 +280,8 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
                      f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
                      f"blocked cross-validation, net of the measuring chain's "
                      f"{100 * st.chain:.0f} %); {body}.")
-    tail = (f" Held-out torque RMS {gain.torque_rms_before:.3g} -> {gain.torque_rms_after:.3g} "
-            f"{u.torque}, windowed simulation RMS {gain.simulation_rms_before:.3g} -> "
-            f"{gain.simulation_rms_after:.3g} {u.position}.")
+    tail = (f" Held-out torque RMS {_num(gain.torque_rms_before, '.3g')} -> "
+            f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
+            f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "
+            f"{u.position}.")
     return " ".join(parts) + tail + cannot

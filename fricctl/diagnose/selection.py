@@ -24,7 +24,7 @@ from .causes import Baseline, Cause, Term
 from .crossval import BlockedCV, Problem, compose, cross_validate, full_fit
 from .windows import WindowedSimulation
 
-__all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity",
+__all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
            "COLLINEAR_SHARE", "MIN_SCORE"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
@@ -99,7 +99,8 @@ class Selection:
     """First step: per candidate, the held-out fraction of the windowed simulation error
     (position, sum of squares) its term removes [-] (computed for the supported ones)."""
     not_identifiable: dict = field(default_factory=dict)
-    """Candidates that reached the score but cannot be told on this record, with the reason."""
+    """Candidates that reached the score but cannot be told on this record, and those whose
+    term cannot be added to the model (:func:`not_applicable`), with the reason."""
     test: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """Held-out SSE per block of the final model."""
     baseline_test: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -131,7 +132,8 @@ def collinearity(problem: Problem, fixed: tuple, variant) -> float:
 
 def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                       chain: Callable[[float, tuple, JointModel], Callable[[Cause], float]],
-                      simulate: Callable[[list], WindowedSimulation]) -> Selection:
+                      simulate: Callable[[list], WindowedSimulation], *,
+                      progress: Callable[[int, int, int], None] | None = None) -> Selection:
     """Name every cause the record supports, one step at a time (see the module notes).
 
     Parameters
@@ -148,6 +150,9 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         candidate's term is in.
     simulate : callable
         ``simulate(fold_models)``: the held-out windowed simulation of one model per fold.
+    progress : callable, optional
+        ``progress(step, done, total)``: called before the candidates of a step are scored
+        (``done`` 0) and after each (for a progress bar).
     """
     F = problem.sig.n_folds
     nmov = max(int(problem.sig.moving.sum()), 1)
@@ -165,7 +170,11 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
     sim_scores0: dict = {}
     first_ranking: tuple = ()
     last_ranking: tuple = ()
-    remaining = list(candidates)
+    # a cause whose term cannot sit in one model with the baseline (or, later, with the
+    # causes named) is not tried: a limit of the models, not of the record
+    not_told.update(not_applicable(base, [], base.theta if base.fit_mode else np.zeros(0),
+                                   candidates))
+    remaining = [c for c in candidates if c.name not in not_told]
     while remaining:
         sse_prev = float(np.sum(cur_test))
         if not sse_prev > 0:
@@ -176,8 +185,12 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                          for s in sel)
 
         cvs = {}
+        if progress is not None:
+            progress(len(steps) + 1, 0, len(remaining))
         for c in remaining:
             cv = cross_validate(problem, lambda f, c=c: base.variants(c, f), fixed_for)
+            if progress is not None:
+                progress(len(steps) + 1, len(cvs) + 1, len(remaining))
             test = np.where(np.isnan(cv.test), cur_test, cv.test)
             cvs[c.name] = (1.0 - float(np.sum(test)) / sse_prev, cv, test)
         named = tuple(s.cause for s in selected)
@@ -245,22 +258,31 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         cur_test, cur_sim = test, new_sim
         remaining = [c for c in remaining if c is not cause]
         last_ranking = ()
-        # a cause whose term cannot sit in one model with those named is not tried again
-        # (LuGre bristles on an elastic joint): a limit of the models, not of the record
-        parts = [(s.cause, s.variant.h) for s in selected]
-        for c in list(remaining):
-            probe = base.variants(c, None)
-            if not probe:
-                continue
-            try:
-                base.model(parts + [(c, probe[0].h)],
-                           np.concatenate([best.theta, np.full(c.n_extra, 1e-6)]))
-            except ValueError:
-                remaining.remove(c)
+        gone = not_applicable(base, [(s.cause, s.variant.h) for s in selected], best.theta,
+                              remaining)
+        not_told.update(gone)
+        remaining = [c for c in remaining if c.name not in gone]
     return Selection(selected=tuple(selected), steps=tuple(steps), first_ranking=first_ranking,
                      last_ranking=last_ranking,
                      simulation_scores=sim_scores0, not_identifiable=not_told, test=cur_test,
                      baseline_test=cv0.test, sim_before=sim_base, sim_after=cur_sim)
+
+
+def not_applicable(base: Baseline, parts: list, theta: np.ndarray, candidates) -> dict:
+    """The candidates whose term cannot be added to the model of ``parts`` (coefficients
+    ``theta``), with the reason: e.g. a resonance on a model with LuGre friction (the elastic
+    joint has no bristle state).  Such a candidate is never named, whatever the record."""
+    out = {}
+    for c in candidates:
+        probe = base.variants(c, None)
+        if not probe:
+            continue
+        try:
+            base.model(list(parts) + [(c, probe[0].h)],
+                       np.concatenate([theta, np.full(c.n_extra, 1e-6)]))
+        except ValueError as err:
+            out[c.name] = f"its term cannot be added to this model ({err})"
+    return out
 
 
 def _residual(problem: Problem, parts: tuple, theta: np.ndarray) -> np.ndarray:

@@ -33,7 +33,7 @@ from ..plant import JointModel
 
 __all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "centred", "delayed",
            "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
-           "BAND_MARGIN", "MAX_CUTOFF"]
+           "BAND_MARGIN", "MAX_CUTOFF", "SAMPLE_TIME_RANGE"]
 
 #: The excitation's band ends where the encoder's acceleration spectrum (a third of an octave
 #: averaged) last stands this many times above its own quantisation noise
@@ -42,6 +42,9 @@ BAND_MARGIN = 10.0
 #: Highest low-pass cut-off, as a fraction of the sample rate: half the Nyquist frequency
 #: (the zero-phase 4th-order Butterworth still attenuates 48 dB at Nyquist there) [-].
 MAX_CUTOFF = 0.25
+#: Sample times a diagnosis reads [s]: 1 us to 10 s (a drive's record is sampled at 0.1 Hz to
+#: 1 MHz; beyond, the acceleration's 1/Ts^2 and the filters' products leave double precision).
+SAMPLE_TIME_RANGE = (1e-6, 10.0)
 
 
 @njit(cache=True)
@@ -209,7 +212,9 @@ def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = Non
     record is read through the record's own filter).  ``exclude`` (bool per sample) leaves
     samples out of the equation error, with the filter's reach around them.
     """
-    ts = run.sample_time
+    lo, hi = SAMPLE_TIME_RANGE
+    ts = v.real("the record's sample time (time column in seconds)", run.sample_time,
+                low=lo, high=hi, unit="s")
     q = np.asarray(run.position, dtype=float)
     n = q.size
     steps = np.abs(np.diff(q))

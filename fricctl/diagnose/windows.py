@@ -50,6 +50,8 @@ class WindowedSimulation:
         Simulated velocity, NaN outside windows [rad/s].
     position_error, velocity_error : ndarray, shape (n_windows,)
         RMS over each window of ``q_sim - q_meas`` [rad] and ``w_sim - w_est`` [rad/s].
+    failure : str
+        Why the model could not be re-simulated (the errors are then NaN), or ``""``.
     """
 
     starts: np.ndarray
@@ -58,6 +60,7 @@ class WindowedSimulation:
     omega: np.ndarray
     position_error: np.ndarray
     velocity_error: np.ndarray
+    failure: str = ""
 
     def rms(self, select=None) -> SimulationRMS:
         """Position [rad] and velocity [rad/s] RMS error over the selected windows (all by default)."""
@@ -72,13 +75,24 @@ class WindowedSimulation:
         """One simulation from disjoint sets of windows over the same ``n`` samples (in order)."""
         qs = np.full(n, np.nan)
         ws = np.full(n, np.nan)
+        failure = next((s.failure for s in parts if s.failure), "")
         for s in parts:
             ok = ~np.isnan(s.q)
             qs[ok] = s.q[ok]
             ws[ok] = s.omega[ok]
         return cls(starts=np.concatenate([s.starts for s in parts]), length=length, q=qs, omega=ws,
                    position_error=np.concatenate([s.position_error for s in parts]),
-                   velocity_error=np.concatenate([s.velocity_error for s in parts]))
+                   velocity_error=np.concatenate([s.velocity_error for s in parts]),
+                   failure=failure)
+
+    @classmethod
+    def failed(cls, starts, *, n: int, length: int, reason: str) -> "WindowedSimulation":
+        """The simulation of a model that cannot be re-simulated on the record: NaN errors
+        (undefined, never infinite) and the reason."""
+        starts = np.asarray(starts, dtype=int)
+        nan = np.full(starts.size, np.nan)
+        return cls(starts=starts, length=length, q=np.full(n, np.nan), omega=np.full(n, np.nan),
+                   position_error=nan, velocity_error=nan.copy(), failure=reason)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -91,10 +105,22 @@ class WindowGrid:
     """Samples per window."""
 
 
+#: Fewest samples in a re-simulation window [-].
+MIN_WINDOW_SAMPLES = 10
+
+
 def window_grid(sig: Signals, window: float) -> WindowGrid:
-    """Back-to-back windows of ``window`` seconds, clear of the filter's edge effects."""
+    """Back-to-back windows of ``window`` seconds, clear of the filter's edge effects.
+
+    A window shorter than :data:`MIN_WINDOW_SAMPLES` samples of the record is refused
+    (a ValueError with the shortest window in seconds)."""
     n = sig.t.size
-    length = max(int(round(window / sig.ts)), 10)
+    window = v.real("window", window, positive=True, unit="s")
+    if window / sig.ts < MIN_WINDOW_SAMPLES - 0.5:
+        raise ValueError(f"window: {window:g} s is {window / sig.ts:.3g} samples of this record "
+                         f"(Ts = {sig.ts:g} s); a re-simulation window needs at least "
+                         f"{MIN_WINDOW_SAMPLES} samples ({MIN_WINDOW_SAMPLES * sig.ts:g} s)")
+    length = int(round(window / sig.ts))
     border = max(int(math.ceil(2.0 / (sig.cutoff * sig.ts))), 10)
     starts = np.arange(border, n - length - border, length)
     if starts.size == 0:
