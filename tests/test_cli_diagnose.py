@@ -7,6 +7,7 @@ import pytest
 
 from fricctl.bench.hidden_effects import hidden_effect_record
 from fricctl.cli import main
+from fricctl.datasets import Run
 from fricctl.diagnose import CAUSES, NOMINAL_ONLY
 from fricctl.plant import JointModel
 
@@ -87,3 +88,94 @@ def test_linear_axis_from_the_command_line(tmp_path, capsys):
     assert out["units"] == "linear" and out["causes"] == ["none"]
     assert main(["diagnose", str(path), "--units", "linear"]) == 0
     assert " N |" in capsys.readouterr().out  # forces in newtons in the gain table
+
+
+# ----------------------------------------------------------------------------- issues 13, 15
+def test_emps_mat_record(data_dir, capsys):
+    # a .mat file in the EMPS layout is read as a record (a linear axis), like the CSV
+    assert main(["diagnose", str(data_dir / "emps" / "DATA_EMPS.mat"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["units"] == "linear" and out["causes"] and "undefined" in out
+
+
+def _model_file(tmp_path, rec, name="m.json", **kw):
+    m = JointModel(inertia=rec.truth.inertia, friction=rec.truth.friction, **kw)
+    return m.save(tmp_path / name)
+
+
+def test_model_sample_time_and_encoder_checked_against_the_record(record_csv, tmp_path, capsys):
+    path, rec = record_csv
+    ts, grid = rec.run.sample_time, rec.run.encoder_grid()
+    bad_ts = _model_file(tmp_path, rec, "ts.json", sample_time=2 * ts)
+    assert main(["diagnose", str(path), "--model", str(bad_ts)]) == 2
+    err = capsys.readouterr().err
+    assert "sample_time" in err and "differs from the record" in err
+    assert len(err.strip().splitlines()) == 1
+    bad_enc = _model_file(tmp_path, rec, "enc.json", sample_time=ts, encoder_resolution=3 * grid)
+    assert main(["diagnose", str(path), "--model", str(bad_enc)]) == 2
+    err = capsys.readouterr().err
+    assert "encoder_resolution" in err and len(err.strip().splitlines()) == 1
+
+
+def test_extended_model_feeds_design_and_simulate(record_csv, tmp_path, capsys):
+    # the extended model of --report is a version-2 model file: provenance "diagnosed" on
+    # what the diagnosis added, the model's sample time and encoder kept; design and
+    # simulate read it
+    path, rec = record_csv
+    ts, grid = rec.run.sample_time, rec.run.encoder_grid()
+    mfile = _model_file(tmp_path, rec, sample_time=ts, encoder_resolution=grid)
+    out_dir = tmp_path / "rep"
+    assert main(["diagnose", str(path), "--model", str(mfile), "--report", str(out_dir)]) == 0
+    capsys.readouterr()
+    ext_file = out_dir / "extended_model.json"
+    raw = json.loads(ext_file.read_text())
+    assert raw["version"] == 2
+    assert raw["provenance"]["delay"]["source"] == "diagnosed"
+    assert raw["sample_time"] == ts and raw["encoder_resolution"] == grid
+    ext = JointModel.load(ext_file)
+    assert ext.delay > 0
+    assert main(["design", "pd", "--model", str(ext_file), "--rise-time", "0.1",
+                 "--damping", "0.7", "--json"]) == 0
+    design = json.loads(capsys.readouterr().out)
+    assert design["kp"] > 0
+    assert main(["simulate", "--model", str(ext_file), "--controller", "pd", "--rise-time", "0.1",
+                 "--damping", "0.7", "--reference", "step:0.1", "--duration", "1",
+                 "--json"]) == 0
+    sim = json.loads(capsys.readouterr().out)
+    assert sim["units"] == "rotary"
+
+
+def test_report_folder_not_overwritten_without_force(record_csv, tmp_path, capsys):
+    path, _ = record_csv
+    out_dir = tmp_path / "rep"
+    assert main(["diagnose", str(path), "--report", str(out_dir)]) == 0
+    before = (out_dir / "extended_model.json").read_text()
+    (out_dir / "extended_model.json").write_text("mine")
+    capsys.readouterr()
+    assert main(["diagnose", str(path), "--report", str(out_dir)]) == 2
+    err = capsys.readouterr().err
+    assert "exists (use --force" in err and len(err.strip().splitlines()) == 1
+    assert (out_dir / "extended_model.json").read_text() == "mine"  # untouched
+    assert main(["diagnose", str(path), "--report", str(out_dir), "--force"]) == 0
+    assert (out_dir / "extended_model.json").read_text() == before
+    afile = tmp_path / "a_file"
+    afile.write_text("x")
+    assert main(["diagnose", str(path), "--report", str(afile)]) == 2
+    assert "not a folder" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("window", ["1e-9", "0", "-1"])
+def test_window_shorter_than_a_sample_exits_2(record_csv, capsys, window):
+    path, _ = record_csv
+    assert main(["diagnose", str(path), f"--window={window}"]) == 2
+    err = capsys.readouterr().err
+    assert "window" in err and len(err.strip().splitlines()) == 1
+
+
+def test_time_column_times_1e300_exits_2(record_csv, tmp_path, capsys):
+    path, rec = record_csv
+    r = rec.run
+    Run(t=r.t * 1e300, torque=r.torque, position=r.position).to_csv(tmp_path / "huge.csv")
+    assert main(["diagnose", str(tmp_path / "huge.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "sample time" in err and len(err.strip().splitlines()) == 1

@@ -1,8 +1,10 @@
 """``fricctl diagnose RUN.csv``: what the model gets wrong, its cause, the extended model, the gain.
 
 Reads a record (CSV header ``t,torque,position[,reference]``, SI units, uniform
-sampling, any rate; see :class:`fricctl.datasets.Run`), fits the rigid baseline
-(or takes ``--model FILE``, a ``fricctl.joint_model`` JSON file, as given),
+sampling, any rate; see :class:`fricctl.datasets.Run`; or a ``.mat`` file in the
+EMPS layout, a linear axis), fits the rigid baseline (or takes ``--model FILE``, a
+``fricctl.joint_model`` JSON file, as given: its units, sample time and encoder
+count must agree with the record's),
 re-simulates it over 0.5 s windows, names every cause the record supports one
 step at a time by blocked cross-validation (or ``none``), extends the model and
 reports the held-out gain.  ``--json`` prints one object (finite numbers or null):
@@ -15,8 +17,14 @@ cannot be told on this record), ``evidence``, ``baseline`` and ``extended``
 ``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data,
 ``chain_rms`` and ``cutoff``.  A linear axis: ``# units: linear`` in the file or
 ``--units linear``.
+``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),
-``report.md`` and ``extended_model.json``.
+``report.md`` and ``extended_model.json`` (a model file, version 2: provenance
+"diagnosed" on every value the diagnosis added or changed; ``fricctl design
+--model`` and ``fricctl simulate --model`` read it); existing files are not
+overwritten without ``--force``.  A record longer than 615 384 samples is refused
+(about 6.5 kB per sample, a 4 GB budget); a progress bar shows on stderr when it is a
+terminal.
 Bad input prints one line on stderr and exits with code 2.
 """
 
@@ -32,7 +40,8 @@ def register(subparsers) -> None:
         "diagnose", help="name what the model gets wrong in a record, extend it, measure the gain",
         description=__doc__.split("\n\n", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("run", metavar="RUN.csv", help="record with header t,torque,position[,reference]")
+    p.add_argument("run", metavar="RUN", help="record: CSV with header "
+                   "t,torque,position[,reference], or a .mat file in the EMPS layout")
     p.add_argument("--model", metavar="FILE", default=None,
                    help="nominal model (fricctl.joint_model JSON) to diagnose as given")
     p.add_argument("--units", choices=("rotary", "linear"), default=None,
@@ -42,19 +51,36 @@ def register(subparsers) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--report", metavar="DIR", default=None,
                    help="write figures, report.md and extended_model.json to DIR")
+    p.add_argument("--force", action="store_true",
+                   help="overwrite existing files of --report DIR")
     p.set_defaults(func=run)
 
 
+#: The files ``--report DIR`` writes.
+REPORT_FILES = ("residuals.png", "simulation.png", "spectrum.png", "steps.png", "report.md",
+                "extended_model.json")
+#: Relative difference beyond which a model's sample time or encoder count and the record's
+#: disagree [-].
+AGREEMENT = 1e-3
+
+
 def run(args) -> int:
-    from ..datasets import Run
+    from ..datasets import load_record
     from ..diagnose import diagnose
     from ..plant import JointModel
+    from ._output import check_outputs
 
-    record = Run.from_csv(args.run, units=args.units)
+    if args.report is not None:
+        out = Path(args.report)
+        if out.exists() and not out.is_dir():
+            raise ValueError(f"--report: {out} exists and is not a folder")
+        if out.is_dir():  # a new folder is made by write_report: nothing in it to clobber
+            check_outputs({f"--report ({name})": out / name for name in REPORT_FILES},
+                          [args.run, args.model], force=args.force)
+    record = load_record(args.run, units=args.units)
     model = JointModel.load(args.model) if args.model else None
-    if model is not None and args.units is None and model.units != record.units:
-        raise ValueError(f"{Path(args.model).name}: model units {model.units!r} differ from the "
-                         f"record's {record.units!r}")
+    if model is not None:
+        check_model(model, record, Path(args.model).name, units_given=args.units is not None)
     result = diagnose(record, model, window=args.window)
     if args.report:
         write_report(result, args.report)
@@ -64,6 +90,27 @@ def run(args) -> int:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s")
         print(result.report())
     return 0
+
+
+def check_model(model, record, name: str, *, units_given: bool = False) -> None:
+    """Refuse a model file whose units, sample time or encoder count disagree with the record.
+
+    The sample time and the encoder count are checked when the model file states them (and,
+    for the encoder, when the record's positions lie on a grid: a filtered record has none).
+    """
+    if not units_given and model.units != record.units:
+        raise ValueError(f"{name}: model units {model.units!r} differ from the record's "
+                         f"{record.units!r}")
+    ts = record.sample_time
+    if model.sample_time is not None and abs(model.sample_time - ts) > AGREEMENT * ts:
+        raise ValueError(f"{name}: sample_time {model.sample_time:g} s differs from the record's "
+                         f"{ts:g} s ({record.source or 'the record'}): a model of another "
+                         f"sampling (resample the record, or edit the model's sample_time)")
+    grid = record.encoder_grid()
+    res = model.encoder_resolution
+    if res is not None and grid is not None and abs(grid - res) > AGREEMENT * res:
+        raise ValueError(f"{name}: encoder_resolution {res:g} differs from the grid the record's "
+                         f"positions lie on ({grid:g} {record.position_unit}): another encoder")
 
 
 def write_report(result, folder) -> Path:
@@ -79,7 +126,7 @@ def write_report(result, folder) -> Path:
     out = Path(folder)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--report: {out} exists and is not a folder")
-    out.mkdir(parents=True, exist_ok=True)
+    out.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
     figs = {}
     fig = plot_diagnosis(result)
     figs["residuals.png"] = fig
