@@ -5,8 +5,9 @@ made on seeds never used while building the method, and the time of one 40 s rec
 Seeds.  Used while building the issue-12 method (and so never here): the package bench
 ``[9100..9400, ...]`` and the tests' ``[2026..2028, i]``; the independent bench's
 ``[31, i]`` (tests), ``[40, i]`` and ``[41, i]``.  A first measurement on
-``[12001..12005, ...]`` and ``[32, i]`` led to two changes (the band's definition and the
-delay range, see ``benchmarks/README.md``), so those seeds count as used too.  This
+``[12001..12005, ...]`` and ``[32, i]`` led to three changes (the band's definition, the
+delay range, the load column; see ``benchmarks/README.md``), so those seeds count as used
+too.  This
 benchmark: ``[12101..12105, ...]`` (package bench) and ``[33, i]`` (independent bench).
 
 Record sets (durations 20-60 s, rates 200 Hz-2 kHz, rotary and linear axes):
