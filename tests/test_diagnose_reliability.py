@@ -167,3 +167,15 @@ def test_extended_model_carries_provenance(delay_record):
         src = ext.provenance[key].source
         assert (src == "diagnosed") == (pb.get(k, 0.0) != pe.get(k, 0.0)), k
     assert JointModel.from_json(ext.to_json()) == ext
+
+
+def test_a_model_of_another_sampling_or_encoder_is_refused(delay_record):
+    run = delay_record.run
+    nom = JointModel(inertia=delay_record.truth.inertia, friction=delay_record.truth.friction)
+    with pytest.raises(ValueError, match="^model: sample_time 0.004 s differs"):
+        diagnose(run, replace(nom, sample_time=2 * run.sample_time))
+    with pytest.raises(ValueError, match="^model: encoder_resolution"):
+        diagnose(run, replace(nom, encoder_resolution=2 * run.encoder_grid()))
+    # agreeing values (to 1e-3) are accepted
+    ok = replace(nom, sample_time=run.sample_time * (1 + 1e-4), encoder_resolution=run.encoder_grid())
+    assert diagnose(run, ok).causes == ("time_delay",)

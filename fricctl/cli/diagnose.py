@@ -59,9 +59,6 @@ def register(subparsers) -> None:
 #: The files ``--report DIR`` writes.
 REPORT_FILES = ("residuals.png", "simulation.png", "spectrum.png", "steps.png", "report.md",
                 "extended_model.json")
-#: Relative difference beyond which a model's sample time or encoder count and the record's
-#: disagree [-].
-AGREEMENT = 1e-3
 
 
 def run(args) -> int:
@@ -93,24 +90,14 @@ def run(args) -> int:
 
 
 def check_model(model, record, name: str, *, units_given: bool = False) -> None:
-    """Refuse a model file whose units, sample time or encoder count disagree with the record.
+    """Refuse a model file whose units (unless ``--units`` is given), sample time or encoder
+    count disagree with the record (:func:`fricctl.diagnose.api.check_model_agrees`)."""
+    from ..diagnose.api import check_model_agrees
 
-    The sample time and the encoder count are checked when the model file states them (and,
-    for the encoder, when the record's positions lie on a grid: a filtered record has none).
-    """
     if not units_given and model.units != record.units:
         raise ValueError(f"{name}: model units {model.units!r} differ from the record's "
                          f"{record.units!r}")
-    ts = record.sample_time
-    if model.sample_time is not None and abs(model.sample_time - ts) > AGREEMENT * ts:
-        raise ValueError(f"{name}: sample_time {model.sample_time:g} s differs from the record's "
-                         f"{ts:g} s ({record.source or 'the record'}): a model of another "
-                         f"sampling (resample the record, or edit the model's sample_time)")
-    grid = record.encoder_grid()
-    res = model.encoder_resolution
-    if res is not None and grid is not None and abs(grid - res) > AGREEMENT * res:
-        raise ValueError(f"{name}: encoder_resolution {res:g} differs from the grid the record's "
-                         f"positions lie on ({grid:g} {record.position_unit}): another encoder")
+    check_model_agrees(model, record, name)
 
 
 def write_report(result, folder) -> Path:

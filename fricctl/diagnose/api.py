@@ -24,7 +24,7 @@ from .twin import chain_shares, effect_free_twin
 from .windows import WindowedSimulation, simulate_windows, window_grid
 
 __all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
-           "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET"]
+           "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
 
 #: Peak memory of a diagnosis per sample of the record, measured (``benchmarks/README.md``:
 #: 120 000 to 960 000 samples at 1 kHz, 6.2-6.5 kB per sample; the candidates' columns on
@@ -42,6 +42,33 @@ def _check_run(run) -> Run:
     return v.instance("run", run, Run, "a fricctl.datasets.Run")
 
 
+#: Relative difference beyond which a model's sample time or encoder count and the record's
+#: disagree [-].
+AGREEMENT = 1e-3
+
+
+def check_model_agrees(model: JointModel, run: Run, name: str = "model") -> None:
+    """Refuse a model whose sample time or encoder count (when it states them) disagree with
+    the record's (beyond :data:`AGREEMENT`): a model of another sampling or another encoder.
+
+    The encoder is compared with the grid the record's positions lie on
+    (:meth:`~fricctl.datasets.Run.encoder_grid`; a filtered record has none: not checked).
+    ``name`` is how the message calls the model (a file name on the command line).
+    """
+    ts = run.sample_time
+    where = run.source or "the record"
+    if model.sample_time is not None and abs(model.sample_time - ts) > AGREEMENT * ts:
+        raise ValueError(f"{name}: sample_time {model.sample_time:g} s differs from the record's "
+                         f"{ts:g} s ({where}): a model of another sampling (resample the record, "
+                         f"or correct the model's sample_time)")
+    res = model.encoder_resolution
+    grid = run.encoder_grid() if res is not None else None
+    if res is not None and grid is not None and abs(grid - res) > AGREEMENT * res:
+        raise ValueError(f"{name}: encoder_resolution {res:g} differs from the grid the record's "
+                         f"positions lie on ({grid:g} {run.position_unit}, {where}): another "
+                         f"encoder")
+
+
 def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
              folds: int = 8, progress: bool | None = None) -> Diagnosis:
     """Show what the model gets wrong on ``run``, name every cause the data support, extend
@@ -53,7 +80,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
         The measured record (uniform sampling, any rate; moving in most blocks).
     model : JointModel, optional
         A nominal model to diagnose as given; default: fit the rigid baseline
-        ``I*q'' = Tm - b*w - Fc*sign(w)``.
+        ``I*q'' = Tm - b*w - Fc*sign(w)``.  Its sample time and encoder count, when it
+        states them, must agree with the record's (:func:`check_model_agrees`).
     window : float
         Window of the re-simulation [s].
     folds : int
@@ -86,6 +114,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     _check_run(run)
     if model is not None:
         v.instance("model", model, JointModel, "a JointModel (or None)")
+        check_model_agrees(model, run)
     folds = v.integer("folds", folds, low=3, high=20)
     window = v.real("window", window, positive=True, unit="s")
     show = sys.stderr.isatty() if progress is None else v.flag("progress", progress)
