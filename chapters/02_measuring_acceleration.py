@@ -138,6 +138,7 @@ def all_four(tt, yy):
 t, y = sim.t, sim.q_meas
 estimates = all_four(t, y)
 # one whole segment as one window (window longer than any segment), refitted independently
+assert np.isclose(200 * p.sample_time, 0.4)  # the paper's window: 200 samples = 0.4 s
 one = estimation.polynomial_segments(t, y, order=6, window=t.size, overlap=0)
 raw = np.diff(y) / p.sample_time  # backward differences of samples 1..N-1
 seg_start, seg_stop = (int(i) for i in np.flatnonzero(np.diff(np.r_[False, raw != 0.0, False]))[2:4])

@@ -467,6 +467,7 @@ if est is not None:
     print(f"the net's slope in Tm: {gains[s_max]:.2f} at Tm = 0, {g_mean:.2f} on average across "
           f"the band; band width {np.ptp(band_nn) / np.ptp(band):.2f} of the uncompensated one "
           f"(1 - s*mean slope = {1 - scale * g_mean:.2f})")
+    assert g_mean < 0.5 * gains[s_max]  # far from linear: the slope at rest overstates it
 # With s*g < 1 the loop holds a force at rest again (the fixed point above) and stops inside
 # the band predicted from the net alone.  The band's width is set by the net's average slope
 # across the band, not by its slope g at Tm = 0: the net is far from linear over +-Fc, so
