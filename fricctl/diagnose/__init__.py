@@ -47,17 +47,15 @@ model's torque along the record), :mod:`.windows` (the windowed re-simulation),
 effect-free twin), :mod:`.selection` (the forward selection), :mod:`.report`
 (:class:`Diagnosis`), :mod:`.api` (the workflow).
 
-Limits
-------
-A record of at most :data:`MAX_SAMPLES` samples (the diagnosis holds about
+Notes
+-----
+Limits: a record of at most :data:`MAX_SAMPLES` samples (the diagnosis holds about
 :data:`BYTES_PER_SAMPLE` bytes per sample: 6.5 kB, a 4 GB budget; a longer record is
 refused with the number), sampled every 1 us to 10 s, with re-simulation windows of at
 least 10 samples; a nominal model must be one the record's sample time can re-simulate
 (:mod:`fricctl.simulate` refuses a plant needing more than 100 000 RK4 sub-steps per sample)
 and agree with the record's sample time and encoder count when it states them.
 
-Notes
------
 Left out: backlash; gravity and position-dependent inertia; two effects acting on
 the same model parameters (friction scale and drift); torque measurement noise
 models (least squares assumes white residuals, so the reported standard errors are
