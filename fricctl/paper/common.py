@@ -20,11 +20,14 @@ from ..compensators import CoulombCompensator, NoCompensation
 from ..design import Design, DesignWarning, linear_response, paper_designs
 from ..params import ActuatorParams
 from ..simulate import SimResult, simulate
+from .coast import CoastResult
 from .network import PaperNetwork
+from .runaway import RunawayCheck
 
 __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "designs",
            "stick_intervals_after_motion", "restarts", "sign_changes", "last_window", "deg",
-           "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction"]
+           "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction",
+           "OpenLoopChecks", "LinkFigure"]
 
 #: The paper's steady-state accuracy, Fig. 14 ("less than 0.3 deg") [deg].
 ACCURACY_DEG = 0.3
@@ -191,3 +194,47 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
     # one run each: a batch mixing compensator kinds would fall back to the Python loop
     return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr)
                           for k, comp in comps.items()}, design=d)
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class OpenLoopChecks:
+    """What an open-loop figure's compensated claims require (Figs. 9-10): the wind-up and
+    reversal checks of its compensated run and the network's coast test.
+
+    Attributes
+    ----------
+    wind_up, reversal : runaway checks of the compensated run
+    coast : the network's coast test
+    """
+
+    wind_up: RunawayCheck
+    reversal: RunawayCheck
+    coast: CoastResult
+
+    @property
+    def checks(self) -> tuple:
+        """The runaway checks every compensated claim of the figure requires."""
+        return (self.wind_up, self.reversal, self.coast.decay)
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class LinkFigure:
+    """A figure made of :func:`link_runs` (Figs. 16-17).
+
+    Attributes
+    ----------
+    runs : ``{"none", "NN x <s>", "Coulomb"}`` -> run
+    design : the PD design used
+    wind_up : runaway check of the NN run
+    coast : the network's coast test
+    """
+
+    runs: dict
+    design: Design
+    wind_up: RunawayCheck
+    coast: CoastResult
+
+    @property
+    def nn_key(self) -> str:
+        """The key of the NN-compensated run in ``runs``."""
+        return next(k for k in self.runs if k.startswith("NN"))

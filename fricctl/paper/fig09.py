@@ -18,16 +18,16 @@ from ..friction import Viscous
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import EXTRA, Claim, gate
-from .common import STICK_MIN_DURATION, stick_intervals_after_motion
+from .common import STICK_MIN_DURATION, OpenLoopChecks, stick_intervals_after_motion
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
-from .runaway import LINEAR_TOLERANCE, RunawayCheck, reversal, wind_up
+from .runaway import LINEAR_TOLERANCE, reversal, wind_up
 
 __all__ = ["Fig9Result", "run", "claim_fig9", "claim_fig9_linear", "claim_coast", "FIGURE"]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class Fig9Result:
+class Fig9Result(OpenLoopChecks):
     """Fig. 9: open-loop sinusoidal torque near breakaway, without and with NN compensation.
 
     Attributes
@@ -53,14 +53,6 @@ class Fig9Result:
     peak_speed_without: float
     peak_speed_with: float
     peak_speed_linear: float
-    wind_up: RunawayCheck
-    reversal: RunawayCheck
-    coast: coast_test.CoastResult
-
-    @property
-    def checks(self) -> tuple:
-        """The runaway checks every compensated claim of this figure requires."""
-        return (self.wind_up, self.reversal, self.coast.decay)
 
 
 def run(network: PaperNetwork, *, amplitude_factor: float = 1.1, frequency: float = 0.5,

@@ -18,16 +18,16 @@ from ..compensators import NoCompensation
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import Claim, gate
-from .common import deg, designs, read_only
+from .common import OpenLoopChecks, deg, designs, read_only
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
-from .runaway import RunawayCheck, reversal, wind_up
+from .runaway import reversal, wind_up
 
 __all__ = ["Fig10Result", "run", "claim_dead_zone", "claim_fig10_motion", "FIGURE"]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class Fig10Result:
+class Fig10Result(OpenLoopChecks):
     """Fig. 10: sinusoid at 10 % of Tmax (inside the dead zone), and the dead zone itself.
 
     Attributes
@@ -48,14 +48,6 @@ class Fig10Result:
     predicted: DeadZonePrediction
     gain_at_rest: float
     frequency: float
-    wind_up: RunawayCheck
-    reversal: RunawayCheck
-    coast: coast_test.CoastResult
-
-    @property
-    def checks(self) -> tuple:
-        """The runaway checks both claims of this figure require."""
-        return (self.wind_up, self.reversal, self.coast.decay)
 
     @property
     def factor(self) -> float:

@@ -8,21 +8,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import controllers as ctl
-from ..design import Design
 from . import coast as coast_test
 from .claims import Claim, gate
-from .common import (ACCURACY_DEG, AGED_SCALE, SS_WINDOW, deg, last_window, link_runs,
+from .common import (ACCURACY_DEG, AGED_SCALE, SS_WINDOW, LinkFigure, deg, last_window, link_runs,
                      sign_changes)
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
-from .runaway import RunawayCheck, wind_up
+from .runaway import wind_up
 
 __all__ = ["Fig16Result", "run", "claim_fig16_nn", "claim_fig16_coulomb", "claim_fig16_none",
            "FIGURE"]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class Fig16Result:
+class Fig16Result(LinkFigure):
     """Fig. 16: aged actuator with link, PD (0.4 s, 0.85): NN x 0.95, Coulomb, none.
 
     Attributes
@@ -38,20 +37,11 @@ class Fig16Result:
     coast : the network's coast test
     """
 
-    runs: dict
-    design: Design
     step: float
     friction_scale: float
     steady_state_error: dict
     reference_crossings: dict
     torque_sign_changes: dict
-    wind_up: RunawayCheck
-    coast: coast_test.CoastResult
-
-    @property
-    def nn_key(self) -> str:
-        """The key of the NN-compensated run in ``runs``."""
-        return next(k for k in self.runs if k.startswith("NN"))
 
 
 def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0,

@@ -7,20 +7,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import controllers as ctl
-from ..design import Design
 from ..params import ActuatorParams
 from . import coast as coast_test
 from .claims import Claim, gate
-from .common import ACCURACY_DEG, AGED_SCALE, SS_WINDOW, deg, link_runs
+from .common import ACCURACY_DEG, AGED_SCALE, SS_WINDOW, LinkFigure, deg, link_runs
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
-from .runaway import RunawayCheck, wind_up
+from .runaway import wind_up
 
 __all__ = ["Fig17Result", "run", "claim_fig17_none", "claim_fig17_nn", "FIGURE"]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class Fig17Result:
+class Fig17Result(LinkFigure):
     """Fig. 17: small step of 0.08 rad, same actuator and compensation as Fig. 16.
 
     Attributes
@@ -34,18 +33,9 @@ class Fig17Result:
     coast : the network's coast test
     """
 
-    runs: dict
-    design: Design
     step: float
     steady_state_error: dict
     max_motion: dict
-    wind_up: RunawayCheck
-    coast: coast_test.CoastResult
-
-    @property
-    def nn_key(self) -> str:
-        """The key of the NN-compensated run in ``runs``."""
-        return next(k for k in self.runs if k.startswith("NN"))
 
 
 def run(network: PaperNetwork, *, step: float = 0.08, duration: float = 3.0,
