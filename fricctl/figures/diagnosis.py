@@ -66,7 +66,7 @@ def plot_simulation(result, *, ax=None, quantity: str = "position", span=None):
         ax.plot(t[sel], a[sel], color="tab:blue", lw=1.0, ls="--",
                 label=f"{_extended_label(result)}, simulated")
     ax.set_xlabel("time $t$ [s]")
-    ax.legend(loc="best", fontsize="small")
+    ax.legend(loc="upper right", fontsize="small")
     return ax
 
 
@@ -105,7 +105,7 @@ def plot_residual(result, against: str = "velocity", *, ax=None, after: bool = F
     ax.axhline(0.0, color="0.3", lw=0.8)
     ax.set_xlabel(label)
     ax.set_ylabel(f"torque residual [{u.torque}]")
-    ax.legend(loc="best", fontsize="small", markerscale=6)
+    ax.legend(loc="upper right", fontsize="small", markerscale=6)
     return ax
 
 
@@ -128,7 +128,7 @@ def plot_residual_spectrum(result, *, ax=None):
         ax.semilogy(f[1:], p[1:], color=color, lw=1.0, label=lab)
     ax.set_xlabel("frequency $f$ [Hz]")
     ax.set_ylabel(f"residual PSD [({tu})$^2$/Hz]")
-    ax.legend(loc="best", fontsize="small")
+    ax.legend(loc="upper right", fontsize="small")
     return ax
 
 
