@@ -99,12 +99,13 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # $$ I\,\ddot q = T_m - T_{at}, \qquad I = n^2 I_r + I_s, $$
 #
 # the total inertia reflected to the load side.  Which of these numbers the paper gives:
-# the link inertia $I_s$ (0.0046 kg m², the SCARA link of Figs. 16-18), and nothing else
-# of Eq. (1).  The actuator's inertia $n^2 I_r$ is *derived* (the one value that makes the
-# paper's P design self-consistent, Chapter 6); the gear ratio $n = 100$, the stiffness $K$
-# and the damping $d$ are *assumptions*, so $I_r$ itself is known only through the assumed
-# $n$.  The cell below reads all of them from the simulator's own joint objects and checks
-# that their accelerations are the right-hand sides above.
+# of the mechanical parameters only the link inertia $I_s$ (0.0046 kg m², the SCARA link of
+# Figs. 16-18); its friction values are the subject of Section 2.  The actuator's inertia
+# $n^2 I_r$ is *derived* (the one value that makes the paper's P design self-consistent,
+# Chapter 6); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
+# *assumptions*, so $I_r$ itself is known only through the assumed $n$.  The cell below
+# reads all of them from the simulator's own joint objects and checks that their
+# accelerations are the right-hand sides above.
 
 # %%
 n = p.gear_ratio

@@ -63,7 +63,8 @@ warnings.simplefilter("ignore", DesignWarning)  # the designs' warnings are in D
 # $F_c^+$, $F_c^-$ (`coulomb_pos`, `_neg`) [N m], the Stribeck excesses $S^\pm = F_s^\pm -
 # F_c^\pm$ over the Stribeck velocity $v_s$ [rad/s] with exponent $\delta$ [-] (`stribeck_*`),
 # $+$ for $\omega > 0$ and $-$ for $\omega < 0$, all positive magnitudes; at rest the joint
-# holds while $|T_m - o|$ stays below the breakaway level $F_c^\pm + S^\pm$.  Around it the
+# holds while $|T_m - o|$ stays below the breakaway level $F_c^\pm + S^\pm$ (a file may add
+# the excess of a plain static-friction law, `static_*`; 0 here).  Around it the
 # file gives the loop: the sample time $T_s$ (`sample_time`) [s], one encoder count $\Delta$
 # (`encoder_resolution`) [rad], the torque limit $T_{max}$ (`max_torque`) [N m].  A linear
 # axis reads N, m, kg instead.  The paper's actuator ships as one (generated from
@@ -85,6 +86,7 @@ assert (fr.viscous_pos, fr.coulomb_pos, fr.stribeck_velocity) == (
     chapter1.viscous, chapter1.coulomb, chapter1.stribeck_velocity)
 assert np.isclose(fr.coulomb_pos + fr.stribeck_pos, chapter1.static, rtol=1e-12)
 assert paper.offset == 0.0 and paper.load_inertia == 0.0  # rigid, no offset
+assert fr.static_pos == 0.0 and fr.breakaway(+1) == fr.coulomb_pos + fr.stribeck_pos
 
 # %% [markdown]
 # A model file is read strictly: a missing or unknown key, another version, NaN or a negative
