@@ -302,6 +302,13 @@ def fit_least_squares(prediction: Callable, data, y, *, names, initial, lower=No
         raise ValueError(f"data: expected shape (N, m), got {data.shape}")
     n, m = data.shape
     y = v.array("y", y, size=n)
+    # a value whose square overflows makes the column norms (and the scaling) inf or 0
+    for label, col in [(f"the regressor of {names[j]}" if m == p else f"data column {j}", data[:, j])
+                       for j in range(m)] + [("y (the torque)", y)]:
+        big = float(np.max(np.abs(col))) if col.size else 0.0
+        if big > 1e150:
+            raise ValueError(f"{label} reaches {big:.3g}: too large to fit (its square overflows "
+                             "double precision); check the record's units and scale")
     if np.ptp(y) == 0:
         raise ValueError("y is constant over the record (e.g. a torque that is zero throughout): "
                          "nothing to identify")

@@ -57,6 +57,9 @@ def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, 
         n = max(DEFAULT_SUBSTEPS[kind], need)
     else:
         n = checked_substeps(requested)
+        if n > MAX_SUBSTEPS:  # an explicit count is the user's, not the plant's: say so
+            raise ValueError(f"substeps={n} is more than the {MAX_SUBSTEPS} allowed per sample "
+                             f"(this plant needs {need} at Ts = {ts:g} s; omit substeps to use it)")
         if n < need:
             raise ValueError(f"substeps={n} is too few: the plant's fastest rate {rate:.4g} 1/s "
                              f"needs at least {need} RK4 sub-steps per sample of {ts:g} s "
@@ -111,6 +114,15 @@ def _samples(duration, ts, n_runs) -> int:
         raise ValueError(f"duration {duration} s x {n_runs} runs is {n_runs * nsamp} samples, more "
                          f"than {MAX_SAMPLES:.0e}: shorten the duration or split the batch")
     return nsamp
+
+
+def _delay(delay, nsamp: int, ts: float, what: str = "delay") -> int:
+    """Whole samples of delay, shorter than the run (a longer one: no torque reaches the joint)."""
+    d = v.integer(what, delay, low=0)
+    if d >= nsamp:
+        raise ValueError(f"{what} of {d} samples ({d * ts:g} s) is not shorter than the run "
+                         f"({nsamp} samples, {nsamp * ts:g} s): no torque would reach the joint")
+    return d
 
 
 def _noise(noise_std, rng, shape):
@@ -192,7 +204,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
     nsamp = _samples(duration, ts, n)
-    delay = v.integer("delay", delay, low=0)
+    delay = _delay(delay, nsamp, ts)
     quantize = v.flag("quantize", quantize)
     noise_std, noise = _noise(noise_std, rng, (n, nsamp))
     try:
@@ -361,7 +373,9 @@ def simulate_model(model: JointModel, controller: Controller,
                       kst=np.array([a.stiffness]), dmp=np.array([a.damping]))
     loop_args = dict(ts=ts, substeps=substeps, res=np.array([res]),
                      tmax=np.array([math.inf if model.max_torque is None else model.max_torque]),
-                     q0=np.array([v.real("q0", q0)]), delay=model.delay_samples(ts), noise=noise)
+                     q0=np.array([v.real("q0", q0)]),
+                     delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
+                     noise=noise)
     control = dict(ref=controller.reference(t)[None, :], ff=controller.feedforward(t)[None, :],
                    kp=np.array([[controller.kp]]), kd=np.array([[controller.kd]]),
                    segments=np.zeros((1, 1), dtype=np.bool_))
@@ -459,7 +473,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     _samples(nsamp * ts, ts, 1)
     a = joint.kernel_args()
     substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], 0.0, nsamp * ts)
-    delay = v.integer("delay", delay, low=0)
+    delay = _delay(delay, nsamp, ts)
     noise = (np.zeros((1, 1)) if noise is None
              else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
     _check_drift(joint.friction, 0.0, nsamp * ts)

@@ -111,7 +111,16 @@ class SimResult(_Trajectories):
         return self.reference - self.q
 
     def steady_state_error(self, window: float = 0.5, *, measured: bool = False) -> float:
-        """Mean error r - q over the last ``window`` seconds [rad]."""
+        """Mean error r - q over the last ``window`` seconds [rad].
+
+        Raises
+        ------
+        ValueError
+            For an open-loop run: it has no reference (its ``reference`` array is zero
+            by convention), so an error against it would be the position, not an error.
+        """
+        if self.info.controller == "open loop":
+            raise ValueError("an open-loop run has no reference: no steady-state error")
         return float(self._final_mean_error(window, measured))
 
     def stuck_intervals(self, min_duration: float = 0.0) -> list[tuple[float, float]]:

@@ -72,10 +72,17 @@ from numba import njit
 
 from ... import _validate as v
 from ..layout import forward_theta, pack, unpack
-from .core import LoopResult, Trainer, TrainingProblem, TrainingResult
+from .core import MAX_RESTARTS, LoopResult, Trainer, TrainingProblem, TrainingResult, check_work
 
 __all__ = ["train_backprop", "loop", "loss_gradient", "epoch", "learning_rates", "SCHEDULES",
-           "CONVERGING", "compile_kernels", "TRAINER"]
+           "CONVERGING", "compile_kernels", "TRAINER", "MAX_EPOCHS", "MAX_WORK"]
+
+#: Most epochs per start (the paper's recipe runs 1000, :data:`CONVERGING` 300).
+MAX_EPOCHS = 100_000
+#: Most ``restarts * epochs * patterns * hidden`` one training may take: about 10 to 20
+#: minutes at the ~5e-8 s per pattern, epoch and hidden unit measured on one core (the
+#: paper's recipe on 4000 patterns is 1.6e7, a few seconds).
+MAX_WORK = 2e10
 
 #: The learning-rate schedules (:func:`learning_rates`).
 SCHEDULES = ("constant", "cosine")
@@ -225,6 +232,17 @@ def loop(problem: TrainingProblem, *, learning_rate: float = 0.05, momentum: flo
     restarts = v.integer("restarts", restarts, low=1)
     if velocity_scale is not None:
         velocity_scale = v.real("velocity_scale", velocity_scale, positive=True, unit="rad/s")
+    # bounded work: refused before anything the size of epochs is allocated
+    if epochs > MAX_EPOCHS:
+        raise ValueError(f"epochs={epochs} is more than the {MAX_EPOCHS} a start may run")
+    if restarts > MAX_RESTARTS:
+        raise ValueError(f"restarts={restarts} is more than the {MAX_RESTARTS} starts a training "
+                         "may run")
+    per_epoch = restarts * problem.n * problem.hidden
+    check_work(f"restarts*epochs*patterns*hidden = {restarts}*{epochs}*{problem.n}*"
+               f"{problem.hidden}", float(per_epoch) * epochs, MAX_WORK,
+               f"at most {max(0, int(MAX_WORK // per_epoch))} epochs with these patterns, "
+               "restarts and hidden units would finish")
     rates = learning_rates(schedule, lr, epochs)
     h, tn = problem.hidden, problem.tn
     xn, a, b = _descent_velocity(problem, velocity_scale)
@@ -248,6 +266,7 @@ def loop(problem: TrainingProblem, *, learning_rate: float = 0.05, momentum: flo
             # the loss of the best net so far: this start's, or a finished start's
             loss[r * epochs + k + 1] = min(e, best_loss)
             elapsed[r * epochs + k + 1] = problem.elapsed()
+            problem.report(r * epochs + k + 1, restarts * epochs)
         finals.append(e)
         if e < best_loss:
             best, best_loss = r, e

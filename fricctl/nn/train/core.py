@@ -36,7 +36,24 @@ from ..metrics import fit_report
 from ..net import FrictionNet
 
 __all__ = ["Scaling", "initial_theta", "TrainingProblem", "LoopResult", "TrainingHistory",
-           "TrainingResult", "Trainer"]
+           "TrainingResult", "Trainer", "MAX_HIDDEN", "MAX_RESTARTS", "check_work"]
+
+#: Most hidden units a trainer accepts (the paper's net has 4).  Levenberg-Marquardt's
+#: step solves a (4H+1)-square system per iteration over an N x (4H+1) Jacobian: at
+#: H = 32 and 4000 patterns an iteration takes ~0.15 s, at H = 64 ~0.6 s.
+MAX_HIDDEN = 32
+#: Most starting points a trainer runs (each a full training).
+MAX_RESTARTS = 100
+
+
+def check_work(what: str, work: float, limit: float, advice: str) -> None:
+    """Refuse a training whose work estimate ``work`` exceeds ``limit`` (same unit).
+
+    ``advice`` says which setting would finish (e.g. "at most 2000 epochs").
+    """
+    if work > limit:
+        raise ValueError(f"{what} is {work:.3g}, more than the {limit:.3g} a training may take: "
+                         f"{advice}")
 
 
 # -- scaling ---------------------------------------------------------------------------
@@ -134,6 +151,13 @@ class TrainingProblem:
     scaling: Scaling
     """How :attr:`xn` and :attr:`tn` were scaled (a loop that constrains the net in
     physical units converts its grids with it)."""
+    progress: Callable[[int, int], None] | None = None
+    """``progress(done, total)`` after each step (:meth:`report`), or None."""
+
+    def report(self, done: int, total: int) -> None:
+        """Tell :attr:`progress` (if any) that ``done`` of ``total`` steps are done."""
+        if self.progress is not None:
+            self.progress(int(done), int(total))
 
     @property
     def n(self) -> int:
@@ -243,6 +267,7 @@ class Trainer:
 
     def train(self, tm, omega, target, *, hidden: int = 4, rng: np.random.Generator,
               metadata: dict | None = None, scaling: Scaling | None = None,
+              progress: Callable[[int, int], None] | None = None,
               **options) -> TrainingResult:
         """Train a 2-``hidden``-1 net on the patterns with this trainer.
 
@@ -260,6 +285,9 @@ class Trainer:
             Input and output scaling; default :meth:`Scaling.of` the patterns (inputs to
             [-1, 1] over their range).  A pipeline that wants the net's resolution where
             friction is nonlinear (low speeds) passes its own.
+        progress : callable, optional
+            ``progress(done, total)`` after each step of the loop (epoch, iteration); a
+            command line shows a bar with it.  Not stored with the net.
         **options
             The loop's options (:meth:`options`); unknown names raise ``ValueError``.
         """
@@ -269,7 +297,13 @@ class Trainer:
                              f"it takes {', '.join(self.options()) or 'none'}")
         tm, omega, target = _patterns(tm, omega, target)
         hidden = v.integer("hidden", hidden, low=1)
+        if hidden > MAX_HIDDEN:
+            raise ValueError(f"hidden={hidden} is more than the {MAX_HIDDEN} hidden units a "
+                             f"trainer accepts (the paper's net has 4)")
         v.rng("rng", rng)
+        if progress is not None and not callable(progress):
+            raise ValueError(f"progress must be a callable progress(done, total), got "
+                             f"{type(progress).__name__}")
         if metadata is not None:
             v.instance("metadata", metadata, dict)
         rng_state = rng.bit_generator.state
@@ -279,7 +313,7 @@ class Trainer:
         if self.prepare is not None:
             self.prepare()
         problem = TrainingProblem(hidden=hidden, xn=xn, tn=tn, rng=rng,
-                                  start=time.perf_counter(), scaling=scaling)
+                                  start=time.perf_counter(), scaling=scaling, progress=progress)
         out = self.loop(problem, **options)
         mse = 2.0 * out.loss * scaling.output_scale ** 2  # scaled 0.5*e^2 -> physical e^2
         history = TrainingHistory(trainer=self.name, step=self.step, loss=mse,
