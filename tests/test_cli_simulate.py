@@ -161,8 +161,8 @@ def test_existing_output_needs_force(tmp_path, capsys):
     assert main(argv) == 2
     assert "exists (use --force" in capsys.readouterr().err and csv.read_text() == "keep me"
     assert main([*argv, "--force"]) == 0 and Run.from_csv(csv).n_samples == 50
-    assert main(["simulate", "--torque", "constant:0.1", "--csv", str(tmp_path / "x"),
-                 "--figure", str(tmp_path / "x")]) == 2
+    assert main(["simulate", "--torque", "constant:0.1", "--csv", str(tmp_path / "x.png"),
+                 "--figure", str(tmp_path / "x.png")]) == 2
     assert "name the same file" in capsys.readouterr().err
 
 

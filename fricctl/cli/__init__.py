@@ -4,7 +4,9 @@ Each sub-command lives in its own module of this package and exposes
 ``register(subparsers)``, which adds its parser and sets ``func`` to a callable
 ``func(args) -> int``.  Errors in the user's input (:class:`ValueError`, and
 :class:`OSError` such as a missing file or an output path that is a directory)
-print one line on stderr and exit with code 2; warnings print one line each.
+print one line on stderr and exit with code 2; warnings print one line each, after
+the command's output (a call that fails prints its error line only: the warnings that
+led to it, e.g. a numpy overflow, add nothing to it).
 """
 
 from __future__ import annotations
@@ -47,19 +49,28 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, a usage error: a code, also when called in-process
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     if getattr(args, "func", None) is None:
         print(f"fricctl: error: a command is required, one of {', '.join(SUBCOMMANDS)} "
               "(see fricctl --help)", file=sys.stderr)
         return 2
+    shown: list[str] = []
+
     def one_line_warning(message, category, filename, lineno, file=None, line=None):
         text = str(message).splitlines()[0] if str(message) else category.__name__
-        print(f"fricctl {args.command}: warning: {text}", file=sys.stderr)
+        if text not in shown:
+            shown.append(text)
 
     try:
         with warnings.catch_warnings():
             warnings.showwarning = one_line_warning
-            return int(args.func(args) or 0)
+            code = int(args.func(args) or 0)
+        for text in shown:
+            print(f"fricctl {args.command}: warning: {text}", file=sys.stderr)
+        return code
     except ValueError as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"fricctl {args.command}: error: {msg}", file=sys.stderr)

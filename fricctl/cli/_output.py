@@ -1,20 +1,35 @@
-"""What every sub-command checks before it writes a file (issue 15): no clobbered input.
+"""What every sub-command checks before it writes, and how it prints JSON (issue 15).
 
-An output that is one of the call's inputs, or the same file as another output of
-the call, is refused; an existing output is refused unless ``--force``; a folder
-is never an output file.  Checked before any work is done, so a refused call
-writes nothing.
+:func:`check_outputs`: an output that is one of the call's inputs, or the same file
+as another output of the call, is refused; an existing output is refused unless
+``--force``; a folder is never an output file; the folder an output goes into must
+exist and be writable.  Checked before any work is done, so a refused call writes
+nothing.
+
+:func:`json_text`: the one way a sub-command prints or writes JSON.  Standard JSON
+only (``allow_nan=False``): a value that is not a finite number is written as
+``null`` and its reason is listed under the key ``"undefined"``.
 """
 
 from __future__ import annotations
 
+import contextlib
+import json
+import math
+import os
 from pathlib import Path
 
-__all__ = ["check_outputs"]
+import numpy as np
+
+__all__ = ["check_outputs", "check_figure", "json_text", "about", "FIGURE_FORMATS"]
+
+#: File name endings ``--figure`` accepts (matplotlib picks the format from it).
+FIGURE_FORMATS = (".png", ".pdf", ".svg")
 
 
 def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
-    """Refuse outputs that would clobber an input, each other, or an existing file.
+    """Refuse outputs that would clobber an input, each other, or an existing file,
+    or that cannot be written.
 
     Parameters
     ----------
@@ -36,6 +51,8 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
         if path is None:
             continue
         p = Path(path)
+        if not str(path).strip():
+            raise ValueError(f"{option}: empty file name")
         key = p.resolve()
         if key in ins:
             raise ValueError(f"{option}: {p} is an input of this command; refusing to overwrite it")
@@ -44,5 +61,100 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
         seen[key] = option
         if p.is_dir():
             raise ValueError(f"{option}: {p} is a folder, not a file")
-        if p.exists() and not force:
-            raise ValueError(f"{option}: {p} exists (use --force to overwrite)")
+        folder = key.parent
+        if not folder.is_dir():
+            raise ValueError(f"{option}: the folder {p.parent} does not exist")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise ValueError(f"{option}: the folder {p.parent} is not writable")
+        if p.exists():
+            if not force:
+                raise ValueError(f"{option}: {p} exists (use --force to overwrite)")
+            if not os.access(p, os.W_OK):
+                raise ValueError(f"{option}: {p} exists and is not writable")
+
+
+def check_figure(option: str, path) -> None:
+    """Refuse a figure path whose ending names no image format.
+
+    matplotlib would append ``.png`` to such a name and write a file other than the
+    one checked (``--figure results`` would write ``results.png``); a folder is
+    refused by :func:`check_outputs`.
+    """
+    if path is None:
+        return
+    p = Path(path)
+    if p.suffix.lower() not in FIGURE_FORMATS:
+        where = " (a folder: give a file inside it, e.g. " + str(p / "run.png") + ")" if p.is_dir() else ""
+        raise ValueError(f"{option}: {p} must end in {', '.join(FIGURE_FORMATS)}{where}")
+
+
+@contextlib.contextmanager
+def about(*paths):
+    """Name the input file(s) in a :class:`ValueError` raised inside (issue 15: "acceleration
+    holds NaN" says nothing about which of the user's files did it)."""
+    try:
+        yield
+    except ValueError as exc:
+        names = ", ".join(Path(p).name for p in paths if p is not None)
+        msg = str(exc)
+        if not names or any(Path(p).name in msg for p in paths if p is not None):
+            raise
+        raise ValueError(f"{names}: {msg}") from exc
+
+
+def _finite(obj, path: str, undefined: dict, reasons: dict):
+    if isinstance(obj, dict):
+        return {k: _finite(x, f"{path}.{k}" if path else str(k), undefined, reasons)
+                for k, x in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(x, f"{path}[{i}]", undefined, reasons) for i, x in enumerate(obj)]
+    if isinstance(obj, np.ndarray):
+        return _finite(obj.tolist(), path, undefined, reasons)
+    if isinstance(obj, (np.bool_,)):
+        return bool(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        x = float(obj)
+        if math.isfinite(x):
+            return x
+        undefined[path] = reasons.get(path, f"not a finite number ({x!r})")
+        return None
+    if obj is None and path in reasons:
+        undefined[path] = reasons[path]
+    return obj
+
+
+def json_text(obj: dict, *, reasons: dict | None = None, indent: int | None = 2) -> str:
+    """``obj`` as standard JSON: non-finite numbers become null with a reason.
+
+    Parameters
+    ----------
+    obj : dict
+        The summary (nested dicts, lists, numbers, strings, None; NumPy scalars and
+        arrays are converted).
+    reasons : dict, optional
+        Key path (``"a.b"``, ``"a[0]"``) -> why that value is undefined, for values the
+        command sets to None or that may come out non-finite.  A non-finite value
+        without a reason is reported as ``"not a finite number (inf)"``.
+    indent : int or None
+        As for :func:`json.dumps`.
+
+    Returns
+    -------
+    str
+        JSON with an ``"undefined": {path: reason}`` entry when any value is null for a
+        reason (never ``NaN`` or ``Infinity``).
+
+    Examples
+    --------
+    >>> json_text({"a": 1.0, "b": float("nan")}, indent=None)
+    '{"a": 1.0, "b": null, "undefined": {"b": "not a finite number (nan)"}}'
+    """
+    undefined: dict = {}
+    out = _finite(obj, "", undefined, dict(reasons or {}))
+    if undefined:
+        if "undefined" in out:  # pragma: no cover - a summary never uses the key itself
+            raise RuntimeError("a summary uses the key 'undefined' that json_text adds")
+        out["undefined"] = undefined
+    return json.dumps(out, indent=indent, allow_nan=False)

@@ -16,7 +16,6 @@ settling_time}, sampled{...same...}, warnings[...]``; missing values are null.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import warnings
 
@@ -47,6 +46,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from ..design import DesignWarning, design_p, design_pd
+    from ._output import json_text
     from ..params import paper_actuator
     from ..plant import JointModel
 
@@ -69,7 +69,7 @@ def run(args) -> int:
             d = design_pd(params, rise_time=args.rise_time, damping=args.damping,
                           rise_time_definition=args.rise_time_definition)
     if args.json:
-        print(json.dumps(d.as_dict(), indent=2, allow_nan=False))
+        print(json_text(d.as_dict()))
         for w in d.warnings:
             print(f"fricctl design: warning: {w}", file=sys.stderr)
     else:

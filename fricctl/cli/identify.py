@@ -23,7 +23,6 @@ and exits with code 2.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 _RECIPES = ("plain", "idim_ls")
@@ -92,24 +91,26 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
 def run(args) -> int:
     from ..datasets import load_record
     from ..identify import identify_run, idim_ls
-    from ._output import check_outputs
+    from ._output import about, check_outputs, json_text
 
     check_outputs({"--out": args.out}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
-    record = load_record(args.run, units=args.units)
     if args.recipe == "idim_ls":
         given = [o for o, x in (("--estimator", args.estimator), ("--border", args.border))
                  if x is not None]
         if given:
             raise ValueError(f"{', '.join(given)} has no effect with --recipe idim_ls (its "
                              f"estimator and border are the EMPS recipe's)")
-        result = idim_ls(record, model=args.model)
-        estimator = "butterworth_central"
-    else:
-        estimator = args.estimator or "butterworth_central"
-        result = identify_run(record, model=args.model, estimator=estimator,
-                              border=50 if args.border is None else args.border)
+    with about(args.run):
+        record = load_record(args.run, units=args.units)
+        if args.recipe == "idim_ls":
+            result = idim_ls(record, model=args.model)
+            estimator = "butterworth_central"
+        else:
+            estimator = args.estimator or "butterworth_central"
+            result = identify_run(record, model=args.model, estimator=estimator,
+                                  border=50 if args.border is None else args.border)
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
                          max_torque=args.max_torque).save(args.out, overwrite=args.force)
@@ -117,7 +118,7 @@ def run(args) -> int:
         out = result.as_dict()
         out.update(estimator=estimator, recipe=args.recipe,
                    out=None if args.out is None else str(args.out))
-        print(json.dumps(out, indent=2, allow_nan=False))
+        print(json_text(out))
     else:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s, "
               f"{'recipe idim_ls' if args.recipe == 'idim_ls' else 'estimator ' + estimator}")

@@ -26,7 +26,6 @@ inertia, records[{source, n_samples, sample_time}], friction_rms``, and with
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
@@ -69,19 +68,24 @@ def run(args) -> int:
     from ..datasets.patterns import PatternSet
     from ..plant import JointModel
     from ..units import units as units_of
-    from ._output import check_outputs
+    from ._output import about, check_outputs, json_text
 
     check_outputs({"--out": args.out}, [*args.runs, args.model, args.net], force=args.force)
-    model = JointModel.load(args.model)
-    records = [load_record(r) for r in args.runs]
+    with about(args.model):
+        model = JointModel.load(args.model)
+    records = []
+    for r in args.runs:
+        with about(r):
+            records.append(load_record(r))
     for path, rec in zip(args.runs, records):
         if rec.units != model.units:
             raise ValueError(f"{Path(path).name}: a {rec.units} record for a {model.units} model "
                              f"({Path(args.model).name})")
     options = POLYNOMIAL_OPTIONS if args.estimator == "polynomial_segments" else {}
-    pats = record_patterns(records, inertia=model.inertia, estimator=args.estimator,
-                           estimator_options=options, border=args.border, guard=args.guard,
-                           velocity_quantum=model.velocity_quantum)
+    with about(*args.runs):
+        pats = record_patterns(records, inertia=model.inertia, estimator=args.estimator,
+                               estimator_options=options, border=args.border, guard=args.guard,
+                               velocity_quantum=model.velocity_quantum)
     described = ", ".join(f"{k}={x}" for k, x in options.items())
     pats = PatternSet(tm=pats.tm, omega=pats.omega, friction=pats.friction, at_rest=pats.at_rest,
                       units=pats.units, velocity_quantum=pats.velocity_quantum,
@@ -106,7 +110,7 @@ def run(args) -> int:
     if net_fit is not None:
         summary["net"] = net_fit.as_dict()
     if args.json:
-        print(json.dumps(summary, indent=2, allow_nan=False))
+        print(json_text(summary))
         return 0
     q = "unknown" if pats.velocity_quantum is None else f"{pats.velocity_quantum:.4g} {u.velocity}"
     print(f"{len(pats)} patterns from {len(records)} record(s) -> {args.out} "

@@ -25,7 +25,6 @@ Examples::
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from pathlib import Path
 
@@ -77,7 +76,10 @@ def register(sub):
                    help="clip the network's inputs to its training envelope")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
     p.add_argument("--csv", help="write the measured record t,torque,position,reference")
-    p.add_argument("--figure", help="write a PNG of position and torques")
+    p.add_argument("--figure", metavar="FILE.png",
+                   help="write a figure of position and torques; the name must end in .png, "
+                        ".pdf or .svg (a folder or a bare name is refused: nothing is written "
+                        "beside it)")
     p.add_argument("--c-source", metavar="NAME.c", default=None,
                    help="with --compensation nn: write the compensator as C (NAME.c, NAME.h)")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -168,14 +170,28 @@ def _outputs(args) -> dict:
     return outs
 
 
-def _model_summary(res, model) -> dict:
+#: Why an open-loop run's error values are null (it follows a torque, not a reference).
+NO_REFERENCE = "open loop: there is no reference, so no error"
+
+
+def _errors(res, keys) -> dict:
+    """The error values of a summary (null for an open-loop run: see :data:`NO_REFERENCE`)."""
+    if res.info.controller == "open loop":
+        return dict.fromkeys(keys)
     err = res.reference - res.q
+    values = {"final_error": float(err[-1]),
+              "steady_state_error": res.steady_state_error(min(0.5, res.t[-1] / 2)),
+              "tracking_error_rms": float(np.sqrt(np.mean(err ** 2))),
+              "max_abs_error": float(np.max(np.abs(err)))}
+    return {k: values[k] for k in keys}
+
+
+def _model_summary(res, model) -> dict:
     return {"controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
             "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-            "units": model.units, "final_error": float(err[-1]),
-            "steady_state_error": res.steady_state_error(min(0.5, res.t[-1] / 2)),
-            "tracking_error_rms": float(np.sqrt(np.mean(err ** 2))),
-            "max_abs_error": float(np.max(np.abs(err))),
+            "units": model.units,
+            **_errors(res, ("final_error", "steady_state_error", "tracking_error_rms",
+                            "max_abs_error")),
             "max_abs_position": float(np.max(np.abs(res.q))),
             "max_abs_torque": float(np.max(np.abs(res.torque_motor))),
             "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
@@ -204,9 +220,10 @@ def run(args) -> int:
     from ..params import paper_actuator
     from ..plant import JointModel
     from ..simulate import simulate, simulate_model
-    from ._output import check_outputs
+    from ._output import check_figure, check_outputs, json_text
 
     _check_combination(args)
+    check_figure("--figure", args.figure)
     outputs = _outputs(args)
     check_outputs(outputs, [args.model, args.net], force=args.force)
     scale = 1.0 if args.scale is None else args.scale
@@ -242,10 +259,13 @@ def run(args) -> int:
         c.with_suffix(".h").write_text(c_header(net, name=c.stem, units=units or "rotary"),
                                        encoding="utf-8")
     if args.json:
-        print(json.dumps(summary, indent=2, allow_nan=False))
+        print(json_text(summary, reasons={k: NO_REFERENCE for k, x in summary.items() if x is None}))
     else:
         labels = {} if units is None else _unit_labels(units)
         for k, v in summary.items():
+            if v is None:
+                print(f"{k:26s} - ({NO_REFERENCE})")
+                continue
             text = f"{v:.6g}" if isinstance(v, float) else f"{v}"
             print(f"{k:26s} {text} {labels.get(k, '')}".rstrip())
     return 0
@@ -263,11 +283,13 @@ def _unit_labels(units) -> dict:
 
 
 def _paper_summary(res, duration) -> dict:
+    e = _errors(res, ("final_error", "steady_state_error"))
     return {
         "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
         "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-        "final_error_rad": float(res.reference[-1] - res.q[-1]),
-        "steady_state_error_deg": math.degrees(res.steady_state_error(min(0.5, duration / 2))),
+        "final_error_rad": e["final_error"],
+        "steady_state_error_deg": (None if e["steady_state_error"] is None
+                                   else math.degrees(e["steady_state_error"])),
         "max_abs_position_rad": float(np.max(np.abs(res.q))),
         "stuck_intervals": len(res.stuck_intervals()),
         "stuck_at_end": bool(res.stuck[-1]),

@@ -15,13 +15,22 @@ The trained net is written as JSON (:func:`fricctl.nn.save_net`) and its fit pri
 prints one JSON object instead: ``out, trainer, pipeline, units, hidden, seed,
 n_patterns, fit{...}, train_mse, gain_at_rest, viscous_removed, certificate,
 envelope{tm[lo, hi], omega[lo, hi]}, c_source``.  Outputs never overwrite an input or
-an existing file without ``--force``.
+an existing file without ``--force``; every output is checked (its folder exists and is
+writable) before training starts.
+
+Limits (refused above them, with the setting that would finish; docs/limits.md):
+at most 32 hidden units and 100 restarts; back-prop at most 100 000 epochs per
+start and restarts*epochs*patterns*hidden <= 2e10 (~10-20 min on one core);
+Levenberg-Marquardt (casadi) restarts*200*patterns*(4*hidden+1)^2 <= 1e12.  Its
+iterations stop by themselves: ``--epochs`` is refused with it.  A progress bar is
+shown on stderr when stderr is a terminal (``--progress on|off`` to choose).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
+import contextlib
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -84,8 +93,42 @@ def register(subparsers) -> None:
                    help="also write a self-contained C compensator of the net and its header "
                         "(NET.h beside it)")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
+    p.add_argument("--progress", choices=("auto", "on", "off"), default="auto",
+                   help="progress bar of the training on stderr (trainers; auto: when stderr is "
+                        "a terminal)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
+
+
+@contextlib.contextmanager
+def progress_bar(mode: str, unit: str, stream=None):
+    """A ``progress(done, total)`` callable drawing a tqdm bar on ``stream`` (stderr), or None.
+
+    ``mode``: ``"on"``, ``"off"``, or ``"auto"`` (on when the stream is a terminal: a
+    bar in a log file or a pipe is noise).
+    """
+    stream = sys.stderr if stream is None else stream
+    isatty = getattr(stream, "isatty", None)
+    if mode == "off" or (mode == "auto" and not (callable(isatty) and isatty())):
+        yield None
+        return
+    from tqdm import tqdm
+
+    bars = []  # drawn at the first report, when the total is known
+
+    def report(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, unit=unit, file=stream, leave=False, dynamic_ncols=True))
+        bar = bars[0]
+        if bar.total != total:
+            bar.total = total
+        bar.update(done - bar.n)
+
+    try:
+        yield report
+    finally:
+        for bar in bars:
+            bar.close()
 
 
 def _gain_band(text):
@@ -130,7 +173,7 @@ def run(args) -> int:
     from .. import nn
     from ..nn.c_export import c_header
     from ..nn.train.backprop import CONVERGING
-    from ._output import check_outputs
+    from ._output import check_outputs, json_text
 
     header = None if args.c_source is None else args.c_source.with_suffix(".h")
     check_outputs({"--out": args.out, "--c-source": args.c_source, "--c-source header": header},
@@ -164,8 +207,10 @@ def run(args) -> int:
                     for k in BACKPROP_FLAGS}
         options = {"casadi": dict(restarts=3 if args.restarts is None else args.restarts),
                    "backprop": backprop}
-        res = nn.TRAINERS[trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
-                                         metadata={**extra, "units": units}, **options[trainer])
+        with progress_bar(args.progress, nn.TRAINERS[trainer].step) as progress:
+            res = nn.TRAINERS[trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
+                                             metadata={**extra, "units": units}, progress=progress,
+                                             **options[trainer])
         net, hist = res.net, res.history
         estimate, viscous, cert = net(tm, omega), 0.0, None
     nn.save_net(net, args.out)
@@ -184,7 +229,7 @@ def run(args) -> int:
                "envelope": {"tm": [float(net.envelope_low[0]), float(net.envelope_high[0])],
                             "omega": [float(net.envelope_low[1]), float(net.envelope_high[1])]},
                "c_source": None if args.c_source is None else str(args.c_source)}
-        print(json.dumps(out, indent=2, allow_nan=False))
+        print(json_text(out))
     else:
         how = f"the {args.pipeline} pipeline ({trainer})" if args.pipeline else trainer
         print(f"trained a 2-{net.hidden}-1 net with {how} (seed {args.seed}) "
