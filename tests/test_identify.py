@@ -249,3 +249,26 @@ def test_a_constant_torque_record_is_refused():
     w = np.linspace(-1, 1, 200)
     with pytest.raises(ValueError, match="constant"):
         fit_friction(w, np.cos(w), np.zeros_like(w), model="coulomb_viscous")
+
+
+def test_identify_run_drops_the_encoders_rest_for_a_filtering_estimator():
+    # A sinusoid above breakaway on the paper's bench sticks at every reversal.  A Butterworth
+    # velocity is never exactly 0, so only the encoder can say the joint is at rest; without
+    # that test (rest_guard=None) the holding torques pull the Coulomb level down.
+    from fricctl import controllers as ctl
+    from fricctl.params import paper_actuator
+    from fricctl.simulate import simulate
+
+    p = paper_actuator()
+    run = simulate(p, ctl.open_loop(ctl.sinusoid(0.3, 1.0)), duration=4.0).to_run()
+    opts = {"cutoff": 20.0}
+    fit = I.identify_run(run, estimator="butterworth_central", estimator_options=opts)
+    kept = I.identify_run(run, estimator="butterworth_central", estimator_options=opts,
+                          rest_guard=None)
+    rest = E.at_rest(run.position)[50:run.n_samples - 50]
+    assert kept.n_samples - fit.n_samples == rest.sum() > 50
+    assert fit.parameters["coulomb"] == pytest.approx(p.coulomb, rel=0.1)
+    assert fit.parameters["viscous"] == pytest.approx(p.viscous, rel=0.1)
+    assert kept.parameters["coulomb"] < 0.7 * p.coulomb
+    with pytest.raises(ValueError, match="rest_guard"):
+        I.identify_run(run, rest_guard=0)

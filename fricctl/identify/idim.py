@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..datasets import Run
-from ..estimation import butterworth_central, decimate, estimate
+from ..estimation import at_rest, butterworth_central, decimate, estimate
 from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
@@ -37,7 +37,8 @@ def _run(run) -> Run:
 
 def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butterworth_central",
                  estimator_options: dict | None = None, offset: bool | None = None,
-                 border: int = 50, initial: dict | None = None) -> IdentificationResult:
+                 border: int = 50, initial: dict | None = None,
+                 rest_guard: int | None = 2) -> IdentificationResult:
     """Estimate velocity/acceleration from a :class:`~fricctl.datasets.Run` and fit ``model``.
 
     Parameters
@@ -56,24 +57,37 @@ def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butte
         Samples dropped at each end (estimator end effects) [samples].
     initial : dict, optional
         Starting values, see :func:`~fricctl.identify.fit_friction`.
+    rest_guard : int or None
+        Samples the *encoder* shows at rest -- the same reading ``rest_guard`` samples
+        before and after (:func:`fricctl.estimation.at_rest`) -- are dropped [samples];
+        ``None`` drops only the samples whose estimated velocity is exactly zero.
 
     Notes
     -----
-    Samples whose estimated velocity is exactly zero (the axis at rest, as the
-    encoder-based estimators report it) are dropped: an inverse model has no
-    friction information there.  No decimation (plain least squares); see
-    :func:`idim_ls` for the full EMPS recipe.
+    Samples at rest carry no friction information in an inverse model (the torque there
+    is the reaction that holds the axis, anything below breakaway), so they are dropped:
+    those whose estimated velocity is exactly zero (as the encoder-based estimators
+    report rest) and those where the encoder stood still.  The second test matters for
+    filtering estimators: a Butterworth velocity is never exactly zero, and the rest
+    samples left in pair holding torques with small velocities of either sign, which
+    pulls the Coulomb level down (by half on the paper's bench, chapter 3).  No
+    decimation (plain least squares); see :func:`idim_ls` for the full EMPS recipe.
     """
     _run(run)
     border = v.integer("border", border, low=0)
+    if rest_guard is not None:
+        rest_guard = v.integer("rest_guard", rest_guard, low=1)
     if 2 * border >= run.n_samples - 10:
         raise ValueError(f"border: {border} leaves too few of the {run.n_samples} samples")
     est = estimate(run.t, run.position, estimator, **(estimator_options or {}))
     sl = slice(border, run.n_samples - border)
     w, a, y = est.velocity[sl], est.acceleration[sl], run.torque[sl]
     keep = w != 0.0
+    if rest_guard is not None:
+        keep &= ~at_rest(run.position, guard=rest_guard)[sl]
     if keep.sum() < 10:
-        raise ValueError("no motion: fewer than 10 samples with non-zero estimated velocity")
+        raise ValueError("no motion: fewer than 10 samples that move (non-zero estimated velocity, "
+                         "encoder not at rest)")
     return fit_friction(w[keep], a[keep], y[keep], model=model, offset=offset, initial=initial,
                         units=run.units)
 
