@@ -223,6 +223,62 @@ def test_sampled_loop_from_gains_equals_from_design():
     assert sampled_loop(d, torque_output=True).noutputs == 2
 
 
+
+def test_viscous_compensated_zero_is_the_loop_without_compensation():
+    d = quiet(paper_designs)["fig13-14"]
+    loop = LinearLoop.of(d)
+    a, b = loop.sampled(), loop.sampled(viscous_compensated=0.0)
+    for m in ("A", "B", "C", "D"):
+        np.testing.assert_array_equal(getattr(a, m), getattr(b, m))  # exactly the same loop
+    # a compensated loop differs (the compensation acts through omega_hat)
+    assert not np.array_equal(a.A, loop.sampled(viscous_compensated=1.0).A)
+    with pytest.raises(ValueError, match="viscous_compensated must be >= 0"):
+        loop.sampled(viscous_compensated=-0.5)
+    with pytest.raises(ValueError, match="viscous_compensated must be finite"):
+        sampled_loop(d, viscous_compensated=float("nan"))
+
+
+@pytest.mark.parametrize("c", [0.5, 1.0])
+def test_viscous_compensated_poles_from_the_loop_transfer_function(c):
+    # independent construction: ZOH plant P(z) (python-control's tf c2d), one sample of
+    # delay, controller Kp + (Kd - c b)(1 - z^-1)/Ts on the measured position;
+    # closed-loop poles = roots of z (z - 1)... : 1 + z^-1 C(z) P(z) = 0
+    d = quiet(paper_designs)["fig11-12"]
+    ts, b = d.sample_time, d.viscous
+    pz = control.c2d(control.tf([1.0], [d.inertia, b, 0.0]), ts, method="zoh")
+    z = control.tf([1.0, 0.0], [1.0], ts)
+    kv = d.kd - c * b
+    cz = d.kp + kv * (1 - 1 / z) / ts
+    char = control.feedback(1 / z * cz * pz, 1)
+    ref = np.sort_complex(control.poles(control.minreal(char, verbose=False)))
+    got = np.linalg.eigvals(sampled_loop(d, viscous_compensated=c).A)
+    got = np.sort_complex(got[np.abs(got) > 1e-9])
+    ref = ref[np.abs(ref) > 1e-9]
+    np.testing.assert_allclose(got, ref, atol=1e-9)
+    # full compensation of a P loop leaves no damping: a dominant pole on or outside |z| = 1
+    if c == 1.0:
+        assert np.max(np.abs(got)) > 1.0 - 1e-6
+
+
+def test_viscous_compensated_equals_core_simulator_with_that_compensator():
+    # independent implementation: the core simulator (RK4 plant, its own timing and
+    # compensation code) with viscous-only friction, no quantisation, and a compensator
+    # whose estimate is c*b*omega_hat
+    from fricctl.compensators import NNCompensator
+    from fricctl.controllers import p_control, step
+    from fricctl.friction import Viscous
+    from fricctl.simulate import simulate
+
+    d = quiet(paper_designs)["fig11-12"]
+    c = 0.6
+    res = simulate(P0, p_control(d.kp, step(0.2)), NNCompensator(lambda tm, w: c * P0.viscous * w),
+                   friction=Viscous(P0.viscous).model(), duration=1.0, quantize=False)
+    assert np.max(np.abs(res.torque_motor)) < P0.max_torque
+    n = res.t.size
+    out = control.forced_response(sampled_loop(d, viscous_compensated=c), np.arange(n) * d.sample_time,
+                                  res.reference, initial_state=[0.0, 0.0, 0.0, 0.0]).outputs
+    np.testing.assert_allclose(res.q, out, atol=1e-9)
+
 def test_linear_loop_closed_form_and_argument_checks():
     # wn = sqrt(Kp/I), zeta = (b + Kd)/(2 sqrt(Kp I)): 2 rad/s and 0.5 here (exact numbers);
     # NumPy scalars are real numbers like any other (fricctl._validate)

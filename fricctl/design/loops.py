@@ -134,7 +134,8 @@ class LinearLoop:
         a = [[0.0, 1.0], [-kp / inertia, -(viscous + kd) / inertia]]
         return control.ss(a, [[0.0], [kp / inertia]], [[1.0, 0.0]], [[0.0]])
 
-    def sampled(self, *, torque_output: bool = False) -> control.StateSpace:
+    def sampled(self, *, torque_output: bool = False,
+                viscous_compensated: float = 0.0) -> control.StateSpace:
         """Discrete closed loop of the core simulator's sampled-data controller.
 
         Timing (the core loop's): at ``t_k = k*Ts`` the encoder reads
@@ -149,6 +150,13 @@ class LinearLoop:
         ----------
         torque_output : bool
             Also output the held motor torque Tm_k (second output) [N*m].
+        viscous_compensated : float
+            Fraction c of the viscous term a compensator cancels: it adds
+            ``c*b*omega_hat_k`` to the torque computed at ``t_k`` (the paper's
+            ``Tm(k+1) = Tc(k) + T^at(k)`` with a friction estimate whose viscous
+            part is ``c*b*omega_hat``).  0 is the loop without compensation; 1 the
+            full compensation of Chapter 6, which removes the only damping of a P
+            loop [-].
 
         Returns
         -------
@@ -161,9 +169,11 @@ class LinearLoop:
         pd_ = control.c2d(self._plant_ss(), ts, method="zoh")
         ad, bd = np.asarray(pd_.A), np.asarray(pd_.B)
         c = np.array([[1.0, 0.0]])
-        # Tc_k = Kp (r_k - y_k) - Kd (y_k - y_{k-1})/Ts ; Tm_{k+1} = Tc_k ; yprev_{k+1} = y_k
-        k_y = -(self.kp + self.kd / ts)
-        k_prev = self.kd / ts
+        comp = v.real("viscous_compensated", viscous_compensated, nonneg=True) * self.viscous
+        # Tc_k = Kp (r_k - y_k) - Kd (y_k - y_{k-1})/Ts ; yprev_{k+1} = y_k
+        # Tm_{k+1} = Tc_k + c b (y_k - y_{k-1})/Ts : the compensation acts as a negative Kd
+        k_y = -(self.kp + (self.kd - comp) / ts)
+        k_prev = (self.kd - comp) / ts
         a = np.zeros((4, 4))
         a[:2, :2] = ad
         a[:2, 2:3] = bd
@@ -251,7 +261,8 @@ class LinearLoop:
 
 def sampled_loop(design: Design | None = None, *, kp: float | None = None,
                  kd: float = 0.0, params: ActuatorParams | None = None,
-                 torque_output: bool = False) -> control.StateSpace:
+                 torque_output: bool = False,
+                 viscous_compensated: float = 0.0) -> control.StateSpace:
     """Discrete closed loop of the core simulator's sampled-data controller.
 
     The loop of :meth:`LinearLoop.sampled` (see there for the timing) for a
@@ -268,6 +279,9 @@ def sampled_loop(design: Design | None = None, *, kp: float | None = None,
         Plant (``total_inertia``, ``viscous``) and ``sample_time``.
     torque_output : bool
         Also output the held motor torque Tm_k (second output) [N*m].
+    viscous_compensated : float
+        Fraction of the viscous term ``b*omega_hat`` a compensator adds to the
+        next torque (:meth:`LinearLoop.sampled`) [-].
 
     Returns
     -------
@@ -292,7 +306,7 @@ def sampled_loop(design: Design | None = None, *, kp: float | None = None,
             raise ValueError("kp is required without a design")
         loop = LinearLoop(kp=kp, kd=kd, inertia=params.total_inertia, viscous=params.viscous,
                           sample_time=params.sample_time)
-    return loop.sampled(torque_output=torque_output)
+    return loop.sampled(torque_output=torque_output, viscous_compensated=viscous_compensated)
 
 
 def linear_response(design: Design, t, reference, q0: float = 0.0, *,
