@@ -182,3 +182,12 @@ def test_model_delay_longer_than_the_run_is_a_clear_error(tmp_path, capsys):
 def test_a_folder_given_as_the_record(tmp_path, capsys):
     assert main(["identify", str(tmp_path)]) == 2
     assert "a folder" in _one_error_line(capsys, "identify")
+
+
+def test_a_run_beyond_the_memory_budget_is_refused_before_any_work(capsys):
+    from fricctl.simulate.api import BYTES_PER_SAMPLE, MAX_SAMPLES, MEMORY_BUDGET
+
+    assert MAX_SAMPLES * BYTES_PER_SAMPLE <= MEMORY_BUDGET
+    # 1e5 s at Ts = 2 ms is 5e7 samples (8 GB at 160 bytes): refused at once, with the numbers
+    assert main(["simulate", "--torque", "constant:0.1", "--duration", "1e5"]) == 2
+    assert f"50000000 samples, more than {MAX_SAMPLES}" in _one_error_line(capsys, "simulate")

@@ -27,8 +27,15 @@ __all__ = ["simulate", "simulate_batch", "simulate_model", "simulate_schedule", 
 
 #: Internal RK4 sub-intervals per sample, by plant kind.
 DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, LUGRE: 40}
-#: Largest number of samples (runs x samples) one call simulates (12 arrays of 8 bytes each).
-MAX_SAMPLES = 2e8
+#: Memory per simulated sample [bytes]: 120 measured (peak RSS of a 1e6-sample P loop, 121 MB
+#: above a 1e4-sample one: the records and the loop's buffers), plus 8 for a noise draw, rounded up.
+BYTES_PER_SAMPLE = 160
+#: The memory one call may take [bytes].
+MEMORY_BUDGET = 4e9
+#: Largest number of samples (runs x samples) one call simulates: :data:`MEMORY_BUDGET` at
+#: :data:`BYTES_PER_SAMPLE` (25 million, 14 h at 500 Hz; ~1 min of computing); more is
+#: refused with the number, before any work.
+MAX_SAMPLES = int(MEMORY_BUDGET // BYTES_PER_SAMPLE)
 _PLANTS = {"rigid": RIGID, "flexible": FLEXIBLE}
 
 
@@ -112,7 +119,8 @@ def _samples(duration, ts, n_runs) -> int:
         raise ValueError(f"duration {duration} s is shorter than two samples of {ts} s")
     if n_runs * nsamp > MAX_SAMPLES:
         raise ValueError(f"duration {duration} s x {n_runs} runs is {n_runs * nsamp} samples, more "
-                         f"than {MAX_SAMPLES:.0e}: shorten the duration or split the batch")
+                         f"than {MAX_SAMPLES} ({MEMORY_BUDGET / 1e9:g} GB at {BYTES_PER_SAMPLE} "
+                         "bytes each): shorten the duration or split the batch")
     return nsamp
 
 
