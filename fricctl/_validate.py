@@ -29,14 +29,16 @@ ValueError: viscous must be >= 0, got -1.0
 
 from __future__ import annotations
 
+import json
 import math
 import numbers
+import re
 from typing import Iterable
 
 import numpy as np
 
 __all__ = ["real", "integer", "flag", "choice", "rng", "array", "instance", "text",
-           "is_real_scalar"]
+           "is_real_scalar", "number_text", "strict_json", "json_numbers"]
 
 #: Numbers larger than this are refused as "not a usable magnitude" (about 1e300):
 #: their squares and products overflow double precision.
@@ -159,6 +161,18 @@ def text(name: str, v, *, empty: bool = True) -> str:
     return v
 
 
+def _holds_bool(seq) -> bool:
+    """True if a (nested) list/tuple holds a bool or numpy.bool_ (ndarray items are skipped)."""
+    stack = [seq]
+    while stack:
+        for x in stack.pop():
+            if isinstance(x, (bool, np.bool_)):
+                return True
+            if isinstance(x, (list, tuple)):
+                stack.append(x)
+    return False
+
+
 def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
           min_size: int = 0, finite: bool = True, shape: tuple | None = None) -> np.ndarray:
     """A real-valued array as a float ``ndarray`` (a new array only where conversion needs one).
@@ -188,7 +202,12 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
         raise ValueError(f"{name} must be a rectangular array of real numbers (rows of equal "
                          f"length)") from None
     if raw.dtype.kind not in "iuf":
-        raise ValueError(f"{name} must hold real numbers, got an array of dtype {raw.dtype}")
+        what = {"U": "text", "S": "bytes", "b": "booleans", "c": "complex numbers",
+                "O": "mixed or non-numeric objects"}.get(raw.dtype.kind, f"dtype {raw.dtype}")
+        raise ValueError(f"{name} must hold real numbers, got an array of {what}")
+    if isinstance(v, (list, tuple)) and _holds_bool(v):
+        # numpy turns [True, 0.5] into [1.0, 0.5]: a boolean is not a number here either
+        raise ValueError(f"{name} must hold real numbers, got a boolean among them")
     try:
         a = np.asarray(raw, dtype=float)
     except OverflowError:  # pragma: no cover - integer arrays beyond float range
@@ -210,3 +229,178 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
             where = i[0] if len(i) == 1 else i
             raise ValueError(f"{name} holds NaN or inf ({float(a[i])!r}) at index {where}")
     return a
+
+
+#: A decimal number as a data file writes it: optional sign, digits with an optional
+#: point, optional exponent; also nan/inf (so that the caller can name them).  Python's
+#: ``float()`` also accepts ``1_000`` and surrounding whitespace of any kind; files are
+#: read strictly, so ``0.00_2`` is an error, never 0.002.
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|[+-]?(?:nan|inf|infinity)",
+                     re.IGNORECASE)
+
+
+def number_text(name: str, s: str, *, finite: bool = True) -> float:
+    """The number a text cell holds (a CSV field, a ``# key: value`` line), strictly.
+
+    Leading and trailing spaces are ignored; anything else that is not a plain decimal
+    number (``1_000``, ``0x10``, ``1,5``, an empty cell) raises :class:`ValueError`
+    naming ``name``.  ``finite`` refuses NaN and +-inf (and magnitudes beyond double
+    precision, which ``float`` would turn into inf).
+
+    Examples
+    --------
+    >>> number_text("torque", " -1.5e-3 ")
+    -0.0015
+    >>> number_text("torque", "0.00_2")
+    Traceback (most recent call last):
+    ...
+    ValueError: torque: not a number: '0.00_2'
+    """
+    if not isinstance(s, str):
+        raise ValueError(f"{name}: expected text, got {type(s).__name__}")
+    cell = s.strip(" \t")
+    if not _NUMBER.fullmatch(cell):
+        raise ValueError(f"{name}: not a number: {_describe(cell)}")
+    x = float(cell)
+    if finite and not math.isfinite(x):
+        what = "NaN" if math.isnan(x) else ("inf" if cell.lstrip("+-")[:1].lower() == "i"
+                                             else "beyond double precision")
+        raise ValueError(f"{name}: {what} (not a finite number)")
+    return x
+
+
+class _Constant:
+    """Stands for a NaN/Infinity token until :func:`strict_json` knows under which key it is."""
+
+    def __init__(self, token):
+        self.token = token
+
+
+def _find_constant(x, path=""):
+    """(path, token) of the first :class:`_Constant` in a parsed document, or None."""
+    if isinstance(x, _Constant):
+        return path, x.token
+    items = x.items() if isinstance(x, dict) else enumerate(x) if isinstance(x, list) else ()
+    for key, item in items:
+        sub = (f"{path}.{key}" if path else str(key)) if isinstance(x, dict) else f"{path}[{key}]"
+        found = _find_constant(item, sub)
+        if found:
+            return found
+    return None
+
+
+def _parse_int(digits: str) -> int:
+    # beyond 309 digits a number overflows a double; the caller's check names the key up to
+    # 1000 digits, longer ones are refused here (Python's own limit is a 4300-digit error)
+    if len(digits.lstrip("-")) > 1000:
+        raise ValueError(f"an integer of {len(digits.lstrip('-'))} digits is not a usable number")
+    return int(digits)
+
+
+def _no_duplicates(pairs):
+    out = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"duplicate key {key!r}")
+        out[key] = value
+    return out
+
+
+def _depth(text: str) -> int:
+    """Deepest bracket nesting of a JSON text, outside strings."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for ch in text:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
+
+def strict_json(document: str, *, max_depth: int):
+    """Parse the JSON text of a fricctl file (model file, network file) strictly.
+
+    Refused, each as a :class:`ValueError` (never a RecursionError or OverflowError):
+    text that is not JSON, a duplicate key (``json`` keeps the last one silently),
+    ``NaN``/``Infinity``, an integer of more than 1000 digits, and nesting deeper than
+    ``max_depth`` (checked before parsing, so a hostile file cannot exhaust the stack).
+    What the values mean is the caller's check (use :func:`real` / :func:`json_numbers`:
+    they refuse booleans and numbers beyond double precision, naming the key).
+
+    Examples
+    --------
+    >>> strict_json('{"a": [1, 2.5]}', max_depth=2)
+    {'a': [1, 2.5]}
+    >>> strict_json('{"a": 1, "a": 2}', max_depth=2)
+    Traceback (most recent call last):
+    ...
+    ValueError: duplicate key 'a'
+    """
+    document = text("document", document)
+    max_depth = integer("max_depth", max_depth, low=1)
+    if _depth(document) > max_depth:
+        raise ValueError(f"JSON nested deeper than {max_depth} levels (not this kind of file)")
+    try:
+        data = json.loads(document, object_pairs_hook=_no_duplicates, parse_constant=_Constant,
+                          parse_int=_parse_int)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:  # pragma: no cover - the depth check comes first
+        raise ValueError("JSON nested too deeply") from None
+    found = _find_constant(data)
+    if found:
+        where, token = found
+        raise ValueError(f"{where or 'the document'}: {token} is not a number (JSON has no NaN "
+                         f"or Infinity)")
+    return data
+
+
+def json_numbers(name: str, x, *, shape: tuple = ()) -> np.ndarray:
+    """A number or nested list of numbers parsed from JSON, as a float array of ``shape``.
+
+    Every leaf must be a JSON number (``int`` or ``float``, never ``true``/``false``, a
+    string or ``null``) within double precision; the message names the element
+    (``w1[2][0]``).  ``shape=()`` is one number (returned as a 0-d array); a ``None``
+    in ``shape`` accepts any length of at least 1 (``(None, 2)``: rows of two).
+
+    Examples
+    --------
+    >>> json_numbers("b1", [0.5, 1], shape=(2,)).tolist()
+    [0.5, 1.0]
+    >>> json_numbers("b1", [0.5, True], shape=(2,))
+    Traceback (most recent call last):
+    ...
+    ValueError: b1[1] must be a real number, got True
+    """
+    shape = tuple(shape)
+
+    def walk(label, item, dims):
+        if not dims:
+            if not isinstance(item, (int, float)) or isinstance(item, bool):
+                raise ValueError(f"{label} must be a real number, got {_describe(item)}")
+            return real(label, item)
+        if not isinstance(item, list):
+            n = "" if dims[0] is None else f"{dims[0]} "
+            raise ValueError(f"{label} must be a list of {n}"
+                             f"{'numbers' if len(dims) == 1 else 'lists'}, got {_describe(item)}")
+        if dims[0] is None and not item:
+            raise ValueError(f"{label} must not be empty")
+        if dims[0] is not None and len(item) != dims[0]:
+            raise ValueError(f"{label} must have {dims[0]} entries, got {len(item)}")
+        return [walk(f"{label}[{i}]", e, dims[1:]) for i, e in enumerate(item)]
+
+    out = np.array(walk(name, x, shape), dtype=float)
+    if out.ndim != len(shape):  # ragged rows under a None length
+        raise ValueError(f"{name} must be a rectangular array (rows of equal length)")
+    return out

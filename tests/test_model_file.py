@@ -6,12 +6,13 @@ import math
 
 import pytest
 
+from fricctl._validate import strict_json
 from fricctl.cli import main
 from fricctl.data import PAPER_ACTUATOR_SOURCE, paper_actuator_file, paper_actuator_model
 from fricctl.friction import Coulomb, Viscous
 from fricctl.params import paper_actuator
 from fricctl.plant import JointModel
-from fricctl.plant.model import PROVENANCE_SOURCES, Provenance, provenance_keys, strict_json
+from fricctl.plant.model import PROVENANCE_SOURCES, Provenance, provenance_keys
 
 
 def _model(**kw):

@@ -12,6 +12,12 @@ A saved network is one JSON object::
 
 Floats are written by :func:`json.dumps` (shortest round-trip repr), so a load
 gives the same net bit for bit.  No pickle: a file is data, never code.
+
+Reading is as strict as the model file's (:mod:`fricctl.plant.model`), through the
+same reader (:func:`fricctl._validate.strict_json`): duplicate keys, NaN/Infinity,
+nesting deeper than :data:`MAX_DEPTH`, a weight that is a string or a boolean, a
+number beyond double precision, a ``version`` that is not the integer 1, an unknown
+key or ``units`` entry raise :class:`ValueError` naming the key.
 """
 
 from __future__ import annotations
@@ -22,9 +28,11 @@ from pathlib import Path
 from .. import _validate as v
 from .net import FrictionNet
 
-__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "save_net", "load_net", "net_to_dict",
-           "net_from_dict", "net_to_json", "net_from_json"]
+__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "MAX_DEPTH", "UNITS", "save_net", "load_net",
+           "net_to_dict", "net_from_dict", "net_to_json", "net_from_json"]
 
+#: Deepest bracket nesting a network file may have (a saved net has 4).
+MAX_DEPTH = 8
 #: Value of the ``"format"`` key of a saved network.
 FORMAT_NAME = "fricctl.FrictionNet"
 #: Version of the JSON layout written by :func:`save_net`; :func:`load_net`
@@ -52,21 +60,38 @@ def net_to_dict(net: FrictionNet) -> dict:
         "output_scale": net.output_scale,
         "envelope_low": net.envelope_low.tolist(),
         "envelope_high": net.envelope_high.tolist(),
-        "units": {"inputs": ["N*m", "rad/s"], "output": "N*m", "side": "load"},
+        "units": json.loads(json.dumps(UNITS)),
         "metadata": dict(net.metadata),
     }
 
 
+#: The ``units`` entry of a network file: the only one a FrictionNet has (load side, SI).
+UNITS = {"inputs": ["N*m", "rad/s"], "output": "N*m", "side": "load"}
+
+#: Shapes of the numeric entries in the file (``None``: the number of hidden units).
+_SHAPES = {"w1": (None, 2), "b1": ("H",), "w2": ("H",), "b2": (), "input_offset": (2,),
+           "input_scale": (2,), "output_offset": (), "output_scale": (), "envelope_low": (2,),
+           "envelope_high": (2,)}
+
+
 def net_from_dict(data: dict) -> FrictionNet:
-    """Inverse of :func:`net_to_dict`; a wrong format, version or key raises ``ValueError``."""
+    """Inverse of :func:`net_to_dict`, strict: every problem is a ``ValueError`` naming the key.
+
+    Refused: another format or version (``"version"`` must be the integer 1, not
+    ``true`` or ``1.0``), a missing or unknown key, a weight that is not a JSON number
+    (a string, a boolean, null) or lies beyond double precision, arrays of the wrong
+    shape, ``hidden`` disagreeing with ``w1``, and a ``units`` entry other than
+    :data:`UNITS`.
+    """
     if not isinstance(data, dict):
         raise ValueError(f"a saved FrictionNet is a JSON object, got {type(data).__name__}")
-    if data.get("format") != FORMAT_NAME:
-        raise ValueError(f"not a FrictionNet file: format is {data.get('format')!r}, "
-                         f"expected {FORMAT_NAME!r}")
-    if data.get("version") != FORMAT_VERSION:
-        raise ValueError(f"unsupported FrictionNet format version {data.get('version')!r}; "
-                         f"this fricctl reads version {FORMAT_VERSION}")
+    fmt = data.get("format")
+    if not (isinstance(fmt, str) and fmt == FORMAT_NAME):
+        raise ValueError(f"format: not a FrictionNet file ({fmt!r}, expected {FORMAT_NAME!r})")
+    version = data.get("version")
+    if type(version) is not int or version != FORMAT_VERSION:
+        raise ValueError(f"version: unsupported FrictionNet format version {version!r}; "
+                         f"this fricctl reads version {FORMAT_VERSION} (an integer)")
     expected = set(_FIELDS) | {"format", "version", "hidden", "units"}
     missing = sorted(expected - set(data))
     unknown = sorted(set(data) - expected)
@@ -74,11 +99,21 @@ def net_from_dict(data: dict) -> FrictionNet:
         raise ValueError(f"FrictionNet file is missing key(s): {', '.join(missing)}")
     if unknown:
         raise ValueError(f"FrictionNet file has unknown key(s): {', '.join(unknown)}")
-    net = FrictionNet(**{k: data[k] for k in _FIELDS})
-    if data["hidden"] != net.hidden:
-        raise ValueError(f"FrictionNet file says hidden={data['hidden']!r} but w1 has "
-                         f"{net.hidden} rows")
-    return net
+    if data["units"] != UNITS or not isinstance(data["units"], dict):
+        raise ValueError(f"units: a FrictionNet file has units {json.dumps(UNITS)} "
+                         f"(load side, SI), got {json.dumps(data['units'])[:120]}")
+    hidden = v.integer("hidden", data["hidden"], low=1)
+    w1 = v.json_numbers("w1", data["w1"], shape=_SHAPES["w1"])
+    if w1.shape[0] != hidden:
+        raise ValueError(f"hidden: the file says hidden={hidden} but w1 has {w1.shape[0]} rows")
+    values = {"w1": w1}
+    for key, shape in _SHAPES.items():
+        if key != "w1":
+            x = v.json_numbers(key, data[key], shape=tuple(hidden if s == "H" else s
+                                                           for s in shape))
+            values[key] = float(x) if x.ndim == 0 else x
+    v.instance("metadata", data["metadata"], dict, "a JSON object")
+    return FrictionNet(**values, metadata=data["metadata"])
 
 
 def net_to_json(net: FrictionNet) -> str:
@@ -89,8 +124,12 @@ def net_to_json(net: FrictionNet) -> str:
 def net_from_json(text: str) -> FrictionNet:
     """Parse :func:`net_to_json` output; malformed text raises ``ValueError``."""
     try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
+        # the one strict JSON reader of fricctl's files (fricctl._validate.strict_json):
+        # nesting bounded (a net file is 4 deep: net > metadata > rng_state > state), so a
+        # deeply nested file is a ValueError, not a RecursionError; duplicate keys, NaN and
+        # integers of more than 1000 digits refused
+        data = v.strict_json(text, max_depth=MAX_DEPTH)
+    except ValueError as exc:
         raise ValueError(f"malformed FrictionNet JSON: {exc}") from None
     return net_from_dict(data)
 

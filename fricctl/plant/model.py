@@ -459,7 +459,7 @@ class JointModel:
     def from_json(cls, text: str) -> "JointModel":
         """Parse a model file's text strictly (duplicate keys, NaN, deep nesting are errors)."""
         v.text("text", text)
-        return cls.from_dict(strict_json(text, max_depth=_MAX_DEPTH))
+        return cls.from_dict(v.strict_json(text, max_depth=_MAX_DEPTH))
 
     @classmethod
     def load(cls, path) -> "JointModel":
@@ -478,75 +478,6 @@ class JointModel:
 
 
 # ---------------------------------------------------------------------- reading helpers
-def _refuse_constant(name):
-    raise ValueError(f"{name} is not a number (JSON has no NaN or Infinity)")
-
-
-def _parse_int(digits: str) -> int:
-    # beyond 309 digits a number overflows a double; the caller's check names the key up to
-    # 1000 digits, longer ones are refused here (Python's own limit is a 4300-digit error)
-    if len(digits.lstrip("-")) > 1000:
-        raise ValueError(f"an integer of {len(digits.lstrip('-'))} digits is not a usable number")
-    return int(digits)
-
-
-def _no_duplicates(pairs):
-    out = {}
-    for key, value in pairs:
-        if key in out:
-            raise ValueError(f"duplicate key {key!r}")
-        out[key] = value
-    return out
-
-
-def _depth(text: str) -> int:
-    """Deepest bracket nesting of a JSON text, outside strings."""
-    depth = deepest = 0
-    in_string = escaped = False
-    for ch in text:
-        if in_string:
-            if escaped:
-                escaped = False
-            elif ch == "\\":
-                escaped = True
-            elif ch == '"':
-                in_string = False
-        elif ch == '"':
-            in_string = True
-        elif ch in "[{":
-            depth += 1
-            deepest = max(deepest, depth)
-        elif ch in "]}":
-            depth -= 1
-    return deepest
-
-
-def strict_json(text: str, *, max_depth: int):
-    """Parse JSON text, refusing duplicate keys, NaN/Infinity and nesting deeper than ``max_depth``.
-
-    Every problem is a :class:`ValueError` (never a RecursionError or OverflowError).
-
-    Examples
-    --------
-    >>> strict_json('{"a": [1, 2.5]}', max_depth=2)
-    {'a': [1, 2.5]}
-    >>> strict_json('{"a": 1, "a": 2}', max_depth=2)
-    Traceback (most recent call last):
-    ...
-    ValueError: duplicate key 'a'
-    """
-    max_depth = v.integer("max_depth", max_depth, low=1)
-    if _depth(text) > max_depth:
-        raise ValueError(f"JSON nested deeper than {max_depth} levels (not this kind of file)")
-    try:
-        return json.loads(text, object_pairs_hook=_no_duplicates, parse_constant=_refuse_constant,
-                          parse_int=_parse_int)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
-    except RecursionError:  # pragma: no cover - the depth check comes first
-        raise ValueError("JSON nested too deeply") from None
-
-
 def _text(name, x) -> str:
     v.text(name, x)
     if len(x) > _MAX_TEXT:

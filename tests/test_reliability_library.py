@@ -1,0 +1,88 @@
+"""Issue 15, library side: hostile inputs get a ValueError naming what is wrong.
+
+Net files as strict as model files (one reader, :func:`fricctl._validate.strict_json`),
+CSV cells read strictly, records and patterns of real numbers only, filters that
+would return NaN refused with their limit, and every friction evaluation finite.
+Each test is a regression test of one finding of the issue (its item in the comment).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from fricctl import _validate as v
+from fricctl.nn import FrictionNet
+from fricctl.nn.io import load_net, net_from_json, net_to_dict
+
+
+def _net():
+    return FrictionNet(w1=[[1.0, 0.5], [-0.3, 2.0]], b1=[0.1, -0.2], w2=[0.7, -1.1], b2=0.05,
+                       input_offset=[0.0, 0.1], input_scale=[1.0, 2.0], output_offset=0.01,
+                       output_scale=0.2, envelope_low=[-1.0, -3.0], envelope_high=[1.0, 3.0],
+                       metadata={"trainer": "by hand", "seed": 3})
+
+
+def _text(**changes):
+    d = net_to_dict(_net())
+    d.update(changes)
+    return json.dumps(d)
+
+
+# -- net files (items 5 and 7) -----------------------------------------------------------
+@pytest.mark.parametrize("text, match", [
+    ('{"a":' * 100_000 + "1" + "}" * 100_000, "nested deeper than"),     # was RecursionError
+    (_text(b2=10 ** 400), "b2 is too large"),                           # was OverflowError
+    (_text(w2=[10 ** 400, 1.0]), r"w2\[0\] is too large"),
+    (_text(w1=[[True, 0.5], [-0.3, 2.0]]), r"w1\[0\]\[0\] must be a real number, got True"),
+    (_text(b1=["0.1", -0.2]), r"b1\[0\] must be a real number, got '0.1'"),
+    (_text(b2=False), "b2 must be a real number"),
+    (_text(w2=[0.7, None]), r"w2\[1\] must be a real number, got None"),
+    (_text(version=True), "version"),
+    (_text(version=1.0), "version"),
+    (_text(hidden=2.0), "hidden must be an integer"),
+    (_text(units={"inputs": ["N", "m/s"], "output": "N", "side": "load"}), "units"),
+    (_text(units="SI"), "units"),
+    (_text()[:-1] + ', "b2": 5.0}', "duplicate key 'b2'"),
+    (_text().replace('"b2": 0.05', '"b2": NaN'), "b2: NaN is not a number"),
+    (_text().replace('"b2": 0.05', '"b2": -Infinity'), "b2: -Infinity is not a number"),
+    (_text(w1=[[1.0, 0.5], [-0.3]]), r"w1\[1\] must have 2 entries"),
+])
+def test_net_file_refuses_what_a_model_file_refuses(text, match):
+    with pytest.raises(ValueError, match=match):
+        net_from_json(text)
+
+
+def test_net_file_errors_name_the_file(tmp_path):
+    p = tmp_path / "net.json"
+    p.write_text(_text(version=True))
+    with pytest.raises(ValueError, match="net.json: version"):
+        load_net(p)
+
+
+def test_net_file_reads_what_it_writes_including_nested_metadata():
+    net = _net().replace(metadata={"rng_state": {"state": {"state": 2 ** 127, "inc": 5}}})
+    back = net_from_json(json.dumps(net_to_dict(net)))
+    assert back.metadata["rng_state"]["state"]["state"] == 2 ** 127
+    assert np.array_equal(back.w1, net.w1) and back.b2 == net.b2
+
+
+def test_one_strict_reader_for_model_and_net_files():
+    # the model file's reader is the shared one: its duplicate-key refusal names the key
+    from fricctl.plant import JointModel
+
+    with pytest.raises(ValueError, match="duplicate key 'inertia'"):
+        JointModel.from_json('{"format": "fricctl.joint_model", "version": 2, "inertia": 1, '
+                             '"inertia": 2}')
+    with pytest.raises(ValueError, match="friction.coulomb_pos: NaN is not a number"):
+        JointModel.from_json('{"format": "fricctl.joint_model", "version": 2, "units": "rotary",'
+                             ' "inertia": 1, "friction": {"coulomb_pos": NaN}}')
+
+
+def test_weights_given_as_booleans_in_python_lists_are_refused():
+    # numpy reads [True, 0.5] as [1.0, 0.5]; the shared array check does not
+    with pytest.raises(ValueError, match="b1 must hold real numbers, got a boolean"):
+        _net().replace(b1=[True, 0.5])
+    with pytest.raises(ValueError, match="x must hold real numbers"):
+        v.array("x", [[0.5, 1.0], [np.bool_(True), 2.0]], ndim=2)
+    assert v.array("x", [1, 2.5]).tolist() == [1.0, 2.5]
