@@ -236,7 +236,7 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
 #: ``float()`` also accepts ``1_000`` and surrounding whitespace of any kind; files are
 #: read strictly, so ``0.00_2`` is an error, never 0.002.
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|[+-]?(?:nan|inf|infinity)",
-                     re.IGNORECASE)
+                     re.IGNORECASE | re.ASCII)
 
 
 def number_text(name: str, s: str, *, finite: bool = True) -> float:

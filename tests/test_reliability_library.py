@@ -86,3 +86,58 @@ def test_weights_given_as_booleans_in_python_lists_are_refused():
     with pytest.raises(ValueError, match="x must hold real numbers"):
         v.array("x", [[0.5, 1.0], [np.bool_(True), 2.0]], ndim=2)
     assert v.array("x", [1, 2.5]).tolist() == [1.0, 2.5]
+
+
+# -- CSV, records, patterns (item 7) -----------------------------------------------------
+@pytest.mark.parametrize("cell", ["0.00_2", "1_000", "0x10", "1,5", "", "1e400", "nan", "-inf",
+                                  "1.5.2", "٣"])
+def test_csv_cells_are_decimal_numbers_only(tmp_path, cell):
+    from fricctl.datasets.table import read_columns
+
+    p = tmp_path / "r.csv"
+    p.write_text(f'a,b\n1,2\n3,"{cell}"\n', encoding="utf-8")
+    with pytest.raises(ValueError, match=r"r.csv, line 3, column 'b': "):
+        read_columns(p, required=("a", "b"))
+
+
+def test_csv_reads_every_plain_decimal_form(tmp_path):
+    from fricctl.datasets.table import read_columns
+
+    p = tmp_path / "r.csv"
+    p.write_text("a\n1\n-2.5\n+.5\n3.\n1e-3\n 7E+02 \n", encoding="utf-8")
+    assert read_columns(p, required=("a",))["a"].tolist() == [1.0, -2.5, 0.5, 3.0, 1e-3, 700.0]
+
+
+def test_patterns_file_velocity_quantum_is_read_strictly(tmp_path):
+    from fricctl.datasets import read_patterns
+
+    p = tmp_path / "p.csv"
+    p.write_text("# velocity_quantum: 1_0\ntm,omega,friction\n1,2,3\n4,5,6\n")
+    with pytest.raises(ValueError, match="velocity_quantum: not a number: '1_0'"):
+        read_patterns(p)
+
+
+@pytest.mark.parametrize("torque, match", [
+    (np.array(["1.0"] * 20), "torque must hold real numbers, got an array of text"),
+    (np.ones(20) + 0j, "torque must hold real numbers, got an array of complex"),
+    ([1.0] * 19 + [True], "torque must hold real numbers, got a boolean"),
+    (np.array([1.0] * 20, dtype=object), "torque must hold real numbers"),
+])
+def test_run_refuses_text_complex_and_boolean_arrays(torque, match):
+    from fricctl.datasets import Run
+
+    t = np.arange(20) * 0.002
+    with pytest.raises(ValueError, match=match):
+        Run(t=t, torque=torque, position=t ** 2)
+
+
+def test_smooth_patterns_refuse_static_below_coulomb():
+    from fricctl.nn.patterns import smooth_friction_patterns
+
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="static must be >= coulomb.*static=0.1.*coulomb=1"):
+        smooth_friction_patterns(rng, coulomb=1, static=0.1)
+    with pytest.raises(ValueError, match="at least 1"):
+        smooth_friction_patterns(rng, n_sliding=0, n_stuck=0)
+    p = smooth_friction_patterns(rng, coulomb=0.1, static=0.1, n_sliding=5, n_stuck=5)
+    assert np.all(np.abs(p.tm[5:]) <= 0.1)

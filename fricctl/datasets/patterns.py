@@ -217,10 +217,7 @@ def read_patterns(path) -> PatternTable:
             raise ValueError(f"# units: must be one of {', '.join(KINDS)}, got {units!r}")
         quantum = meta.pop("velocity_quantum", None)
         if quantum is not None:
-            try:
-                quantum = float(quantum)
-            except ValueError:
-                raise ValueError(f"# velocity_quantum: not a number: {quantum!r}") from None
+            quantum = v.number_text("# velocity_quantum", quantum, finite=False)
             quantum = v.real("# velocity_quantum", quantum, positive=True)
         rest = table.columns.get("at_rest")
         if rest is not None and not np.all((rest == 0) | (rest == 1)):

@@ -9,7 +9,6 @@ the line and the column.
 from __future__ import annotations
 
 import csv
-import math
 import types
 from dataclasses import dataclass
 from pathlib import Path
@@ -92,8 +91,9 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         The file does not exist.
     ValueError
         Not UTF-8 text, no header, an unknown, missing or duplicate column, a row
-        with another number of fields, a cell that is not a finite number (the
-        message names the file, the line and the column), or fewer than
+        with another number of fields, a cell that is not a finite decimal number
+        (``0.00_2``, ``0x10``, ``1,5``, NaN, inf; the message names the file, the line
+        and the column), or fewer than
         ``min_rows`` rows.
 
     Examples
@@ -138,15 +138,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
                              f"{len(header)}")
         row = []
         for name, cell in zip(header, cells):
-            try:
-                x = float(cell)
-            except ValueError:
-                raise ValueError(f"{path}, line {line_no}, column {name!r}: not a number: "
-                                 f"{cell.strip()!r}") from None
-            if not math.isfinite(x):
-                raise ValueError(f"{path}, line {line_no}, column {name!r}: "
-                                 f"{'NaN' if math.isnan(x) else 'inf'} (not a finite number)")
-            row.append(x)
+            # strictly a decimal number: Python's float() would read "0.00_2" as 0.002
+            row.append(v.number_text(f"{path}, line {line_no}, column {name!r}", cell))
         rows.append(row)
     if header is None:
         what = "no header line after the '#' lines" if meta or lines else "empty file"

@@ -61,7 +61,7 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
     coulomb : float
         Fc [N*m] (fricctl's assumed 80 % of the static level).
     static : float
-        Fs, the range of the stuck torques [N*m] (paper: 0.18).
+        Fs, the range of the stuck torques, >= ``coulomb`` [N*m] (paper: 0.18).
     smoothing_velocity : float
         v of the tanh smoothing of the Coulomb step, > 0 [rad/s].
     omega_max : float
@@ -95,6 +95,11 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
                               ("static", static, "N*m"), ("inertia", inertia, "kg*m^2"),
                               ("alpha_max", alpha_max, "rad/s^2")):
         v.real(name, value, nonneg=True, unit=unit)
+    if static < coulomb:
+        raise ValueError(f"static must be >= coulomb (the breakaway level is not below the "
+                         f"sliding level), got static={static!r} N*m and coulomb={coulomb!r} N*m")
+    if n_sliding + n_stuck < 1:
+        raise ValueError("n_sliding + n_stuck must be at least 1 (no patterns asked for)")
     v.real("smoothing_velocity", smoothing_velocity, positive=True, unit="rad/s")
     v.real("omega_max", omega_max, positive=True, unit="rad/s")
     om = rng.uniform(-omega_max, omega_max, n_sliding)
