@@ -16,13 +16,15 @@
 #
 # *Gervini, Gomes & da Rosa (2003): the actuator with the SCARA link (Figs. 16-18).*
 #
-# The paper attaches a link (0.0046 kg*m^2) and runs the actuator for 30 hours.
+# The paper attaches a link (0.0046 kg m²) and runs the actuator for 30 hours.
 # Friction changes with wear; instead of retraining, the paper lowers the
-# compensation scale to `s = 0.95` and compares with the classic model-based
-# compensator, `Fc * sign(omega_hat)`.  On the virtual bench the aged actuator is
-# modelled as the true friction scaled by 0.95 -- an assumption, since the bench
-# has no wear.  The chapter ends with a sweep over friction scale and link inertia:
-# where does a net trained once keep the PD accuracy of 0.3 deg?
+# compensation scale to $s = 0.95$ and compares with the classic model-based
+# compensator, $F_c\,\operatorname{sign}(\hat\omega)$.  On the virtual bench the aged
+# actuator is modelled as the true friction scaled by $\varphi = 0.95$ -- an
+# *assumption*, since the bench has no wear.  As in Chapter 6, a claim about a
+# trained network is checked on several training seeds of both pipelines.  The
+# chapter ends with a sweep over friction scale and link inertia: where does a net
+# trained once keep the PD accuracy of 0.3 deg?
 
 # %%
 import os
@@ -31,129 +33,253 @@ from concurrent.futures import ThreadPoolExecutor
 import matplotlib.pyplot as plt
 import numpy as np
 
+from fricctl import controllers as ctl
 from fricctl import figures
 from fricctl import paper
-from fricctl.params import paper_actuator
+from fricctl.bench.experiments import predicted_dead_zone
+from fricctl.compensators import CoulombCompensator
+from fricctl.design import design_pd
+from fricctl.paper.common import AGED_SCALE, last_window, sign_changes
+from fricctl.paper.table import aggregate_claims
+from fricctl.params import PAPER_LINK_INERTIA, paper_actuator
+from fricctl.simulate import simulate
 
 FAST = os.environ.get("FRICCTL_FAST") == "1"
+SEEDS = range(2 if FAST else 4)   # training seeds of each pipeline [-]
+PIPELINES = ("fricctl", "paper")  # fricctl.nn.pipelines.PIPELINES
 SCALES = (0.8, 1.0, 1.2) if FAST else (0.8, 0.9, 1.0, 1.1, 1.2)  # true / trained friction [-]
 LINKS = (0.0, 0.0046) if FAST else (0.0, 0.0023, 0.0046, 0.0069, 0.0092)  # link inertia [kg*m^2]
+LIMIT = np.deg2rad(paper.ACCURACY_DEG)  # the paper's 0.3 deg accuracy [rad]
 
 # %%
 p = paper_actuator()
-net_run = paper.train_paper_network(p, fast=FAST, seed=0)
+nets = {(pipe, k): paper.train_paper_network(p, fast=FAST, seed=k, pipeline=pipe)
+        for pipe in PIPELINES for k in SEEDS}
+results = {key: {n: paper.FIGURES[n](net_run) for n in (16, 17, 18)} for key, net_run in nets.items()}
+g = {key: n.trained.net.gain_at_rest() for key, n in nets.items()}
+r16 = results[("fricctl", SEEDS[0])][16]
+kp = r16.design.kp
+print(f"PD of Figs. 16-17 (0.4 s, 0.85, with the link): Kp = {kp:.4f} N*m/rad, Kd = {r16.design.kd:.4f} N*m*s/rad")
 
 # %% [markdown]
-# ## 1. The aged actuator: NN x 0.95, Coulomb, none (Fig. 16)
+# ## 1. The aged actuator and its band
 #
-# PD designed for 0.4 s and damping 0.85 with the link, step of 30 deg.
+# Chapter 6 showed that a stuck compensated joint stops anywhere inside a band set by
+# the loop's gain at rest.  With the compensation scaled by $s$ and the true friction
+# by $\varphi$ (breakaway $\varphi F_s$), the fixed point $T_m^\ast = K_p e/(1 - s g)$
+# stays below the breakaway for
+#
+# $$ |e_{ss}| \le \frac{\varphi F_s\,(1 - s g)}{K_p}, $$
+#
+# with $g$ the network's at-rest gain [-], $F_s$ the nominal breakaway torque [N m]
+# and $K_p$ the gain of Figs. 16-17 [N m/rad].  Lowering $s$ to 0.95 widens the band:
+# over the fricctl pipeline's certified range $0.98 \le g \le 0.99$,
 
 # %%
-r16 = paper.fig16.run(net_run)
-print(f"Kp = {r16.design.kp:.4f} N*m/rad, Kd = {r16.design.kd:.4f} N*m*s/rad")
-for name, run in r16.runs.items():
-    print(f"{name:10s} e_ss {np.rad2deg(r16.steady_state_error[name]):7.3f} deg, "
-          f"{r16.reference_crossings[name]} reference crossings, "
-          f"{r16.torque_sign_changes[name]} Tm sign changes in the last 0.5 s")
+phi = s = AGED_SCALE
+
+
+def band_deg(gain, scale=s, friction=phi):
+    """The stuck band phi Fs (1 - s g)/Kp of the Figs. 16-17 loop [deg]."""
+    return np.rad2deg(friction * p.static * (1.0 - scale * gain) / kp)
+
+
+print(f"s = {s}: band +-{band_deg(0.99):.2f} deg (g = 0.99) to +-{band_deg(0.98):.2f} deg (g = 0.98); "
+      f"with s = 1: +-{band_deg(0.99, 1.0):.2f} to +-{band_deg(0.98, 1.0):.2f} deg")
+assert band_deg(0.99) > paper.ACCURACY_DEG  # s = 0.95 no longer guarantees 0.3 deg
+for key, net_run in nets.items():
+    dz = predicted_dead_zone(net_run.trained.net, phi * p.static, scale=s).largest
+    band_text = (f"predicted band +-{np.rad2deg(dz / kp):.2f} deg" if s * g[key] < 1.0 else
+                 "no fixed point near rest: the torque winds up")
+    print(f"{key[0]:8s} seed {key[1]}: g = {g[key]:.3f}, s*g = {s * g[key]:.3f}, {band_text}")
+assert all(s * g[("paper", k)] > 1.0 for k in SEEDS)  # no fixed point: the torque winds up
+
+# %% [markdown]
+# Even at the certified gain, $s = 0.95$ makes the band wider than 0.3 deg: a small
+# step of Fig. 17 ends inside 0.3 deg only if the joint happens to stop there, which
+# depends on how it arrives -- on the seed and on the step.  The paper pipeline's
+# $s g$ is above one in every seed: no fixed point, the torque winds up (a runaway).
+#
+# ## 2. The aged actuator: NN x 0.95, Coulomb, none (Fig. 16)
+#
+# PD designed for 0.4 s and damping 0.85 with the link, step of 30 deg.  The
+# uncompensated and the Coulomb runs do not depend on the network, so they are the
+# same for every seed.
+
+# %%
+print(f"{'pipeline':8s} seed {'NN x 0.95':>10s} {'Coulomb':>9s} {'none':>7s}  (|e_ss| [deg])")
+for (pipe, k), res in results.items():
+    e = {name: abs(np.rad2deg(x)) for name, x in res[16].steady_state_error.items()}
+    print(f"{pipe:8s} {k:4d} {e[f'NN x {s:g}']:10.3f} {e['Coulomb']:9.3f} {e['none']:7.3f}")
+coul = r16.runs["Coulomb"]
+e_coul = abs(r16.steady_state_error["Coulomb"])
+nn_closer = sum(abs(results[("fricctl", k)][16].steady_state_error[f"NN x {s:g}"]) < e_coul for k in SEEDS)
+print(f"Coulomb at the end: at rest {bool(coul.stuck[-1])}, compensation {coul.friction_est[-1]:.3f} N*m, "
+      f"{r16.torque_sign_changes['Coulomb']} Tm sign changes in the last 0.5 s")
+print(f"in this run the fricctl NN ends closer than Coulomb in {nn_closer} of {len(SEEDS)} seeds")
+assert coul.stuck[-1] and coul.friction_est[-1] == 0.0 and r16.torque_sign_changes["Coulomb"] == 0
+for k in SEEDS:
+    res16 = results[("fricctl", k)][16]
+    assert abs(res16.steady_state_error[f"NN x {s:g}"]) < abs(res16.steady_state_error["none"])
 figures.plot_fig16(r16)
+plt.gcf().suptitle(f"fricctl pipeline, seed {SEEDS[0]}", fontsize="medium")
 plt.show()
 
 # %% [markdown]
-# The NN compensation, scaled without retraining, cuts the error against no
-# compensation by the factor printed below, though not to the 0.3 deg of Fig. 14.  The Coulomb compensator on
-# this bench does *not* chatter: `sign(omega_hat)` is zero while the encoder reads
-# no motion, so the moment the joint sticks the compensation switches off.  While
-# moving it cancels the braking Coulomb torque, so the joint overshoots, and then
-# stays stuck wherever it stopped -- which, on this noise-free bench, is closer to
-# the reference than the NN-compensated joint gets (compare the two errors printed
-# below): the opposite of the paper's verdict, and a reminder that a compensator
-# judged on one actuator, one step and one sensor is judged on very little.
+# The paper's Coulomb compensator oscillates around the reference (a limit cycle:
+# the compensation switches sign with every reversal of $\hat\omega$).  On this bench
+# it does *not*: $\operatorname{sign}(\hat\omega)$ is zero while the encoder reads no
+# motion, so the moment the joint sticks the compensation switches off, and nothing
+# drives a limit cycle -- the joint stays wherever it stopped.  Chatter needs a
+# velocity estimate that flickers at rest: measurement noise, or a joint that never
+# fully sticks (exercise 1 tries torque noise).  The scaled NN ends closer to the
+# reference than no compensation in every fricctl seed (checked); whether it beats
+# Coulomb on this noise-free bench depends on the seed (the count above).
+#
+# ## 3. A small step (Fig. 17)
+#
+# 0.08 rad with the same gains.  Without compensation $K_p \cdot 0.08$ rad is below the
+# aged breakaway level, so nothing moves at all.  With compensation the error is
+# bounded by the band of Section 1:
 
 # %%
-coul = r16.runs["Coulomb"]
-print(f"Coulomb run at the end: at rest {bool(coul.stuck[-1])}, compensation {coul.friction_est[-1]:.3f} N*m")
-assert coul.stuck[-1] and coul.friction_est[-1] == 0.0
-nn_name = next(k for k in r16.runs if k.startswith("NN"))
-e_coul, e_nn = abs(r16.steady_state_error["Coulomb"]), abs(r16.steady_state_error[nn_name])
-print(f"|e_ss|: Coulomb {np.rad2deg(e_coul):.3f} deg, {nn_name} {np.rad2deg(e_nn):.3f} deg")
-assert r16.torque_sign_changes["Coulomb"] < 10  # no chatter
-assert e_coul < e_nn  # what the prose above says
-nn_key = next(k for k in r16.runs if k.startswith("NN"))
-print(f"NN x 0.95 vs none: error {abs(r16.steady_state_error['none'] / r16.steady_state_error[nn_key]):.1f}x smaller")
-assert abs(r16.steady_state_error[nn_key]) < abs(r16.steady_state_error["none"])
-
-# %% [markdown]
-# Chatter needs a velocity estimate that flickers at rest -- measurement noise, or a
-# joint that never fully sticks; exercise 1 adds noise.
-#
-# ## 2. A small step (Fig. 17)
-#
-# 0.08 rad with the same gains: `Kp * 0.08 rad` is below the breakaway level, so
-# without compensation nothing moves at all.
-
-# %%
-r17 = paper.fig17.run(net_run)
-print(f"Kp * step = {r17.design.kp * r17.step:.4f} N*m vs breakaway {0.95 * p.static:.4f} N*m (aged)")
-for name in r17.runs:
-    print(f"{name:10s} peak |q| {r17.max_motion[name]:.4f} rad, e_ss "
-          f"{np.rad2deg(r17.steady_state_error[name]):.3f} deg")
-assert r17.max_motion["none"] == 0.0
+r17 = results[("fricctl", SEEDS[0])][17]
+print(f"Kp * step = {kp * r17.step:.4f} N*m vs aged breakaway {phi * p.static:.4f} N*m")
+assert kp * r17.step < phi * p.static
+fig, ax = plt.subplots(figsize=(6.4, 3.2), layout="constrained")
+for j, pipe in enumerate(PIPELINES):
+    e17 = np.array([abs(np.rad2deg(results[(pipe, k)][17].steady_state_error[f"NN x {s:g}"])) for k in SEEDS])
+    run_ok = np.array([results[(pipe, k)][17].wind_up.passed for k in SEEDS])
+    passed = np.count_nonzero((e17 < paper.ACCURACY_DEG) & run_ok)
+    print(f"{pipe:8s}: |e_ss| {np.round(e17, 3)} deg; < 0.3 deg without runaway in {passed} of {len(SEEDS)} seeds")
+    x = 3 * j + np.arange(len(SEEDS))
+    ax.plot(x[run_ok], e17[run_ok], "o", color=f"C{j}", label=pipe)
+    ax.plot(x[~run_ok], e17[~run_ok], "x", color=f"C{j}", ms=8, label=f"{pipe}, runaway")
+    for xi, k in zip(x, SEEDS):
+        if s * g[(pipe, k)] >= 1.0:
+            continue  # no band
+        dz = predicted_dead_zone(nets[(pipe, k)].trained.net, phi * p.static, scale=s).largest
+        ax.plot([xi - 0.3, xi + 0.3], [np.rad2deg(dz / kp)] * 2, "k-", lw=1)
+    for k in SEEDS:
+        assert results[(pipe, k)][17].max_motion["none"] == 0.0  # no compensation: never moves
+ax.axhline(paper.ACCURACY_DEG, color="tab:red", ls="--", lw=1, label="0.3 deg")
+ax.set_xticks([])
+ax.set_xlabel("seeds (fricctl left, paper right); bar: predicted band")
+ax.set_ylabel("|e_ss| [deg]")
+ax.legend(fontsize="small")
+plt.show()
+for k in SEEDS:
+    dz = predicted_dead_zone(nets[("fricctl", k)].trained.net, phi * p.static, scale=s).largest
+    assert abs(results[("fricctl", k)][17].steady_state_error[f"NN x {s:g}"]) <= dz / kp + p.encoder_resolution
 figures.plot_fig17(r17)
 plt.show()
 
 # %% [markdown]
-# ## 3. Tracking a sawtooth (Fig. 18)
+# Every fricctl seed stops inside its predicted band (checked); whether that is also
+# inside 0.3 deg is a matter of where, because the band is wider (Section 1).  The
+# paper pipeline's runs wind up.
 #
-# PD (0.22 s, 0.5) with the link, sawtooth of 0.1 rad.  Here too the uncompensated
-# loop asks for less than the breakaway torque over the whole ramp; stick-slip
-# appears only for a larger, slower ramp (right panel, an extra).
+# ## 4. Tracking a sawtooth (Fig. 18)
+#
+# PD (0.22 s, 0.5) with the link, sawtooth of 0.1 rad.  The paper shows stick-slip
+# without compensation.  **Not reproduced here, for a reason that needs no
+# simulation:** the loop's largest torque request over the whole ramp is
+# $K_p \cdot 0.1$ rad, below the breakaway torque, so the joint never moves.
 
 # %%
-r18 = paper.fig18.run(net_run)
-print(f"Kp * amplitude = {r18.design.kp * r18.amplitude:.4f} N*m (breakaway {p.static:.3f} N*m)")
+r18 = results[("fricctl", SEEDS[0])][18]
+kp18 = r18.design.kp
+print(f"Kp = {kp18:.4f} N*m/rad: Kp * 0.1 rad = {kp18 * r18.amplitude:.4f} N*m < Fs = {p.static:.3f} N*m; "
+      f"moving needs an amplitude above Fs/Kp = {p.static / kp18:.3f} rad")
 print(f"without: peak |q| {r18.max_motion_without:.4f} rad, {r18.restarts_without} stick-slip cycles")
-print(f"with NN: RMS deviation from the linear loop {r18.rms_deviation_with:.4f} rad, "
-      f"{paper.restarts(r18.with_nn)} stick-slip cycles")
 print(f"extra ({r18.extra_amplitude:g} rad over {r18.extra_period:g} s), without: "
       f"{r18.extra_restarts} stick-slip cycles")
-assert r18.extra_restarts >= 2
+assert kp18 * r18.amplitude < p.static and r18.max_motion_without == 0.0
+assert 1.9 * r18.amplitude < p.static / kp18 < 2.1 * r18.amplitude and r18.extra_restarts >= 2
+for pipe in PIPELINES:
+    rms = [np.rad2deg(results[(pipe, k)][18].rms_deviation_with) for k in SEEDS]
+    share = [results[(pipe, k)][18].slow_share for k in SEEDS]
+    print(f"{pipe:8s} with NN: RMS deviation from the linear loop {np.round(rms, 2)} deg; share of the "
+          f"slow sliding friction cancelled {np.round(share, 2)}")
 figures.plot_fig18(r18)
 plt.show()
 
 # %% [markdown]
-# ## 4. The claims of these figures
+# Stick-slip needs an amplitude above $F_s/K_p$, about twice the paper's 0.1 rad
+# (printed); the extra (right panel) shows it for a larger, slower ramp.  The
+# paper-consistency study of this repository found no bench on which Fig. 18's
+# stick-slip and the P design's rise time hold together under the usual reading of
+# "rise time".  With compensation, the sawtooth is followed as closely as the
+# compensation cancels the friction at the ramp's low speed: both the deviation and
+# that share are printed per seed, and the claims table below gives the pass rate.
+# The paper pipeline's runs wind up.
+#
+# ## 5. The claims of these figures, over seeds
 
 # %%
-for c in paper.paper_claims({16: r16, 17: r17, 18: r18}, p):
-    print(f"{'pass' if c.passed else 'FAIL'}  {c.id:14s} {c.measured}")
+per_seed = {key: paper.paper_claims(res, p) for key, res in results.items()}
+stats = aggregate_claims(per_seed, {pipe: SEEDS[0] for pipe in PIPELINES})
+by = {(st.id, st.pipeline): st for st in stats}
+print(f"{'claim':14s} {'pipeline':8s} {'pass':>5s} {'median':>9s} {'min':>9s} {'max':>9s} unit   runaways")
+for st in stats:
+    print(f"{st.id:14s} {st.pipeline:8s} {st.n_passed:>2d}/{st.n_seeds:<2d} {st.median:9.3g} {st.minimum:9.3g} "
+          f"{st.maximum:9.3g} {st.unit:6s} {st.runaway_failures}")
+for cid in ("fig16-nn", "fig17-nn", "fig18-with"):
+    assert by[(cid, "paper")].n_passed == 0 and by[(cid, "paper")].runaway_failures == len(SEEDS)
+    assert by[(cid, "fricctl")].runaway_failures == 0
+assert by[("fig16-coulomb", "fricctl")].n_passed == 0 and by[("fig18-without", "fricctl")].n_passed == 0
 
 # %% [markdown]
-# ## 5. Robustness: friction scale x link inertia
+# The paper pipeline fails every compensated claim by runaway ($s g > 1$).  The
+# fricctl pipeline has no runaway; its pass rates are the table's.  Two claims fail
+# for every network, for the reasons of Sections 2 and 4: the Coulomb limit cycle
+# (`fig16-coulomb`) and Fig. 18's stick-slip without compensation (`fig18-without`).
 #
-# One net, trained on the nominal actuator without link; the PD gains of Fig. 16
-# (designed for the 0.0046 kg*m^2 link) kept fixed; the true friction scaled by
-# 0.8-1.2 and the link changed.  Each link inertia is one job for an executor
-# (here a thread pool; a `ProcessPoolExecutor` or a dask client's executor works
-# the same), each job one batch simulation over the friction scales.
+# ## 6. Robustness: friction scale x link inertia
+#
+# One net per seed, trained on the nominal actuator without link; the PD gains of
+# Fig. 16 (designed for the 0.0046 kg m² link) kept fixed; the true friction scaled by
+# 0.8-1.2 and the link changed.  Each link inertia is one job for an executor (here a
+# thread pool; a `ProcessPoolExecutor` or a dask client's executor works the same),
+# each job one batch simulation over the friction scales.  The sweep's error is the
+# mean over the run's last 0.5 s: where the compensation does not match the friction
+# the joint may still be hunting there (exercise 2 looks at that).
 
 # %%
+sweeps = {}
 with ThreadPoolExecutor(max_workers=2) as pool:
-    sweep = paper.robustness_sweep(net_run.net, p, friction_scales=SCALES, link_inertias=LINKS,
-                                   executor=pool)
-print(sweep.report())
-print(f"without compensation: |e_ss| from {np.rad2deg(sweep.error_none.min()):.2f} to "
-      f"{np.rad2deg(sweep.error_none.max()):.2f} deg")
-assert np.all(sweep.error_nn < sweep.error_none)
-figures.plot_sweep(sweep)
+    for k in SEEDS:
+        sweeps[k] = paper.robustness_sweep(nets[("fricctl", k)].trained.net, p, friction_scales=SCALES,
+                                           link_inertias=LINKS, executor=pool)
+print(sweeps[SEEDS[0]].report())
+within = np.mean([sw.within for sw in sweeps.values()], axis=0)  # share of seeds < 0.3 deg
+err = np.array([sw.error_nn for sw in sweeps.values()])            # (seed, link, scale) [rad]
+print(f"share of seeds within 0.3 deg (rows: link inertia, columns: friction scale):\n{within}")
+nominal = within[list(LINKS).index(PAPER_LINK_INERTIA), list(SCALES).index(1.0)]
+print(f"at the nominal point (link 0.0046, scale 1): {nominal:.2f}; everywhere: {within.mean():.2f}")
+med = {sc: np.rad2deg(np.median(err[:, :, j])) for j, sc in enumerate(SCALES)}
+print("median |e_ss| over seeds and links by friction scale [deg]: "
+      + ", ".join(f"{sc:g}: {m:.3f}" for sc, m in med.items()))
+assert all(np.all(sw.error_nn < sw.error_none) for sw in sweeps.values())
+assert med[max(SCALES)] > med[1.0]
+
+fig, ax = plt.subplots(figsize=(5.4, 3.6), layout="constrained")
+im = ax.imshow(within, origin="lower", cmap="RdYlGn", vmin=0, vmax=1, aspect="auto")
+ax.set_xticks(range(len(SCALES)), [f"{x:g}" for x in SCALES])
+ax.set_yticks(range(len(LINKS)), [f"{x:g}" for x in LINKS])
+ax.set_xlabel("true / trained friction [-]")
+ax.set_ylabel("link inertia [kg m²]")
+fig.colorbar(im, ax=ax, label="share of seeds with |e_ss| < 0.3 deg")
 plt.show()
 
 # %% [markdown]
-# Read the table along a row: the error tends to grow with the friction scale --
-# with more friction than the net learned, the compensation falls short and the
-# joint stops further from the reference.  Where the error stays below 0.3 deg is
-# printed above; the nominal point (scale 1) itself is not guaranteed to be
-# inside (Chapter 5: the residual dead zone depends on `g`).  Everywhere, the
-# compensated error is below the uncompensated one (checked above).
+# Everywhere, for every seed, the compensated error is below the uncompensated one
+# (checked).  The error grows with the friction scale (the median at the largest
+# scale is above the nominal one, checked): with more friction than the net learned
+# the compensation falls short and the joint stops further from the reference.  The
+# map gives, per grid point, the share of seeds within 0.3 deg: a claim about the
+# trained network is a claim about that share, not about one seed's table (printed
+# above for the first seed).
 #
 # ## Exercises
 #
@@ -165,3 +291,86 @@ plt.show()
 #    it cost at scale 0.8?
 # 3. Redesign the PD for each link inertia (`design=` per row) instead of keeping the
 #    Fig. 16 gains.  Which part of the failure was the inertia mismatch?
+
+# %% tags=["solution"]
+# Exercise 1.  White torque noise of 0.003 N*m at the joint, two noise seeds, the Fig. 16
+# setup (link, friction x 0.95, the same PD).  Neither compensator chatters: once the joint
+# sticks the noise is far below the margin to the breakaway torque, the encoder does not
+# move, omega_hat stays 0 -- so sign(omega_hat) stays 0 and the net sees "at rest".  Chatter
+# needs noise in the *measurement* (a flickering omega_hat), not at the joint.
+info = coul.info
+net0 = nets[("fricctl", SEEDS[0])]
+step30 = ctl.pd_control(info.kp, info.kd, ctl.step(r16.step))
+for name, comp in (("Coulomb", CoulombCompensator.symmetric(p.coulomb, scale=s)),
+                   (f"NN x {s:g}", net0.compensator(s))):
+    for noise_seed in (0, 1):
+        run = simulate(info.params, step30, comp, duration=3.0, friction=info.friction_model,
+                       noise_std=0.003, rng=np.random.default_rng(noise_seed))
+        w = last_window(run)
+        changes = sign_changes(run.torque_motor[w])
+        print(f"{name:9s} noise seed {noise_seed}: {changes} Tm sign changes in the last 0.5 s, at rest "
+              f"{run.stuck[w].mean():.0%} of it, e_ss {np.rad2deg(run.steady_state_error()):.3f} deg")
+        assert changes == 0 and run.stuck[w].all()
+assert 0.003 < 0.1 * phi * p.static  # the noise is a small fraction of the breakaway torque
+
+# %% tags=["solution"]
+# Exercise 2.  s at friction scales 0.8 and 1.2 (link 0.0046, the Fig. 16 gains), for every
+# fricctl seed.  s above 1/g (about 1.01) is excluded: s*g >= 1 has no fixed point and winds
+# the torque up.  Where the joint ends at rest, its error is inside the predicted band
+# phi Fs (1 - s g)/Kp (checked); where the compensation does not match the friction the
+# joint hunts (stick-slip in the last 0.5 s) and the "steady-state" error is a mean over
+# that motion.  No s between 0.9 and 1 restores 0.3 deg at friction x 1.2 in every seed
+# (checked): the band grows with the friction (phi Fs) and s cannot go past 1/g to make up
+# for it.  Retraining, not rescaling, is the answer to that much wear.
+S_VALUES = (0.9, 0.95, 1.0)
+pl = p.with_link()
+table = {}
+for k in SEEDS:
+    net_k = nets[("fricctl", k)]
+    assert max(S_VALUES) < 1.0 / g[("fricctl", k)]
+    for scale in S_VALUES:
+        for fr in (0.8, 1.2):
+            run = simulate(pl, step30, net_k.compensator(scale), duration=3.0,
+                           friction=pl.friction_model().scaled(fr))
+            w = last_window(run)
+            e = abs(run.steady_state_error())
+            dz = predicted_dead_zone(net_k.trained.net, fr * p.static, scale=scale).largest / kp
+            at_rest = bool(run.stuck[w].all())
+            table[(k, scale, fr)] = (e, at_rest)
+            if at_rest:
+                assert e <= dz + p.encoder_resolution  # a joint at rest is inside its band
+assert not any(all(table[(k, scale, 1.2)][0] < LIMIT for k in SEEDS) for scale in S_VALUES)
+for scale in S_VALUES:
+    for fr in (0.8, 1.2):
+        es = [table[(k, scale, fr)][0] for k in SEEDS]
+        rest = sum(table[(k, scale, fr)][1] for k in SEEDS)
+        ok = sum(e < LIMIT for e in es)
+        print(f"s = {scale:4.2f}, friction x {fr}: |e_ss| {np.round(np.rad2deg(es), 3)} deg, at rest in "
+              f"{rest}/{len(SEEDS)} seeds, < 0.3 deg in {ok}/{len(SEEDS)}")
+
+# %% tags=["solution"]
+# Exercise 3.  Redesign the PD (0.4 s, 0.85) for each link inertia and sweep again.  At the
+# 0.0046 kg*m^2 link the redesign is the Fig. 16 design itself, so that row cannot change
+# (checked, to rounding).  For a lighter link the same specs give a smaller Kp, hence a
+# wider band phi Fs (1 - s g)/Kp, so the redesign does *not* help: the inertia mismatch
+# was not the cause of the misses; in this run (both modes) the redesigned grid is within
+# 0.3 deg less often than the fixed one (checked).  The share of grid points within
+# 0.3 deg per seed:
+shares = {"fixed gains": [], "redesigned": []}
+for k in SEEDS:
+    net_k = nets[("fricctl", k)].trained.net
+    rows = []
+    for link in LINKS:
+        d_link = design_pd(p.with_link(link), rise_time=0.4, damping=0.85)
+        rows.append(paper.robustness_sweep(net_k, p, friction_scales=SCALES, link_inertias=(link,),
+                                           design=d_link).error_nn[0])
+    redesigned = np.array(rows)
+    i_nom = list(LINKS).index(PAPER_LINK_INERTIA)
+    np.testing.assert_allclose(redesigned[i_nom], sweeps[k].error_nn[i_nom], atol=1e-9)
+    shares["fixed gains"].append(np.mean(sweeps[k].error_nn < LIMIT))
+    shares["redesigned"].append(np.mean(redesigned < LIMIT))
+for name, sh in shares.items():
+    print(f"{name:12s}: share of the grid within 0.3 deg per seed {np.round(sh, 2)}, mean {np.mean(sh):.2f}")
+kp_light = design_pd(p.with_link(0.0), rise_time=0.4, damping=0.85).kp
+print(f"Kp without link {kp_light:.4f} N*m/rad vs Fig. 16's {kp:.4f} N*m/rad")
+assert kp_light < kp and np.mean(shares["redesigned"]) < np.mean(shares["fixed gains"])
