@@ -191,3 +191,14 @@ def test_a_run_beyond_the_memory_budget_is_refused_before_any_work(capsys):
     # 1e5 s at Ts = 2 ms is 5e7 samples (8 GB at 160 bytes): refused at once, with the numbers
     assert main(["simulate", "--torque", "constant:0.1", "--duration", "1e5"]) == 2
     assert f"50000000 samples, more than {MAX_SAMPLES}" in _one_error_line(capsys, "simulate")
+
+
+def test_train_help_states_the_limits_the_trainers_enforce(capsys):
+    from fricctl.nn.train import lm
+
+    assert main(["train", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"at most {MAX_HIDDEN} hidden units" in text and f"{MAX_RESTARTS} restarts" in text
+    assert f"at most {MAX_EPOCHS:,}".replace(",", " ") + " epochs per start" in text
+    assert f"<= {MAX_WORK:.0e}".replace("e+", "e") in text
+    assert f"<= {lm.MAX_WORK:.0e}".replace("e+", "e") in text

@@ -67,14 +67,15 @@ def register(subparsers) -> None:
     p.add_argument("--max-patterns", type=int, default=None, metavar="N",
                    help="pipelines: patterns drawn at random for training (default: the "
                         "pipeline's, 4000 paper / 2000 fricctl)")
-    p.add_argument("--hidden", type=int, default=4, help="hidden units (paper: 4)")
+    p.add_argument("--hidden", type=int, default=4, help="hidden units (paper: 4; at most 32)")
     p.add_argument("--seed", type=int, default=0, help="seed of the initial weights")
     p.add_argument("--recipe", choices=("paper", "converging"), default="paper",
                    help="backprop: default options; paper: constant rate as in the paper "
                         "(epochs 1000, learning rate 0.01, one start); converging: the options "
                         "measured to reach the Levenberg-Marquardt loss on the paper's patterns "
                         "(fricctl.nn.train.backprop.CONVERGING); the flags below override either")
-    p.add_argument("--epochs", type=int, default=None, help="backprop: epochs per start")
+    p.add_argument("--epochs", type=int, default=None, help="backprop: epochs per start (at most 100 000, and restarts*epochs*patterns*"
+                        "hidden <= 2e10)")
     p.add_argument("--learning-rate", type=float, default=None,
                    help="backprop: step size (the first epoch's, for a schedule)")
     p.add_argument("--momentum", type=float, default=None, help="backprop: momentum [0, 1)")
@@ -88,7 +89,7 @@ def register(subparsers) -> None:
                         "scaling of every trainer)")
     p.add_argument("--restarts", type=int, default=None,
                    help="starting points, the best kept (casadi: default 3; backprop: 1, or 5 "
-                        "with --recipe converging)")
+                        "with --recipe converging); at most 100")
     p.add_argument("--c-source", type=Path, default=None, metavar="NET.c",
                    help="also write a self-contained C compensator of the net and its header "
                         "(NET.h beside it)")
