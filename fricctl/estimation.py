@@ -45,6 +45,9 @@ __all__ = [
     "central_difference",
     "zero_phase_filter",
     "decimate",
+    "MAX_DECIMATION",
+    "MAX_BUTTERWORTH_ORDER",
+    "FILTER_RTOL",
     "ESTIMATORS",
     "estimate",
 ]
@@ -76,6 +79,11 @@ class DerivativeEstimate:
     def __post_init__(self):
         for name in ("t", "position", "velocity", "acceleration"):
             x = np.array(getattr(self, name), dtype=float)
+            bad = np.flatnonzero(~np.isfinite(x))
+            if bad.size:  # never hand on a silent NaN: say which estimate failed where
+                raise ValueError(f"{self.method}: the {name} estimate is not finite at sample "
+                                 f"{int(bad[0])} (the record or the estimator's options overflow "
+                                 f"double precision)")
             x.setflags(write=False)
             object.__setattr__(self, name, x)
 
@@ -98,6 +106,23 @@ def _record(t, position) -> _Record:
     if np.any(dt <= 0) or np.any(np.abs(dt - ts) > _TIME_RTOL * ts):
         raise ValueError("t: time must be strictly increasing and uniform")
     return _Record(t=t, q=q, ts=float(ts))
+
+
+#: Largest deviation [-] of a filter's transfer-function (b, a) response from the same
+#: design in second-order sections: beyond it the coefficients have lost the filter to
+#: round-off (high orders, low cut-offs) and filtering returns garbage or NaN.
+FILTER_RTOL = 1e-6
+
+
+def _ba_accurate(design, *args) -> bool:
+    """Whether ``design(*args)`` in (b, a) form is the filter its second-order sections are."""
+    b, a = design(*args)
+    if not np.all(np.isfinite(a)) or np.max(np.abs(np.roots(a)), initial=0.0) >= 1.0:
+        return False
+    w = np.linspace(0.0, np.pi, 512)
+    _, h_ba = signal.freqz(b, a, w)
+    _, h_sos = signal.sosfreqz(design(*args, output="sos"), w)
+    return bool(np.max(np.abs(h_ba - h_sos)) <= FILTER_RTOL)
 
 
 def _backward(x: np.ndarray, ts: float) -> np.ndarray:
@@ -126,7 +151,13 @@ def central_difference(x, sample_time: float) -> np.ndarray:
     """
     x = v.array("x", x, min_size=3)
     sample_time = v.real("sample_time", sample_time, positive=True, unit="s")
-    return np.concatenate(([x[1] - x[0]], (x[2:] - x[:-2]) / 2.0, [x[-1] - x[-2]])) / sample_time
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = np.concatenate(([x[1] - x[0]], (x[2:] - x[:-2]) / 2.0, [x[-1] - x[-2]])) / sample_time
+    if not np.all(np.isfinite(d)):
+        i = int(np.flatnonzero(~np.isfinite(d))[0])
+        raise ValueError(f"x: the difference at index {i} over sample_time={sample_time:g} s "
+                         f"overflows double precision")
+    return d
 
 
 def zero_phase_filter(b, a, x) -> np.ndarray:
@@ -139,11 +170,28 @@ def zero_phase_filter(b, a, x) -> np.ndarray:
     b = v.array("b", b, min_size=1)
     a = v.array("a", a, min_size=1)
     x = v.array("x", x)
+    if a[0] == 0.0:
+        raise ValueError("a: the leading denominator coefficient a[0] must not be 0")
+    if a.size > 1 and np.max(np.abs(np.roots(a))) >= 1.0:
+        raise ValueError(f"a: the filter is unstable (a pole of modulus "
+                         f"{np.max(np.abs(np.roots(a))):.6g} >= 1); filtering would diverge")
     padlen = 3 * (max(len(a), len(b)) - 1)
     if x.size <= padlen:
         raise ValueError(f"the record has {x.size} samples; this zero-phase filter needs more than "
                          f"{padlen} (3 x its order): record longer")
-    return signal.filtfilt(b, a, x, padtype="odd", padlen=padlen)
+    with np.errstate(over="ignore", invalid="ignore"):
+        y = signal.filtfilt(b, a, x, padtype="odd", padlen=padlen)
+    if not np.all(np.isfinite(y)):
+        raise ValueError("the filtered record overflows double precision (x or the filter's "
+                         "gain too large)")
+    return y
+
+
+#: Largest factor :func:`decimate` accepts: its order-8 Chebyshev low-pass in (b, a) form
+#: stays within :data:`FILTER_RTOL` of the second-order-section design up to 17 and not
+#: at 18 (``tests/test_reliability_library.py`` checks both; at 100 the "filtered" sine
+#: of amplitude 1 came out at -16).
+MAX_DECIMATION = 17
 
 
 def decimate(x, factor: int) -> np.ndarray:
@@ -160,7 +208,7 @@ def decimate(x, factor: int) -> np.ndarray:
     x : array_like, shape (N,)
         Samples.
     factor : int
-        Decimation factor (>= 1; 1 returns a copy).
+        Decimation factor, 1 to :data:`MAX_DECIMATION` (1 returns a copy).
 
     Examples
     --------
@@ -172,6 +220,10 @@ def decimate(x, factor: int) -> np.ndarray:
     x = v.array("x", x)
     if factor == 1:
         return x.copy()
+    if factor > MAX_DECIMATION:
+        raise ValueError(f"factor must be at most {MAX_DECIMATION} (the order-8 Chebyshev filter in "
+                         f"transfer-function form loses its accuracy beyond, MATLAB warns above 13); "
+                         f"got {factor}: decimate in stages (e.g. 10, then {-(-factor // 10)})")
     if x.size <= 3 * 8:
         raise ValueError(f"x must have more than 24 samples to decimate, got {x.size}")
     b, a = signal.cheby1(8, 0.05, 0.8 / factor)
@@ -356,6 +408,11 @@ def savitzky_golay(t, position, *, window_length: int = 51, polyorder: int = 3) 
         acceleration=signal.savgol_filter(rec.q, deriv=2, **kw), method="savitzky_golay")
 
 
+#: Largest Butterworth order :func:`butterworth_central` accepts at any cut-off (lower
+#: cut-offs allow less: the check is made per call).
+MAX_BUTTERWORTH_ORDER = 20
+
+
 def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> DerivativeEstimate:
     """Zero-phase Butterworth low-pass, then central differences twice (EMPS recipe).
 
@@ -369,7 +426,10 @@ def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> Deriva
         Cut-off frequency of the low-pass [Hz]; below the Nyquist frequency.  The
         rule of thumb of the EMPS report is 5x the closed-loop bandwidth (100 Hz there).
     order : int
-        Filter order (applied twice, forward and backward).
+        Filter order (applied twice, forward and backward), at most
+        :data:`MAX_BUTTERWORTH_ORDER` and at most what stays numerically accurate at
+        ``cutoff`` (the message of a refusal says how far: 8 at a tenth of Nyquist,
+        4 at a hundredth).
 
     Notes
     -----
@@ -390,7 +450,13 @@ def butterworth_central(t, position, *, cutoff: float, order: int = 4) -> Deriva
     cutoff = v.real("cutoff", cutoff, unit="Hz")
     if not 0 < cutoff < nyq:
         raise ValueError(f"cutoff must lie in (0, {nyq:g}) Hz (below Nyquist), got {cutoff!r}")
-    order = v.integer("order", order, low=1)
+    order = v.integer("order", order, low=1, high=MAX_BUTTERWORTH_ORDER)
+    if not _ba_accurate(signal.butter, order, cutoff / nyq):
+        top = max((n for n in range(1, order) if _ba_accurate(signal.butter, n, cutoff / nyq)),
+                  default=0)
+        raise ValueError(f"order {order} at cutoff {cutoff:g} Hz ({cutoff / nyq:.3g} of Nyquist) is "
+                         f"numerically unstable (the filter's coefficients lose it to round-off); "
+                         f"at this cutoff order must be at most {top}")
     b, a = signal.butter(order, cutoff / nyq)
     qf = zero_phase_filter(b, a, rec.q)
     vel = central_difference(qf, rec.ts)

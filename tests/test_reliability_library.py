@@ -141,3 +141,86 @@ def test_smooth_patterns_refuse_static_below_coulomb():
         smooth_friction_patterns(rng, n_sliding=0, n_stuck=0)
     p = smooth_friction_patterns(rng, coulomb=0.1, static=0.1, n_sliding=5, n_stuck=5)
     assert np.all(np.abs(p.tm[5:]) <= 0.1)
+
+
+# -- signal processing and friction: no silent NaN, errors of the right kind (item 11) ----
+def test_butterworth_order_beyond_its_numerical_limit_is_refused_with_the_limit():
+    from fricctl.estimation import butterworth_central
+
+    t = np.arange(2000) * 0.001
+    q = np.sin(6 * t)
+    with pytest.raises(ValueError, match="order must be an integer in 1 .. 20, got 50"):
+        butterworth_central(t, q, cutoff=100.0, order=50)       # was all-NaN velocities
+    # 1 Hz at 1 kHz is 0.002 of Nyquist: order 8 in (b, a) form is round-off, order 4 is not
+    with pytest.raises(ValueError, match="order must be at most 4"):
+        butterworth_central(t, q, cutoff=1.0, order=8)
+    est = butterworth_central(t, q, cutoff=1.0, order=4)
+    # the filtered sine (6 rad/s ~ 0.95 Hz, near the cut-off) stays finite and bounded by the input
+    assert np.all(np.isfinite(est.velocity)) and np.max(np.abs(est.position)) <= 1.0 + 1e-9
+
+
+def test_decimation_limit_is_where_the_filter_stays_accurate():
+    from scipy import signal
+
+    from fricctl import estimation as e
+
+    # the constant's reference: the (b, a) form matches the sections design at 17, not at 18
+    assert e._ba_accurate(signal.cheby1, 8, 0.05, 0.8 / e.MAX_DECIMATION)
+    assert not e._ba_accurate(signal.cheby1, 8, 0.05, 0.8 / (e.MAX_DECIMATION + 1))
+    x = np.sin(np.arange(2000) * 0.006)
+    with pytest.raises(ValueError, match="factor must be at most 17.*got 100"):
+        e.decimate(x, 100)                                   # was a sine of amplitude 16
+    with pytest.raises(ValueError, match="factor must be an integer, got inf"):
+        e.decimate(x, np.inf)
+    y = e.decimate(x, 17)
+    assert np.max(np.abs(y)) < 1.0 + 1e-3                    # passband ripple 0.05 dB
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda e: e.central_difference([1.0, np.nan, 3.0, 4.0], 1.0), r"x holds NaN or inf \(nan\) at index 1"),
+    (lambda e: e.central_difference([1e300, -1e300, 3.0], 1e-10), "overflows double precision"),
+    (lambda e: e.zero_phase_filter([1.0], [1.0, -2.0], np.ones(50)), "unstable"),
+    (lambda e: e.zero_phase_filter([1.0], [0.0, 1.0], np.ones(50)), r"a\[0\] must not be 0"),
+])
+def test_signal_helpers_refuse_what_would_be_nan(call, match):
+    from fricctl import estimation as e
+
+    with pytest.raises(ValueError, match=match):
+        call(e)
+
+
+def test_an_estimate_is_never_silently_non_finite():
+    from fricctl.estimation import DerivativeEstimate
+
+    with pytest.raises(ValueError, match="savitzky_golay: the acceleration estimate is not finite "
+                                         "at sample 2"):
+        DerivativeEstimate(t=np.arange(3.0), position=np.zeros(3), velocity=np.zeros(3),
+                           acceleration=[0.0, 0.0, np.inf], method="savitzky_golay")
+
+
+@pytest.mark.parametrize("args, match", [
+    ((np.nan,), r"omega holds NaN or inf"),
+    (([0.1, np.inf],), r"omega holds NaN or inf \(inf\) at index 1"),
+    (("a",), "omega must be an array of real numbers"),
+    ((True,), "omega must hold real numbers"),
+    ((1.0, np.nan), "q holds NaN"),
+    ((1.0, 0.0, np.nan), "tm holds NaN"),
+    ((1.0, 0.0, 0.0, np.nan), "t holds NaN"),
+    ((np.ones(3), np.zeros(2)), "do not broadcast"),
+    ((1e300,), "overflows double precision"),
+])
+def test_friction_torque_refuses_nan_and_overflow(args, match):
+    from fricctl.friction import Coulomb, Viscous
+
+    model = (Viscous(1e10) + Coulomb(0.144)).model()
+    with pytest.raises(ValueError, match=match):
+        model.torque(*args)
+
+
+def test_friction_breakaway_inputs_are_checked_too():
+    from fricctl.friction import Coulomb, LoadDependent
+
+    model = (Coulomb(0.1) + LoadDependent(0.2)).model()
+    with pytest.raises(ValueError, match="tm holds NaN"):
+        model.breakaway(+1, tm=np.nan)
+    assert model.breakaway(+1, tm=-1.0) == pytest.approx(0.1 + 0.2)  # hand calculation

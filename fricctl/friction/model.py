@@ -64,6 +64,23 @@ _ADDITIVE = frozenset({"viscous_pos", "viscous_neg", "coulomb_pos", "coulomb_neg
 _SIGNED = frozenset({"ripple_phase", "drift"})
 
 
+def _broadcast(**arrays) -> None:
+    """Refuse inputs whose shapes do not broadcast together (naming them)."""
+    try:
+        np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in arrays.items())
+        raise ValueError(f"the inputs' shapes do not broadcast: {shapes}") from None
+
+
+def _finite(what: str, x: np.ndarray) -> np.ndarray:
+    """``x`` if finite; else a ValueError (finite inputs and coefficients <= 1e300 can overflow)."""
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"the {what} overflows double precision for these inputs "
+                         f"(coefficients x velocity beyond 1e308 N*m)")
+    return x
+
+
 def _direction(direction) -> int:
     if isinstance(direction, bool) or direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got {direction!r}")
@@ -186,11 +203,11 @@ class FrictionModel:
     # -- evaluation (numpy, vectorised) ----------------------------------
     def scale_at(self, t):
         """Friction scale at time ``t``: ``scale*(1 + drift*t)`` [-]."""
-        return self.scale * (1.0 + self.drift * np.asarray(t, dtype=float))
+        return self.scale * (1.0 + self.drift * v.array("t", t, ndim=None))
 
     def ripple(self, q):
         """Position-periodic torque at position ``q`` [N*m]."""
-        q = np.asarray(q, dtype=float)
+        q = v.array("q", q, ndim=None)
         if self.ripple_amplitude == 0:
             return np.zeros_like(q)
         return self.ripple_amplitude * np.sin(2 * np.pi * q / self.ripple_period + self.ripple_phase)
@@ -198,6 +215,8 @@ class FrictionModel:
     def torque(self, omega, q=0.0, tm=0.0, t=0.0):
         """Sliding friction torque (plus ripple) at velocity ``omega`` [N*m].
 
+        Inputs are real numbers or arrays that broadcast together; NaN, inf, text,
+        booleans and a torque that overflows double precision raise :class:`ValueError`.
         For ``omega == 0`` the friction torque is not a function of velocity (it
         is whatever reaction keeps the joint at rest, up to :meth:`breakaway`);
         this method returns the ripple alone there.  With ``LuGre`` this is
@@ -214,17 +233,22 @@ class FrictionModel:
         t : array_like
             Time [s] (drift only).
         """
-        w = np.asarray(omega, dtype=float)
+        w = v.array("omega", omega, ndim=None)
+        tm = v.array("tm", tm, ndim=None)
+        _broadcast(omega=w, q=v.array("q", q, ndim=None), tm=tm, t=v.array("t", t, ndim=None))
         pos = w > 0
         neg = w < 0
         aw = np.abs(w)
         b = np.where(pos, self.viscous_pos, self.viscous_neg)
         fc = np.where(pos, self.coulomb_pos, self.coulomb_neg)
         fs = np.where(pos, self.stribeck_pos, self.stribeck_neg)
-        level = fc + self.load_coefficient * np.abs(np.asarray(tm, dtype=float)) + fs * np.exp(
-            -(aw / self.stribeck_velocity) ** self.stribeck_exponent)
+        with np.errstate(over="ignore"):  # (|w|/vs)^e -> inf: the Stribeck term's limit is 0
+            dip = np.exp(-(aw / self.stribeck_velocity) ** self.stribeck_exponent)
+        level = fc + self.load_coefficient * np.abs(tm) + fs * dip
         sgn = pos.astype(float) - neg.astype(float)
-        return _out(self.scale_at(t) * (b * w + sgn * level) + self.ripple(q))
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self.scale_at(t) * (b * w + sgn * level) + self.ripple(q)
+        return _out(_finite("friction torque", out))
 
     def breakaway(self, direction=1, q=0.0, tm=0.0, t=0.0):
         """Torque the drive must exceed to start moving in ``direction`` (+1/-1) [N*m].
@@ -237,7 +261,11 @@ class FrictionModel:
             base = self.coulomb_pos + self.static_pos + self.stribeck_pos
         else:
             base = self.coulomb_neg + self.static_neg + self.stribeck_neg
-        return _out(self.scale_at(t) * (base + self.load_coefficient * np.abs(np.asarray(tm, dtype=float))))
+        tm = v.array("tm", tm, ndim=None)
+        _broadcast(q=v.array("q", q, ndim=None), tm=tm, t=v.array("t", t, ndim=None))
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self.scale_at(t) * (base + self.load_coefficient * np.abs(tm))
+        return _out(_finite("breakaway torque", out))
 
     def sliding_level(self, direction=1) -> float:
         """Coulomb level approached at high speed in ``direction`` [N*m] (scale applied)."""
