@@ -474,6 +474,12 @@ assert rate("fig12-linear", "fricctl") >= 0.5
 assert all(0.98 <= g[("fricctl", k)] <= 0.99 for k in SEEDS)
 assert rate("fig12-ideal", "fricctl") == 1.0 and all(
     results[("fricctl", k)][12].ideal_growth > 1.0 for k in SEEDS)
+r12_ideal = results[("fricctl", SEEDS[0])][12]  # the ideal runs do not depend on the network
+print(f"ideal estimate: growth x{r12_ideal.ideal_growth:.2f}; ideal minus b*omega: max |q - q_linear| "
+      f"{np.rad2deg(r12_ideal.ideal_no_viscous_max_deviation):.2f} deg")
+assert r12_ideal.ideal_no_viscous_max_deviation < 0.1 * P_STEP  # follows the linear prediction
+print("why the paper pipeline's fig14-accuracy fails, seed", SEEDS[0], ":",
+      per_seed[("paper", SEEDS[0])][[c.id for c in per_seed[("paper", SEEDS[0])]].index("fig14-accuracy")].note)
 
 # %% [markdown]
 # The figures of one seed per pipeline (seed 0; the table above is the claim):
