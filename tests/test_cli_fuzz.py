@@ -65,6 +65,10 @@ def files(tmp_path_factory):
     out["patterns"] = str(d / "pats.csv")
     np.savetxt(out["patterns"], np.column_stack([pats.tm, pats.omega, pats.friction]),
                delimiter=",", header="tm,omega,friction", comments="")
+    for kind, factor in (("tinypats", 1e-300), ("hugepats", 1e300)):  # scaled out of range
+        out[kind] = str(d / f"{kind}.csv")
+        np.savetxt(out[kind], factor * np.column_stack([pats.tm, pats.omega, pats.friction]),
+                   delimiter=",", header="tm,omega,friction", comments="")
     net = TRAINERS["backprop"].train(pats.tm, pats.omega, pats.friction, epochs=3,
                                      rng=np.random.default_rng(0)).net
     out["net"] = str(save_net(net, d / "net.json"))
@@ -164,7 +168,7 @@ def patterns_args(draw, files):
 @st.composite
 def train_args(draw, files):
     pats = draw(_paths(files, "patterns", "patterns", "missing", "dir", "empty", "garbage",
-                       "record"))
+                       "record", "tinypats", "hugepats"))
     trainer = draw(st.sampled_from(["casadi", "backprop", "backprop"]))
     argv = ["train", pats, "--out", draw(_out(files, ".json")), "--progress", "off",
             "--trainer", trainer, "--restarts", draw(_num("1", "2")),

@@ -202,3 +202,19 @@ def test_train_help_states_the_limits_the_trainers_enforce(capsys):
     assert f"at most {MAX_EPOCHS:,}".replace(",", " ") + " epochs per start" in text
     assert f"<= {MAX_WORK:.0e}".replace("e+", "e") in text
     assert f"<= {lm.MAX_WORK:.0e}".replace("e+", "e") in text
+
+
+@pytest.mark.parametrize("factor, message", [(1e-300, "too little to scale"),
+                                             (1e300, "too large to train on")])
+def test_patterns_out_of_double_range_are_refused_by_name(tmp_path, capsys, factor, message):
+    # issue 15: patterns x 1e-300 ended in a TypeError (LM kept no start: every loss NaN) or a
+    # false "diverged"; x 1e300 in "output_scale must be finite"
+    pats = smooth_friction_patterns(np.random.default_rng(0), n_sliding=60, n_stuck=0)
+    path = tmp_path / "p.csv"
+    np.savetxt(path, factor * np.column_stack([pats.tm, pats.omega, pats.friction]),
+               delimiter=",", header="tm,omega,friction", comments="")
+    for trainer in ("casadi", "backprop"):
+        assert main(["train", str(path), "--out", str(tmp_path / "n.json"), "--trainer", trainer,
+                     "--restarts", "1"]) == 2
+        err = _one_error_line(capsys, "train")
+        assert err.startswith("fricctl train: error: tm ") and message in err

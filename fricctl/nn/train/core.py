@@ -36,7 +36,8 @@ from ..metrics import fit_report
 from ..net import FrictionNet
 
 __all__ = ["Scaling", "initial_theta", "TrainingProblem", "LoopResult", "TrainingHistory",
-           "TrainingResult", "Trainer", "MAX_HIDDEN", "MAX_RESTARTS", "check_work"]
+           "TrainingResult", "Trainer", "MAX_HIDDEN", "MAX_RESTARTS", "PATTERN_MAX",
+           "PATTERN_MIN_SPAN", "check_work"]
 
 #: Most hidden units a trainer accepts (the paper's net has 4).  Levenberg-Marquardt's
 #: step solves a (4H+1)-square system per iteration over an N x (4H+1) Jacobian: at
@@ -44,6 +45,11 @@ __all__ = ["Scaling", "initial_theta", "TrainingProblem", "LoopResult", "Trainin
 MAX_HIDDEN = 32
 #: Most starting points a trainer runs (each a full training).
 MAX_RESTARTS = 100
+#: Largest pattern magnitude a trainer accepts: squares and sums of squares of the
+#: values stay finite in double precision.
+PATTERN_MAX = 1e150
+#: Smallest range of each pattern column: the scaling divides by it (1e-300 made NaN).
+PATTERN_MIN_SPAN = 1e-150
 
 
 def check_work(what: str, work: float, limit: float, advice: str) -> None:
@@ -233,8 +239,16 @@ def _patterns(tm, omega, target):
     if arrs[0].size < 2:
         raise ValueError("need at least 2 training patterns")
     for name, a in zip(("tm", "omega", "target"), arrs):
-        if np.ptp(a) == 0:
+        span, big = float(np.ptp(a)), float(np.max(np.abs(a)))
+        if span == 0:
             raise ValueError(f"{name} is constant over the patterns: nothing to learn from")
+        # the scaling divides by the span and squares the values: both must stay normal doubles
+        if big > PATTERN_MAX:
+            raise ValueError(f"{name} reaches {big:.3g}: too large to train on (its square "
+                             f"overflows double precision, at most {PATTERN_MAX:g}); check its units")
+        if span < PATTERN_MIN_SPAN:
+            raise ValueError(f"{name} varies by only {span:.3g} over the patterns: too little to "
+                             f"scale (at least {PATTERN_MIN_SPAN:g}); check its units")
     return arrs
 
 
