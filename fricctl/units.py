@@ -20,6 +20,8 @@ Examples
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 from . import _validate as v
@@ -90,7 +92,11 @@ def to_load_side(*, gear_ratio: float, inertia: float | None = None,
         if value is None:
             continue
         x = v.real(name, value, nonneg=name in ("inertia", "viscous"))
-        out[name] = x * n ** _FACTORS[name]
+        try:
+            y = x * n ** _FACTORS[name]
+        except OverflowError:  # float ** raises where float * gives inf
+            y = math.inf
+        out[name] = v.real(f"{name} on the load side (gear_ratio {n:g})", y)
     return out
 
 

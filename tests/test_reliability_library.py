@@ -224,3 +224,24 @@ def test_friction_breakaway_inputs_are_checked_too():
     with pytest.raises(ValueError, match="tm holds NaN"):
         model.breakaway(+1, tm=np.nan)
     assert model.breakaway(+1, tm=-1.0) == pytest.approx(0.1 + 0.2)  # hand calculation
+
+
+# -- siblings found by a fuzz pass over the same modules (item 11) -------------------------
+def test_sibling_argument_checks_raise_value_errors_naming_the_argument():
+    from fricctl.datasets import record_patterns
+    from fricctl.identify import lower_bounds, parameter_unit
+    from fricctl.units import to_load_side
+
+    with pytest.raises(ValueError, match="name must be a string"):
+        parameter_unit(None)                                  # was AttributeError
+    with pytest.raises(ValueError, match="names must be a list or tuple"):
+        lower_bounds(3)                                       # was TypeError
+    with pytest.raises(ValueError, match="names must be a list or tuple"):
+        lower_bounds("inertia")                               # was one bound per character
+    with pytest.raises(ValueError, match=r"names\[1\] must be a string"):
+        lower_bounds(["inertia", None])
+    with pytest.raises(ValueError, match="runs must be a Run or a list of Run, got NoneType"):
+        record_patterns(None, inertia=1.0)                    # was TypeError
+    with pytest.raises(ValueError, match="inertia on the load side"):
+        to_load_side(gear_ratio=1e300, inertia=1.0)           # was OverflowError
+    assert lower_bounds(("inertia", "offset")).tolist() == [0.0, -np.inf]

@@ -132,7 +132,12 @@ def record_patterns(runs, *, inertia: float, estimator: str = "polynomial_segmen
     >>> bool(np.allclose(p.friction, 0.0, atol=1e-9)), int(p.at_rest.sum())
     (True, 0)
     """
-    runs = [runs] if isinstance(runs, Run) else list(runs)
+    if isinstance(runs, Run):
+        runs = [runs]
+    elif isinstance(runs, (list, tuple)):
+        runs = list(runs)
+    else:
+        raise ValueError(f"runs must be a Run or a list of Run, got {type(runs).__name__}")
     if not runs:
         raise ValueError("runs: no record given")
     for i, r in enumerate(runs):

@@ -96,12 +96,17 @@ def parameter_unit(name: str, kind: str = "rotary") -> str:
     ('N*s/m', 'rad/s')
     """
     labels = units_of(kind)
+    name = v.text("name", name)
     quantity = _QUANTITY.get(name.replace("_pos", "").replace("_neg", ""))
     return "" if quantity is None else getattr(labels, quantity)
 
 
 def lower_bounds(names) -> np.ndarray:
     """Lower bounds of a fit over ``names``: 0 for :data:`NONNEGATIVE`, else ``-inf``."""
+    if isinstance(names, str) or not isinstance(names, (list, tuple)):
+        raise ValueError(f"names must be a list or tuple of parameter names, got "
+                         f"{type(names).__name__}")
+    names = [v.text(f"names[{i}]", nm) for i, nm in enumerate(names)]
     return np.array([0.0 if nm in NONNEGATIVE else -np.inf for nm in names])
 
 
