@@ -240,6 +240,15 @@ plt.show()
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 
+# %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's Tc plus s times the net's estimate, held by the ZOH; the net reads the motor torque of the previous sample (z^-1) and the estimated velocity.", "name": "fig-closed-loop"}}
+fig, ax = plt.subplots(figsize=(9.6, 3.6), layout="constrained")
+figures.plot_compensation_loop(ax, closed=True)
+plt.show()
+
+# %% [markdown]
+# While the joint is stuck, $\hat\omega = 0$ and only the inner loop through
+# $z^{-1}$ acts on $T_m$: Section 8 works out where it settles.
+
 # %% [markdown]
 # ## 7. Why full compensation destabilises the P loop
 #
