@@ -40,7 +40,7 @@ class Signal:
     description: str
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = v.array("t", t, ndim=None)
         out = np.broadcast_to(np.asarray(self.func(t), dtype=float), t.shape).copy()
         if not np.all(np.isfinite(out)):
             raise ValueError(f"signal {self.description!r} produced NaN or inf")

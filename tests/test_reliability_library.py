@@ -245,3 +245,30 @@ def test_sibling_argument_checks_raise_value_errors_naming_the_argument():
     with pytest.raises(ValueError, match="inertia on the load side"):
         to_load_side(gear_ratio=1e300, inertia=1.0)           # was OverflowError
     assert lower_bounds(("inertia", "offset")).tolist() == [0.0, -np.inf]
+
+
+def test_simulation_and_bench_arguments_are_checked():
+    from fricctl.bench import experiments as x
+    from fricctl.controllers import pd_control, step
+    from fricctl.params import paper_actuator
+    from fricctl.simulate import simulate
+
+    ctrl = pd_control(1.0, 0.05, step(0.5))
+    with pytest.raises(ValueError, match="an empty list was given for a batch argument"):
+        simulate(paper_actuator(), ctrl, duration=0.2, friction=[])     # was KeyError
+    with pytest.raises(ValueError, match="delay of ~1e400 samples .beyond double precision."):
+        simulate(paper_actuator(), ctrl, duration=0.2, delay=10 ** 400)  # was OverflowError
+    with pytest.raises(ValueError, match="t must hold real numbers"):
+        step(1.0)(1 + 1j)                                                # was TypeError
+    with pytest.raises(ValueError, match="params must be a fricctl.params.ActuatorParams"):
+        x.dead_zone(None)                                                # was AttributeError
+    with pytest.raises(ValueError, match="params must be"):
+        x.training_experiments("paper")
+    with pytest.raises(ValueError, match="experiments must be a list of Experiment, got NoneType"):
+        x.true_patterns(None)
+    with pytest.raises(ValueError, match=r"experiments\[0\] must be an Experiment"):
+        x.friction_patterns([1], paper_actuator())
+    with pytest.raises(ValueError, match="experiment must be an Experiment"):
+        x.compare_estimators(None, paper_actuator())
+    with pytest.raises(ValueError, match="estimator must be a function"):
+        x.predicted_dead_zone(None, 0.18)

@@ -21,7 +21,6 @@ against the simulator's truth (issue: "which estimator, how wrong").
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -60,6 +59,18 @@ class PaperGains:
     """Kp of the PD design (0.3 s, 0.9) [N*m/rad]."""
     pd_kd: float
     """Kd of the PD design [N*m*s/rad]."""
+
+
+def _params(params) -> ActuatorParams:
+    return v.instance("params", params, ActuatorParams, "a fricctl.params.ActuatorParams")
+
+
+def _experiments(experiments) -> list:
+    if not isinstance(experiments, (list, tuple)):
+        raise ValueError(f"experiments must be a list of Experiment, got "
+                         f"{type(experiments).__name__}")
+    return [v.instance(f"experiments[{i}]", ex, Experiment, "an Experiment")
+            for i, ex in enumerate(experiments)]
 
 
 def paper_gains(params: ActuatorParams) -> PaperGains:
@@ -111,7 +122,7 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     zero torque so the joint stops.  Closed-loop references are steps among
     +-0.2 ... +-0.8 rad, 1 s each, with the paper's P and PD gains.
     """
-    p = paper_actuator() if params is None else params
+    p = paper_actuator() if params is None else _params(params)
     tmax = p.max_torque
     fr = p.friction_model() if friction is None else friction
     kw = dict(friction=fr, noise_std=noise_std, rng=rng)
@@ -216,8 +227,9 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
     """
     if method not in ESTIMATORS:
         raise ValueError(f"unknown estimator {method!r}; choose from {sorted(ESTIMATORS)}")
+    params = _params(params)
     parts = []
-    for i, ex in enumerate(experiments):
+    for i, ex in enumerate(_experiments(experiments)):
         est = estimate(ex.run.t, ex.run.position, method, **options)
         sl = slice(border, ex.run.n_samples - border)
         tm = ex.run.torque[sl]
@@ -239,7 +251,7 @@ def true_patterns(experiments, *, border: int = 5) -> Patterns:
     bound of what the network can learn from these experiments.
     """
     parts = []
-    for i, ex in enumerate(experiments):
+    for i, ex in enumerate(_experiments(experiments)):
         sl = slice(border, ex.run.n_samples - border)
         parts.append((ex.run.torque[sl], ex.truth.omega[sl], ex.truth.friction[sl], ex.truth.friction[sl],
                       ex.run.t[sl], np.full(ex.run.t[sl].size, i), ex.truth.stuck[sl]))
@@ -300,6 +312,8 @@ def compare_estimators(experiment: Experiment, params: ActuatorParams, *, method
     """
     options = {"butterworth_central": {"cutoff": 25.0}} if options is None else options
     methods = list(ESTIMATORS) if methods is None else methods
+    v.instance("experiment", experiment, Experiment, "an Experiment")
+    params = _params(params)
     tr = experiment.truth
     sl = slice(border, tr.t.size - border)
     out = []
@@ -389,6 +403,7 @@ def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
     threshold_counts : int
         "A few encoder counts".
     """
+    params = _params(params)
     comp = NoCompensation() if compensator is None else compensator
     amps = (np.linspace(0.0025, 0.2, 200) * params.max_torque if amplitudes is None
             else np.asarray(amplitudes, dtype=float))
@@ -438,8 +453,10 @@ def predicted_dead_zone(estimator, breakaway: float, *, scale: float = 1.0,
     DeadZonePrediction
         Predicted dead zones for the two directions, positive magnitudes [N*m].
     """
-    if not (math.isfinite(breakaway) and breakaway > 0):
-        raise ValueError(f"breakaway must be > 0 N*m, got {breakaway!r}")
+    if not callable(estimator):
+        raise ValueError(f"estimator must be a function (tm, omega) -> friction, e.g. a "
+                         f"FrictionNet, got {type(estimator).__name__}")
+    breakaway = v.real("breakaway", breakaway, positive=True, unit="N*m")
     tm = np.linspace(0.0, breakaway, n)
     pos = float(np.max(tm - scale * np.asarray(estimator(tm, np.zeros(n)))))
     neg = float(np.max(tm + scale * np.asarray(estimator(-tm, np.zeros(n)))))

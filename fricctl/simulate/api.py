@@ -106,6 +106,9 @@ def _as_list(x, n, name, types):
 
 
 def _batch_size(*args):
+    if any(isinstance(a, (list, tuple)) and len(a) == 0 for a in args):
+        raise ValueError("an empty list was given for a batch argument (params, controller, "
+                         "compensator or friction): give one item, or one per run")
     sizes = {len(a) for a in args if isinstance(a, (list, tuple)) and len(a) != 1}
     if len(sizes) > 1:
         raise ValueError(f"batch arguments disagree on the number of runs: {sorted(sizes)}")
@@ -127,8 +130,10 @@ def _samples(duration, ts, n_runs) -> int:
 def _delay(delay, nsamp: int, ts: float, what: str = "delay") -> int:
     """Whole samples of delay, shorter than the run (a longer one: no torque reaches the joint)."""
     d = v.integer(what, delay, low=0)
-    if d >= nsamp:
-        raise ValueError(f"{what} of {d} samples ({d * ts:g} s) is not shorter than the run "
+    if d >= nsamp:  # compared as integers: a 400-digit delay is refused, not an OverflowError
+        seconds = f"{d * ts:g} s" if d < 10 ** 300 else "beyond double precision"
+        raise ValueError(f"{what} of {d if d < 10 ** 30 else f'~1e{len(str(d)) - 1}'} samples "
+                         f"({seconds}) is not shorter than the run "
                          f"({nsamp} samples, {nsamp * ts:g} s): no torque would reach the joint")
     return d
 
