@@ -272,3 +272,46 @@ def test_simulation_and_bench_arguments_are_checked():
         x.compare_estimators(None, paper_actuator())
     with pytest.raises(ValueError, match="estimator must be a function"):
         x.predicted_dead_zone(None, 0.18)
+
+
+def test_the_issues_wrong_kind_errors_are_value_errors_naming_the_argument():
+    # issue 15 item 11 as listed (TypeError, AttributeError, OverflowError before)
+    from fricctl.controllers import p_control, step
+    from fricctl.datasets import Run
+    from fricctl.identify import identify_run, inverse_dynamics
+    from fricctl.params import paper_actuator
+    from fricctl.simulate import replay, simulate
+
+    with pytest.raises(ValueError, match="noise_std must be a real number, got 'a'"):
+        simulate(paper_actuator(), p_control(1.0, step(0.1)), duration=0.1, noise_std="a")
+    with pytest.raises(ValueError, match="joint must be a RigidJoint or FlexibleJoint, got None"):
+        replay(None, np.ones(10), 0.002)
+    t = np.arange(2000) * 0.002
+    run = Run(t=t, torque=np.sign(np.cos(3 * t)), position=np.round(np.sin(3 * t), 4))
+    with pytest.raises(ValueError, match="border must be an integer, got 2.5"):
+        identify_run(run, border=2.5)
+    with pytest.raises(ValueError, match=r"parameters\['inertia'\] must be finite, got nan"):
+        inverse_dynamics("coulomb_viscous", {"inertia": np.nan, "viscous": 0.0169,
+                                             "coulomb": 0.144}, np.ones(3), np.ones(3))
+
+
+def test_a_damaged_cache_entry_is_trained_again_not_a_traceback(tmp_path, monkeypatch):
+    import hashlib
+
+    from fricctl.nn import cache
+
+    monkeypatch.setenv("FRICCTL_CACHE", str(tmp_path))
+    key = {"test": "damaged entry"}
+    text = json.dumps({"key": key, "code": cache.code_digest()}, sort_keys=True)
+    path = tmp_path / "nets" / (hashlib.sha256(text.encode()).hexdigest()[:32] + ".json")
+    path.parent.mkdir()
+    path.write_text("[" * 100_000 + "]" * 100_000)            # was a RecursionError
+
+    class Retrained(Exception):
+        pass
+
+    def make():
+        raise Retrained
+
+    with pytest.raises(Retrained):
+        cache.cached_pipeline_net(key, make)

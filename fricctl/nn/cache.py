@@ -59,7 +59,7 @@ def cached_pipeline_net(key: dict, make: Callable[[], PipelineNet]) -> PipelineN
     path = folder / "nets" / (hashlib.sha256(text.encode()).hexdigest()[:32] + ".json")
     try:
         return PipelineNet.from_dict(json.loads(path.read_text(encoding="utf-8")))
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):  # a damaged entry: retrain
         pass
     net = make()
     try:
