@@ -70,6 +70,7 @@ PIPELINES = ("fricctl", "paper")  # fricctl.nn.pipelines.PIPELINES
 
 # %%
 p = paper_actuator()
+assert np.isclose(1.0 / p.sample_time, 500.0)  # the paper's 500 Hz loop
 G = plant_tf(p)
 print(G)
 print(f"open-loop poles: {np.round(np.sort(control.poles(G).real), 3)} rad/s; "
@@ -336,6 +337,7 @@ for k in SEEDS:
     print(f"fricctl seed {k}: b_hat = {b_hat:.4f} N*m*s/rad, c = {c_eff:+.3f}, P-loop zeta {z_eff:.3f}")
     assert z_eff > 0.25  # the damping of the design is kept
 print(f"paper pipeline: b_hat = {nets[('paper', 0)].trained.viscous_removed:g} (full friction), c = 1")
+assert np.isclose(p.viscous, 0.0169)  # the paper's b, as the prose quotes it
 assert all(nets[("paper", k)].trained.viscous_removed == 0.0 for k in SEEDS)
 
 # %% [markdown]
