@@ -28,6 +28,8 @@ function) and are less accurate; callers that need clean data drop a border.
 
 from __future__ import annotations
 
+import functools
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -123,6 +125,30 @@ def _ba_accurate(design, *args) -> bool:
     _, h_ba = signal.freqz(b, a, w)
     _, h_sos = signal.sosfreqz(design(*args, output="sos"), w)
     return bool(np.max(np.abs(h_ba - h_sos)) <= FILTER_RTOL)
+
+
+def _determined(fit) -> bool:
+    """Whether a least-squares polynomial fit ``fit()`` is determined in double precision
+    (no rank deficiency, nothing overflows)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", np.exceptions.RankWarning)
+        warnings.simplefilter("error", RuntimeWarning)  # overflow in the powers of the times
+        try:
+            out = fit()
+        except (np.exceptions.RankWarning, RuntimeWarning, ValueError, np.linalg.LinAlgError):
+            return False
+    return bool(np.all(np.isfinite(np.asarray(out.coef if hasattr(out, "coef") else out))))
+
+
+def _highest(ok, low: int, high: int) -> int:
+    """The largest n in [low, high) with ``ok(n)`` (``ok`` monotone: true up to a limit), or low - 1."""
+    if not ok(low):
+        return low - 1
+    lo, hi = low, high  # ok(lo) holds, ok(hi) does not
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
 
 
 def _backward(x: np.ndarray, ts: float) -> np.ndarray:
@@ -272,6 +298,23 @@ def _segments(moving: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2], edges[1::2]))
 
 
+@functools.lru_cache(maxsize=4096)
+def _polyfit_determined(n: int, degree: int) -> bool:
+    # the times map to [-1, 1] whatever Ts is: the rank depends on n and the degree only
+    return _determined(lambda: np.polynomial.Polynomial.fit(np.linspace(-1.0, 1.0, n),
+                                                            np.zeros(n), degree))
+
+
+def _segment_fit(x, y, degree):
+    """``Polynomial.fit`` of one window, refused (naming the limit) where it is rank deficient."""
+    if not _polyfit_determined(x.size, degree):
+        top = _highest(lambda d: _polyfit_determined(x.size, d), 1, degree)
+        raise ValueError(f"order {degree} is not determined in double precision on a segment of "
+                         f"{x.size} samples (the least-squares fit is rank deficient); order must "
+                         f"be at most {top}")
+    return np.polynomial.Polynomial.fit(x, y, degree)
+
+
 def polynomial_segments(t, position, *, order: int = 6, window: int = 200,
                         overlap: int = 100, min_samples: int | None = None) -> DerivativeEstimate:
     """The paper's estimator: piecewise least-squares polynomials on the moving segments.
@@ -352,7 +395,7 @@ def polynomial_segments(t, position, *, order: int = 6, window: int = 200,
         asum = np.zeros(n)
         for s, e in windows:
             f0 = max(s, 1)  # sample 0 has no backward difference (vb[0] is a copy)
-            p = np.polynomial.Polynomial.fit(tm[f0:e], vb[f0:e], min(deg, e - f0 - 1))
+            p = _segment_fit(tm[f0:e], vb[f0:e], min(deg, e - f0 - 1))
             dp = p.deriv()
             m = e - s
             if len(windows) == 1:
@@ -401,6 +444,15 @@ def savitzky_golay(t, position, *, window_length: int = 51, polyorder: int = 3) 
     if window_length % 2 != 1:
         raise ValueError(f"window_length must be odd, got {window_length}")
     polyorder = v.integer("polyorder", polyorder, low=2, high=window_length - 1)
+
+    def fits(order):  # the filter itself (interior and the end fits of mode="interp") on zeros
+        return _determined(lambda: signal.savgol_filter(np.zeros(window_length), window_length,
+                                                        order, deriv=2, mode="interp"))
+
+    if not fits(polyorder):
+        raise ValueError(f"polyorder {polyorder} is not determined in double precision on a window "
+                         f"of {window_length} samples (the local fit is rank deficient); polyorder "
+                         f"must be at most {_highest(fits, 2, polyorder)}")
     kw = dict(window_length=window_length, polyorder=polyorder, delta=rec.ts, mode="interp")
     return DerivativeEstimate(
         t=rec.t, position=signal.savgol_filter(rec.q, deriv=0, **kw),

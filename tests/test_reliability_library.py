@@ -7,6 +7,7 @@ Each test is a regression test of one finding of the issue (its item in the comm
 """
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -315,3 +316,24 @@ def test_a_damaged_cache_entry_is_trained_again_not_a_traceback(tmp_path, monkey
 
     with pytest.raises(Retrained):
         cache.cached_pipeline_net(key, make)
+
+
+def test_polynomial_orders_beyond_double_precision_are_refused_with_the_limit():
+    # siblings of butterworth_central(order=50): a rank-deficient fit warned and went on
+    from fricctl.estimation import polynomial_segments, savitzky_golay
+
+    t = np.arange(2000) * 0.001
+    q = np.round(np.sin(6 * t) / 1e-4) * 1e-4
+    with pytest.raises(ValueError, match=r"order 40 is not determined .* order must be at most \d+"):
+        polynomial_segments(t, q, order=40)
+    with pytest.raises(ValueError, match=r"polyorder 40 is not determined .* at most \d+"):
+        savitzky_golay(t, q, window_length=51, polyorder=40)
+    with pytest.raises(ValueError, match=r"polyorder 1998 .* at most \d+"):   # was a traceback
+        savitzky_golay(t, q, window_length=1999, polyorder=1998)
+    # the limit the message names works, and the paper's order 6 is far from it
+    try:
+        savitzky_golay(t, q, window_length=51, polyorder=40)
+    except ValueError as exc:
+        top = int(re.search(r"at most (\d+)", str(exc)).group(1))
+    assert top >= 6
+    assert np.all(np.isfinite(savitzky_golay(t, q, window_length=51, polyorder=top).velocity))
