@@ -128,6 +128,32 @@ def test_a_saved_net_loads_bit_for_bit(tmp_path_factory, seed, hidden):
     assert net_to_json(net_from_json(net_to_json(net))) == net_to_json(net)
 
 
+_JSON = st.recursive(st.none() | st.booleans() | st.integers(-10 ** 400, 10 ** 400)
+                     | st.floats(allow_nan=False, allow_infinity=False) | st.text(max_size=5),
+                     lambda inner: st.lists(inner, max_size=4)
+                     | st.dictionaries(st.text(max_size=5), inner, max_size=4), max_leaves=12)
+
+
+@settings(max_examples=30, **SETTINGS)
+@given(seed=st.integers(0, 2 ** 32 - 1), key=st.sampled_from(
+    ["format", "version", "hidden", "w1", "b1", "w2", "b2", "input_offset", "input_scale",
+     "output_offset", "output_scale", "envelope_low", "envelope_high", "units", "metadata",
+     "extra"]), value=_JSON)
+def test_a_damaged_net_file_is_read_or_refused_with_a_value_error(seed, key, value):
+    # any entry replaced by any JSON value: a FrictionNet or a ValueError, never another error
+    import json
+
+    from fricctl.nn.io import net_to_dict
+
+    d = net_to_dict(_random_net(np.random.default_rng(seed), 2))
+    d[key] = value
+    try:
+        net = net_from_json(json.dumps(d))
+    except ValueError:
+        return
+    assert np.all(np.isfinite(net(np.linspace(-1, 1, 5), np.linspace(-1, 1, 5))))
+
+
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
 @settings(max_examples=10, **SETTINGS)
 @given(seed=st.integers(0, 2 ** 32 - 1), hidden=st.integers(1, 8), clip=st.booleans())
