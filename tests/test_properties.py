@@ -209,3 +209,20 @@ def test_a_model_file_reads_back_what_was_written(friction, inertia, offset, del
                                                          note=source)})
     assert JointModel.from_json(model.to_json()) == model
     assert isinstance(model.friction, FrictionModel)
+
+
+@settings(max_examples=30, **SETTINGS)
+@given(key=st.sampled_from(["format", "version", "units", "inertia", "friction", "offset",
+                            "delay", "load_inertia", "stiffness", "damping", "sample_time",
+                            "encoder_resolution", "max_torque", "source", "provenance", "extra"]),
+       value=_JSON)
+def test_a_damaged_model_file_is_read_or_refused_with_a_value_error(key, value):
+    import json
+
+    d = JointModel.from_params(paper_actuator(), source="paper").as_dict()
+    d[key] = value
+    try:
+        model = JointModel.from_json(json.dumps(d))
+    except ValueError:
+        return
+    assert model.inertia > 0 and math.isfinite(model.friction.breakaway(+1))
