@@ -223,7 +223,8 @@ for ax, pipe in zip(axes, PIPELINES):
     ax.plot(tm, tm, "k:", lw=1, label="identity")
     for sign in (-1, 1):
         ax.axvline(sign * p.static, color="0.5", lw=0.8)
-    ax.set(title=f"{pipe} pipeline: $\\hat T_{{at}}(T_m, 0)$", xlabel="$T_m$ [N m]")
+    ax.set(title=f"{pipe} pipeline: $\\hat T_{{at}}(T_m, 0)$", xlabel="$T_m$ [N m]",
+           xlim=(tm[0], tm[-1]), ylim=(tm[0], tm[-1]))
     ax.legend(fontsize="x-small")
 axes[0].set_ylabel("friction estimate at rest [N m]")
 plt.show()
@@ -231,8 +232,8 @@ plt.show()
 # %% [markdown]
 # The paper pipeline's curve lies above the identity near the origin ($g > 1$ in every
 # seed): the blending at rest.  Its velocity input is scaled by the data's range, so at
-# $\omega = 0$ the net sees the stuck patterns (most of all patterns, printed above; the grey dots:
-# pile up at $T_m = 0$ and at the holding torques) together with sliding patterns of
+# $\omega = 0$ the net sees the stuck patterns (most of all patterns, printed above; the
+# grey dots, piled up at small torques and at the holding torques) together with sliding patterns of
 # nearby velocities, whose friction is about $F_c$.  The least-squares fit bends the
 # curve at rest down towards $F_c$ at the largest torques, and a concave curve through
 # the origin and the holding torques has a slope above one at the origin.  A better
