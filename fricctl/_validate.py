@@ -223,7 +223,7 @@ def array(name: str, v, *, ndim: int | None = 1, size: int | None = None,
     if finite and a.size:
         bad = ~np.isfinite(a)
         if bad.any():
-            i = np.unravel_index(int(np.flatnonzero(bad.ravel())[0]), a.shape)
+            i = tuple(int(k) for k in np.unravel_index(int(np.flatnonzero(bad.ravel())[0]), a.shape))
             if a.ndim == 0:
                 raise ValueError(f"{name} holds NaN or inf ({float(a)!r})")
             where = i[0] if len(i) == 1 else i

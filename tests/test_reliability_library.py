@@ -337,3 +337,11 @@ def test_polynomial_orders_beyond_double_precision_are_refused_with_the_limit():
         top = int(re.search(r"at most (\d+)", str(exc)).group(1))
     assert top >= 6
     assert np.all(np.isfinite(savitzky_golay(t, q, window_length=51, polyorder=top).velocity))
+
+
+def test_a_bad_element_of_a_matrix_is_named_by_plain_indices():
+    # the index is printed as (0, 1), not as numpy scalars (np.int64(0), np.int64(1))
+    from fricctl import _validate as v
+
+    with pytest.raises(ValueError, match=r"^w holds NaN or inf \(nan\) at index \(0, 1\)$"):
+        v.array("w", [[1.0, np.nan]], ndim=2)
