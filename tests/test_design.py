@@ -608,3 +608,17 @@ def test_extreme_specs_give_a_design_or_a_clear_error_quickly(law, spec):
         warnings.simplefilter("ignore", DesignWarning)
         d = fn(paper_actuator(), **spec)
     assert math.isfinite(d.kp) and math.isfinite(d.achieved.settling_time)
+
+
+def test_report_shows_an_undefined_sampled_metric_as_a_dash():
+    # a design faster than Ts allows: the sampled loop is unstable, its metrics undefined
+    import warnings
+
+    from fricctl.params import paper_actuator
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        d = design_p(paper_actuator(), rise_time=0.0005, damping=0.3, priority="rise_time")
+    assert math.isnan(d.sampled.rise_time)
+    row = next(line for line in d.report().splitlines() if line.strip().startswith("Ts="))
+    assert "nan" not in row and row.split()[-4:] == ["-", "-", "-", "-"]

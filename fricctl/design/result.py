@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import control
@@ -106,10 +107,13 @@ class Design:
             f"  closed loop  wn = {self.wn:.6g} rad/s, zeta = {self.zeta:.4g}",
             f"  {'':12} {'rise [s]':>10} {'damping':>9} {'OS [%]':>9} {'settle [s]':>11}",
         ]
+        def cell(x, width, digits):  # an undefined metric (nan) is '-' (the JSON's null)
+            return f"{'-':>{width}}" if not math.isfinite(x) else f"{x:{width}.{digits}f}"
+
         for name, m in (("continuous", self.achieved),
                         (f"Ts={self.sample_time:g} s", self.sampled)):
-            lines.append(f"  {name:12} {m.rise_time:10.4f} {m.damping:9.4f} "
-                         f"{m.overshoot_percent:9.3f} {m.settling_time:11.4f}")
+            lines.append(f"  {name:12} {cell(m.rise_time, 10, 4)} {cell(m.damping, 9, 4)} "
+                         f"{cell(m.overshoot_percent, 9, 3)} {cell(m.settling_time, 11, 4)}")
         for w in self.warnings:
             lines.append(f"  warning: {w}")
         return "\n".join(lines)
