@@ -130,3 +130,12 @@ def test_train_refuses_to_clobber(patterns_csv, lattice_patterns_csv, tmp_path, 
     assert out.read_text() == "keep me" and "--force" in capsys.readouterr().err
     assert main(["train", str(path), "--out", str(out), "--restarts", "1", "--force"]) == 0
     assert load_net(out).hidden == 4
+
+
+def test_train_pipeline_shows_its_trainers_progress_when_asked(lattice_patterns_csv, tmp_path, capsys):
+    argv = ["train", str(lattice_patterns_csv), "--pipeline", "fricctl", "--gain-band", "0.95,0.98"]
+    assert main([*argv, "--out", str(tmp_path / "a.json"), "--progress", "on"]) == 0
+    err = capsys.readouterr().err
+    assert "attempt" in err                  # the certified trainer's step, on stderr
+    assert main([*argv, "--out", str(tmp_path / "b.json"), "--progress", "off"]) == 0
+    assert capsys.readouterr().err == ""

@@ -144,6 +144,7 @@ def _gain_band(text):
 
 
 def _train_pipeline(args, pats, rng, extra):
+    from ..nn import TRAINERS
     from ..nn.pipelines import DEFAULT_GAIN_BAND, PipelineInput, pipeline
 
     p = pats.patterns
@@ -166,8 +167,10 @@ def _train_pipeline(args, pats, rng, extra):
         quantum = p.velocity_quantum or 1.0   # the paper pipeline does not use it
     inp = PipelineInput(tm=p.tm, omega=p.omega, friction=p.friction, at_rest=p.at_rest,
                         velocity_quantum=quantum)
-    return pipeline(args.pipeline).train(inp, rng=rng, hidden=args.hidden,
-                                         metadata={**extra, "units": p.units}, **options)
+    trainer = {"paper": "casadi", "fricctl": "certified"}[args.pipeline]
+    with progress_bar(args.progress, TRAINERS[trainer].step) as progress:
+        return pipeline(args.pipeline).train(inp, rng=rng, hidden=args.hidden, progress=progress,
+                                             metadata={**extra, "units": p.units}, **options)
 
 
 def run(args) -> int:

@@ -158,7 +158,8 @@ class Pipeline:
     estimator_options: dict = field(default_factory=dict)
     """Options of that estimator."""
     train: Callable[..., PipelineNet]
-    """``train(patterns, *, rng, max_patterns, **options) -> PipelineNet``."""
+    """``train(patterns, *, rng, max_patterns, progress=None, **options) -> PipelineNet``
+    (``progress(done, total)`` is passed on to the trainer)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -195,10 +196,10 @@ def _subset(n_total: int, candidates: np.ndarray, max_patterns: int, rng) -> np.
 
 
 def _train_paper(patterns: PipelineInput, *, rng: np.random.Generator, max_patterns: int = 4000,
-                 hidden: int = 4, metadata: dict | None = None) -> PipelineNet:
+                 hidden: int = 4, metadata: dict | None = None, progress=None) -> PipelineNet:
     idx = _subset(len(patterns), np.arange(len(patterns)), max_patterns, rng)
     res = TRAINERS["casadi"].train(patterns.tm[idx], patterns.omega[idx], patterns.friction[idx],
-                                   hidden=hidden, rng=rng,
+                                   hidden=hidden, rng=rng, progress=progress,
                                    metadata={"pipeline": "paper", "target": "friction",
                                              **(metadata or {})})
     return PipelineNet(net=res.net, history=res.history, pipeline="paper", viscous_removed=0.0,
@@ -207,7 +208,7 @@ def _train_paper(patterns: PipelineInput, *, rng: np.random.Generator, max_patte
 
 def _train_fricctl(patterns: PipelineInput, *, rng: np.random.Generator, max_patterns: int = 2000,
                    hidden: int = 4, gain_band=DEFAULT_GAIN_BAND, sliding_slope: float = 0.3,
-                   metadata: dict | None = None) -> PipelineNet:
+                   metadata: dict | None = None, progress=None) -> PipelineNet:
     keep = (patterns.omega != 0) | patterns.at_rest
     rest = keep & (patterns.omega == 0)
     if not rest.any():
@@ -222,6 +223,7 @@ def _train_fricctl(patterns: PipelineInput, *, rng: np.random.Generator, max_pat
                               velocity_scale=patterns.velocity_quantum)
     res = TRAINERS["certified"].train(
         tm, om, target, hidden=hidden, rng=rng, scaling=scaling, gain_band=tuple(gain_band),
+        progress=progress,
         sliding_slope=sliding_slope, rest_torque=rest_torque,
         sliding_velocity=patterns.velocity_quantum,
         metadata={"pipeline": "fricctl", "target": "friction - viscous_removed*omega",

@@ -313,7 +313,9 @@ def loop(problem: TrainingProblem, *, gain_band=(0.98, 0.99), sliding_slope: flo
         losses.append(best[0] if best is not None else f)
         elapsed.append(problem.elapsed())
         if best is not None:
+            problem.report(attempts, attempts)  # certified: the attempts left are not needed
             break
+        problem.report(k + 1, attempts)
     if best is None:
         raise ValueError(f"certified training failed: no start out of {attempts} gave a net whose "
                          f"slopes meet the band {lo}..{hi} ({'; '.join(outcomes)}); "
