@@ -653,6 +653,11 @@ def test_sweep_executor_matches_serial_and_single_runs(network):
     r = simulate(pl, ctl.pd_control(serial.kp, serial.kd, ctl.step(serial.step)), NNCompensator(network.net),
                  duration=2.0, friction=pl.friction_model().scaled(1.2))
     assert serial.error_nn[1, 1] == pytest.approx(abs(r.steady_state_error()), abs=1e-9)
+    # settled: the single run at rest over the whole last 0.5 s, by hand
+    assert serial.settled_nn[1, 1] == bool(np.all(r.stuck[r.t >= r.t[-1] - 0.5 + 1e-12]))
+    np.testing.assert_array_equal(serial.settled_nn, threaded.settled_nn)
+    marks = serial.report().count("~")
+    assert marks == 1 + int(np.count_nonzero(~serial.settled_nn))  # the legend's "~" and one per cell
     # physics: without compensation every run sticks inside its band scale*Fs/Kp
     bands = np.asarray(kw["friction_scales"]) * P.static / serial.kp
     assert np.all(serial.error_none <= bands[None, :] + RES)

@@ -29,6 +29,9 @@ class SweepResult:
     link_inertias : [kg*m^2], shape (L,)
     error_nn : ``|steady-state error|`` with NN compensation [rad], shape (L, S)
     error_none : without compensation [rad], shape (L, S)
+    settled_nn : the compensated joint at rest over the whole steady-state window (the last
+        0.5 s) [bool], shape (L, S); where it is not, it still hunts and ``error_nn`` is the mean
+        of a moving error, not a steady state
     tolerance : the accuracy asked for [rad]
     step : reference step [rad]
     kp, kd : the gains used (fixed: the controller is not redesigned) [N*m/rad], [N*m*s/rad]
@@ -39,6 +42,7 @@ class SweepResult:
     link_inertias: np.ndarray
     error_nn: np.ndarray
     error_none: np.ndarray
+    settled_nn: np.ndarray
     tolerance: float
     step: float
     kp: float
@@ -51,15 +55,19 @@ class SweepResult:
         return self.error_nn < self.tolerance
 
     def report(self) -> str:
-        """A table of ``|e_ss|`` [deg] with NN compensation (* marks >= tolerance)."""
+        """A table of ``|e_ss|`` [deg] with NN compensation (* marks >= tolerance, ~ a joint
+        still moving in the last 0.5 s)."""
         head = "J_link [kg*m^2] | " + " | ".join(f"x{s:.2f}" for s in self.friction_scales)
         rows = [f"|e_ss| [deg] with NN compensation, step {np.rad2deg(self.step):.1f} deg, "
-                f"tolerance {np.rad2deg(self.tolerance):.2f} deg (* = not met)", head]
+                f"tolerance {np.rad2deg(self.tolerance):.2f} deg (* = not met, ~ = still moving in the "
+                "last 0.5 s: the mean of a hunting error)", head]
         for i, j in enumerate(self.link_inertias):
-            cells = [f"{np.rad2deg(e):.3f}{'*' if not ok else ''}"
-                     for e, ok in zip(self.error_nn[i], self.within[i])]
+            cells = [f"{np.rad2deg(e):.3f}{'*' if not ok else ''}{'' if still else '~'}"
+                     for e, ok, still in zip(self.error_nn[i], self.within[i], self.settled_nn[i])]
             rows.append(f"{j:.4f} | " + " | ".join(cells))
-        rows.append(f"met in {int(self.within.sum())} of {self.within.size} cases")
+        hunting = int(np.count_nonzero(self.within & ~self.settled_nn))
+        rows.append(f"met in {int(self.within.sum())} of {self.within.size} cases"
+                    + (f" ({hunting} of them still moving)" if hunting else ""))
         return "\n".join(rows)
 
 
@@ -69,6 +77,7 @@ class _Row:
 
     error_nn: np.ndarray
     error_none: np.ndarray
+    settled_nn: np.ndarray
 
 
 def _sweep_row(params: ActuatorParams, net_json: str, scales: tuple, kp: float, kd: float,
@@ -81,8 +90,10 @@ def _sweep_row(params: ActuatorParams, net_json: str, scales: tuple, kp: float, 
     c = ctl.pd_control(kp, kd, ctl.step(step))
     nn = simulator(params, c, NNCompensator(net, scale=comp_scale), duration=duration, friction=frs)
     none = simulator(params, c, NoCompensation(), duration=duration, friction=frs)
+    last = nn.t >= nn.t[-1] - SS_WINDOW + 1e-12   # the window steady_state_error averages over
     return _Row(error_nn=np.abs(nn.steady_state_error(SS_WINDOW)),
-                error_none=np.abs(none.steady_state_error(SS_WINDOW)))
+                error_none=np.abs(none.steady_state_error(SS_WINDOW)),
+                settled_nn=np.all(nn.stuck[..., last], axis=-1))
 
 
 def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
@@ -162,5 +173,6 @@ def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
         rows = [f.result() for f in futures]
     return SweepResult(friction_scales=scales, link_inertias=links,
                        error_nn=np.array([r.error_nn for r in rows]),
-                       error_none=np.array([r.error_none for r in rows]), tolerance=tolerance, step=step,
+                       error_none=np.array([r.error_none for r in rows]),
+                       settled_nn=np.array([r.settled_nn for r in rows]), tolerance=tolerance, step=step,
                        kp=d.kp, kd=d.kd, compensation_scale=compensation_scale)
