@@ -7,7 +7,7 @@ Usage::
     python tools/behaviour_snapshot.py compare A.json B.json
 
 ``snapshot`` runs only the command line (whose interface a refactor keeps):
-``fricctl reproduce`` (fast and full, seed 0) -> every number of claims.json;
+``fricctl reproduce`` (fast and full, seeds 0 and 1) -> every number of claims.json;
 ``fricctl diagnose --json`` on the records of ``make-records`` (and on one with
 its nominal model); ``fricctl design`` for the paper's four designs and the link;
 ``fricctl simulate --json`` for an open-loop, a P and a compensated PD run.
@@ -59,7 +59,7 @@ def snapshot(records: Path, out: Path) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for mode in ("fast", "full"):
             d = Path(tmp) / mode
-            _run(["reproduce", "--out", str(d), "--seed", "0"] + (["--fast"] if mode == "fast" else []))
+            _run(["reproduce", "--out", str(d), "--seeds", "2"] + (["--fast"] if mode == "fast" else []))
             snap[f"reproduce-{mode}"] = json.loads((d / "claims.json").read_text())
     for csv in sorted(records.glob("*.csv")):
         args = ["diagnose", str(csv), "--json"]
