@@ -22,9 +22,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from scipy import signal
 
+from .._jit import jit
 from .. import _validate as v
 from ..datasets import Run
 from ..estimation import butterworth_central, zero_phase_filter
@@ -47,7 +47,7 @@ MAX_CUTOFF = 0.25
 SAMPLE_TIME_RANGE = (1e-6, 10.0)
 
 
-@njit(cache=True)
+@jit
 def dahl_state(q, xc, z0):
     """Normalised Dahl/LuGre bristle state along a position record (exact per step).
 

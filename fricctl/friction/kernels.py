@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .._jit import jit
 from .layout import IDX
 
 __all__ = ["ripple", "level", "viscous", "sliding", "breakaway", "scale_at"]
@@ -26,7 +25,7 @@ _MU, _SC, _DR = IDX["load_coefficient"], IDX["scale"], IDX["drift"]
 _TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True)
+@jit
 def ripple(fp, q):
     """Position-periodic torque at q [N*m] (not scaled: it is not friction)."""
     if fp[_RA] == 0.0:
@@ -34,13 +33,13 @@ def ripple(fp, q):
     return fp[_RA] * math.sin(_TWO_PI * q / fp[_RP] + fp[_RPH])
 
 
-@njit(cache=True)
+@jit
 def scale_at(fp, t):
     """Friction scale at time t: ``scale*(1 + drift*t)`` [-]."""
     return fp[_SC] * (1.0 + fp[_DR] * t)
 
 
-@njit(cache=True)
+@jit
 def level(fp, w, s, tm, t):
     """Coulomb + load + Stribeck level (scaled) in direction s at speed |w| [N*m]."""
     if s > 0:
@@ -59,20 +58,20 @@ def level(fp, w, s, tm, t):
     return fp[_SC] * (1.0 + fp[_DR] * t) * lev
 
 
-@njit(cache=True)
+@jit
 def viscous(fp, w, s, t):
     """Viscous torque (scaled) in direction s [N*m]."""
     b = fp[_VP] if s > 0 else fp[_VN]
     return fp[_SC] * (1.0 + fp[_DR] * t) * b * w
 
 
-@njit(cache=True)
+@jit
 def sliding(fp, w, s, tm, t):
     """Friction torque (no ripple) while sliding in direction s; smooth in w [N*m]."""
     return viscous(fp, w, s, t) + s * level(fp, w, s, tm, t)
 
 
-@njit(cache=True)
+@jit
 def breakaway(fp, s, tm, t):
     """Torque the drive must exceed to start moving in direction s, a magnitude [N*m]."""
     if s > 0:

@@ -18,33 +18,18 @@ import hashlib
 import json
 import os
 import tempfile
-from pathlib import Path
 from typing import Callable
 
+from .._cache import PACKAGE_ROOT, cache_dir, source_digest
 from .pipelines import PipelineNet
 
 __all__ = ["cache_dir", "code_digest", "cached_pipeline_net"]
-
-_OFF = {"0", "off", "no", "false"}
-
-
-def cache_dir() -> Path | None:
-    """The cache folder, or None when ``FRICCTL_CACHE`` switches the cache off."""
-    env = os.environ.get("FRICCTL_CACHE")
-    if env is not None and env.strip().lower() in _OFF:
-        return None
-    return Path(env).expanduser() if env else Path.home() / ".cache" / "fricctl"
 
 
 @functools.lru_cache(maxsize=1)
 def code_digest() -> str:
     """SHA-256 of every Python source file of the installed fricctl package."""
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for f in sorted(root.rglob("*.py")):
-        h.update(str(f.relative_to(root)).encode())
-        h.update(f.read_bytes())
-    return h.hexdigest()
+    return source_digest(PACKAGE_ROOT.rglob("*.py"))
 
 
 def cached_pipeline_net(key: dict, make: Callable[[], PipelineNet]) -> PipelineNet:

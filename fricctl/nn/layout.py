@@ -46,8 +46,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from .. import _validate as v
 
 __all__ = ["Weights", "theta_size", "pack", "unpack", "forward_theta",
@@ -90,7 +90,7 @@ def unpack(theta, hidden: int) -> Weights:
                    w2=theta[3 * h:4 * h], b2=float(theta[4 * h]))
 
 
-@njit(cache=True)
+@jit
 def forward_theta(theta, h, x0, x1, hid):
     """Scaled output ``yn`` of the net ``theta`` with ``h`` hidden units at the scaled inputs
     ``(x0, x1)``; writes the hidden activations into ``hid`` (length >= h).
@@ -169,7 +169,7 @@ def pack_compiled(net, clip: bool) -> np.ndarray:
     return p
 
 
-@njit(cache=True)
+@jit
 def forward_packed(p, tm, omega):
     """Friction estimate [N*m] of the compiled-loop vector ``p`` at ``(tm [N*m], omega [rad/s])``.
 

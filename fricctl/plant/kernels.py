@@ -7,8 +7,8 @@ The state is ``[q (motor), omega (motor), q_load, omega_load, z]``; see
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from ..friction.kernels import breakaway as _breakaway
 from ..friction.kernels import level as _level
 from ..friction.kernels import ripple as _ripple
@@ -27,12 +27,12 @@ _L0, _L1 = IDX["lugre_sigma0"], IDX["lugre_sigma1"]
 # --------------------------------------------------------------------------
 # rigid joint
 # --------------------------------------------------------------------------
-@njit(cache=True)
+@jit
 def _rigid_acc(fp, q, w, s, tm, t, inv_i):
     return (tm - _sliding(fp, w, s, tm, t) - _ripple(fp, q)) * inv_i
 
 
-@njit(cache=True)
+@jit
 def _rigid_rk4(fp, q, w, s, tm, t, h, inv_i):
     a1 = _rigid_acc(fp, q, w, s, tm, t, inv_i)
     q2 = q + 0.5 * h * w
@@ -48,7 +48,7 @@ def _rigid_rk4(fp, q, w, s, tm, t, h, inv_i):
             w + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4))
 
 
-@njit(cache=True)
+@jit
 def _rigid_interval(fp, q, w, tm, t0, dt, nsub, inv_i):
     """Advance the rigid joint over [t0, t0+dt) under constant torque tm."""
     h = dt / nsub
@@ -104,7 +104,7 @@ def _rigid_interval(fp, q, w, tm, t0, dt, nsub, inv_i):
     return q, w
 
 
-@njit(cache=True)
+@jit
 def _rigid_state_torque(fp, q, w, tm, t, inv_i):
     """Resistive torque Tat and acceleration right after t (torque tm applied)."""
     if w == 0.0:
@@ -124,7 +124,7 @@ def _rigid_state_torque(fp, q, w, tm, t, inv_i):
 # --------------------------------------------------------------------------
 # flexible joint (Eq. 1)
 # --------------------------------------------------------------------------
-@njit(cache=True)
+@jit
 def _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d):
     spring = k * (qm - ql) + d * (wm - wl)
     am = (tm - _sliding(fp, wm, s, tm, t) - _ripple(fp, qm) - spring) / jm
@@ -132,7 +132,7 @@ def _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d):
     return am, al
 
 
-@njit(cache=True)
+@jit
 def _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, h, jm, jl, k, d, stuck):
     """One RK4 step; with stuck=True the motor is held (qm fixed, wm = 0)."""
     a1m, a1l = _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d)
@@ -165,13 +165,13 @@ def _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, h, jm, jl, k, d, stuck):
             wl + h / 6.0 * (a1l + 2.0 * a2l + 2.0 * a3l + a4l))
 
 
-@njit(cache=True)
+@jit
 def _flex_net(fp, qm, ql, wl, tm, k, d):
     """Drive torque on the stuck motor (everything but friction)."""
     return tm - _ripple(fp, qm) - k * (qm - ql) + d * wl
 
 
-@njit(cache=True)
+@jit
 def _flex_band(fp, u, tm, t):
     """+1 / -1 when u breaks the joint loose in that direction, 0 inside the band."""
     if u > _breakaway(fp, 1.0, tm, t):
@@ -181,7 +181,7 @@ def _flex_band(fp, u, tm, t):
     return 0.0
 
 
-@njit(cache=True)
+@jit
 def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
     h = dt / nsub
     for i in range(nsub):
@@ -250,7 +250,7 @@ def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
     return qm, wm, ql, wl
 
 
-@njit(cache=True)
+@jit
 def _flex_state_torque(fp, qm, wm, ql, wl, tm, t, jm, k, d):
     spring = k * (qm - ql) + d * (wm - wl)
     if wm == 0.0:
@@ -268,7 +268,7 @@ def _flex_state_torque(fp, qm, wm, ql, wl, tm, t, jm, k, d):
 # --------------------------------------------------------------------------
 # LuGre (rigid, smooth; no events)
 # --------------------------------------------------------------------------
-@njit(cache=True)
+@jit
 def _lugre_deriv(fp, q, w, z, tm, t, inv_i):
     s = 1.0 if w >= 0.0 else -1.0
     g = _level(fp, w, s, tm, t)
@@ -277,7 +277,7 @@ def _lugre_deriv(fp, q, w, z, tm, t, inv_i):
     return (tm - f) * inv_i, zd, f
 
 
-@njit(cache=True)
+@jit
 def _lugre_interval(fp, q, w, z, tm, t0, dt, nsub, inv_i):
     h = dt / nsub
     for i in range(nsub):
@@ -298,7 +298,7 @@ def _lugre_interval(fp, q, w, z, tm, t0, dt, nsub, inv_i):
 # --------------------------------------------------------------------------
 # one interval, any plant kind; state = [q (motor), omega (motor), ql, omega_l, z]
 # --------------------------------------------------------------------------
-@njit(cache=True)
+@jit
 def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d):
     """Advance state ``st`` (modified in place) over one held-torque interval."""
     if kind == RIGID:
@@ -314,7 +314,7 @@ def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d):
         st[3] = st[1]
 
 
-@njit(cache=True)
+@jit
 def state_torque(kind, st, fp, tm, t, jm, k, d):
     """(resistive torque Tat on the motor side, motor acceleration) right after t."""
     if kind == RIGID:

@@ -8,8 +8,8 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from .. import _validate as v
 from ..compensators import Compensator, NoCompensation
 from ..controllers import Controller
@@ -514,7 +514,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
                      **{k: x[0] for k, x in _arrays(out, stuck).items()})
 
 
-@njit(cache=True)
+@jit
 def _replay(kind, st, fp, torque, t0, ts, nsub, jm, jl, k, d, o_q, o_w, o_f):
     for i in range(torque.size):
         t = t0 + i * ts

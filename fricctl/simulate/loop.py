@@ -25,8 +25,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import jit
 from ..compensators import COMP_COULOMB, COMP_NN
 from ..nn.layout import forward_packed
 from ..plant.kernels import advance, state_torque
@@ -40,13 +41,13 @@ OUTPUTS = ("q", "q_meas", "q_load", "omega", "omega_hat", "torque_cmd", "torque_
 _Q, _Y, _QL, _W, _WH, _TC, _TM, _F, _FH, _A, _R = range(len(OUTPUTS))
 
 
-@njit(cache=True)
+@jit
 def _at(a, n, k):
     """``a[n, k]`` with a single row or column shared by every run or sample."""
     return a[min(n, a.shape[0] - 1), min(k, a.shape[1] - 1)]
 
 
-@njit(cache=True)
+@jit
 def quantize(q, res):
     """Encoder reading of position q with a count of ``res`` (0: no quantisation)."""
     if res > 0.0:
@@ -54,7 +55,7 @@ def quantize(q, res):
     return q
 
 
-@njit(cache=True)
+@jit
 def observe(q, y_prev, k, ts, res):
     """(y_k, omega_hat_k): encoder reading and backward difference (0 at k = 0)."""
     y = quantize(q, res)
@@ -62,7 +63,7 @@ def observe(q, y_prev, k, ts, res):
     return y, wh
 
 
-@njit(cache=True)
+@jit
 def control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd):
     """(r_k, Tc_k) of run n at sample k; ``offset`` is added to the reference of a segment."""
     r = _at(ref, n, k)
@@ -72,7 +73,7 @@ def control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd):
     return r, tc
 
 
-@njit(cache=True)
+@jit
 def compensate(kind, p, tm, wh):
     """Friction estimate T^at of a compiled compensator (kind, parameter vector)."""
     if kind == COMP_COULOMB:
@@ -86,7 +87,7 @@ def compensate(kind, p, tm, wh):
     return 0.0
 
 
-@njit(cache=True)
+@jit
 def act(n, k, st, tm_k, tc, fh, y, wh, r, cscale, tmax, delay, noise, kind, fp, ts, nsub,
         jm, jl, kst, dmp, out, stuck):
     """Command, what the joint receives, the records of sample k, one interval; returns Tm_{k+1}."""
@@ -115,7 +116,7 @@ def act(n, k, st, tm_k, tc, fh, y, wh, r, cscale, tmax, delay, noise, kind, fp, 
     return tm_next
 
 
-@njit(cache=True)
+@jit
 def _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
              ckind, cpar, cscale, delay, noise, out, stuck):
     st = np.zeros(5)
@@ -137,7 +138,7 @@ def _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, k
         y_prev = y
 
 
-@njit(cache=True)
+@jit
 def _runs_serial(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
                  ckind, cpar, cscale, delay, noise, out, stuck):
     for n in range(fps.shape[0]):
@@ -145,7 +146,7 @@ def _runs_serial(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, 
                  ckind, cpar, cscale, delay, noise, out, stuck)
 
 
-@njit(cache=True, parallel=True)
+@jit(parallel=True)
 def _runs_parallel(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
                    ckind, cpar, cscale, delay, noise, out, stuck):
     for n in prange(fps.shape[0]):  # runs are independent: one per thread

@@ -68,8 +68,8 @@ import threading
 import types
 
 import numpy as np
-from numba import njit
 
+from ..._jit import jit
 from ... import _validate as v
 from ..layout import forward_theta, pack, unpack
 from .core import MAX_RESTARTS, LoopResult, Trainer, TrainingProblem, TrainingResult, check_work
@@ -95,7 +95,7 @@ CONVERGING = types.MappingProxyType(dict(
     restarts=5, velocity_scale=10.0))
 
 
-@njit(cache=True)
+@jit
 def _accumulate(theta, x0, x1, t, h, g, hid):
     # One pattern: loss 0.5*(yn - t)^2 on the scaled output; adds its gradient
     # to g and returns the loss.
@@ -111,7 +111,7 @@ def _accumulate(theta, x0, x1, t, h, g, hid):
     return 0.5 * e * e
 
 
-@njit(cache=True)
+@jit
 def loss_gradient(theta, xn, tn, h, g):
     """Mean loss ``0.5*mean((yn - tn)^2)`` over all patterns; writes its gradient into ``g``."""
     g[:] = 0.0
@@ -125,7 +125,7 @@ def loss_gradient(theta, xn, tn, h, g):
     return loss / n
 
 
-@njit(cache=True)
+@jit
 def epoch(theta, velocity, xn, tn, order, batch, lr, mom, h):
     """One pass over the patterns in ``order`` (updates ``theta`` and ``velocity`` in place);
     returns the mean loss over all patterns after the epoch."""
