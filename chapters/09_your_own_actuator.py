@@ -86,7 +86,7 @@ assert (fr.viscous_pos, fr.coulomb_pos, fr.stribeck_velocity) == (
     chapter1.viscous, chapter1.coulomb, chapter1.stribeck_velocity)
 assert np.isclose(fr.coulomb_pos + fr.stribeck_pos, chapter1.static, rtol=1e-12)
 assert paper.offset == 0.0 and paper.load_inertia == 0.0  # rigid, no offset
-assert fr.static_pos == 0.0 and fr.breakaway(+1) == fr.coulomb_pos + fr.stribeck_pos
+assert fr.static_excess_pos == 0.0 and fr.breakaway(+1) == fr.coulomb_pos + fr.stribeck_pos
 
 # %% [markdown]
 # A model file is read strictly: a missing or unknown key, another version, NaN or a negative

@@ -99,11 +99,13 @@ class _DigestLocator(_CacheLocator):
     @classmethod
     def from_function(cls, py_func, py_file):
         places = []
+        root = cache_dir()
         if os.path.exists(py_file):
             places.append(os.path.join(os.path.dirname(py_file), "__pycache__"))
-            root = cache_dir()
             if root is not None:
                 places.append(os.path.join(str(root), "numba", cls.get_suitable_cache_subpath(py_file)))
+        elif root is not None:  # generated code (fricctl.friction.compiled): no file of its own
+            places.append(os.path.join(str(root), "numba", "generated"))
         for path in places:
             self = cls(py_func, py_file, path)
             try:

@@ -31,7 +31,7 @@ from typing import Callable
 import numpy as np
 
 from . import _validate as v
-from .nn.layout import NET_ATTRIBUTES, pack_compiled
+from .netlayout import NET_ATTRIBUTES, pack_compiled
 
 __all__ = ["Compensator", "NoCompensation", "CoulombCompensator", "NNCompensator",
            "CompiledCompensator", "COMP_NONE", "COMP_COULOMB", "COMP_NN"]

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from fricctl.friction import (Coulomb, FrictionModel, LoadDependent, LuGre, PositionRipple, Static,
-                              Stribeck, Viscous)
+from fricctl.friction import (LAWS, Coulomb, FrictionModel, LoadDependent, LuGre, PositionRipple,
+                              Static, Stribeck, Viscous)
 from fricctl.params import paper_actuator
 
 
@@ -67,30 +67,39 @@ def test_model_validation():
     assert FrictionModel.from_dict(m.as_dict()) == m
 
 
-def _random_model(rng):
-    """A random mix of laws (each present with probability 1/2), per-direction magnitudes."""
-    m = FrictionModel()
-    if rng.random() < 0.5:
-        m = m + Viscous(pos=rng.uniform(0, 0.05), neg=rng.uniform(0, 0.05))
-    m = m + Coulomb(pos=rng.uniform(0.01, 0.3), neg=rng.uniform(0.01, 0.3))
-    if rng.random() < 0.5:
-        m = m + Stribeck(pos=rng.uniform(0, 0.2), neg=rng.uniform(0, 0.2),
-                         velocity=rng.uniform(0.005, 0.5), exponent=rng.choice([2.0, rng.uniform(0.5, 3)]))
-    if rng.random() < 0.5:
-        m = m + Static(pos=rng.uniform(0, 0.1), neg=rng.uniform(0, 0.1))
-    if rng.random() < 0.5:
-        m = m + LoadDependent(rng.uniform(0, 0.3))
-    if rng.random() < 0.5:
-        m = m + PositionRipple(rng.uniform(0, 0.1), rng.uniform(0.01, 1.0), rng.uniform(-3, 3))
-    if rng.random() < 0.5:
-        m = m.scaled(rng.uniform(0.5, 1.5)).with_drift(rng.uniform(-0.01, 0.01))
-    return m
+def _random_coefficient(rng, c):
+    """A value inside a coefficient's declared bounds (signed ones in [-3, 3])."""
+    lo = -3.0 if c.signed else c.lower
+    hi = 3.0 if c.signed else min(c.upper, lo + 1.0)
+    if c.name.endswith(("_velocity", "_period", "_exponent")):  # shape parameters: away from 0
+        lo = max(lo, 0.005 if not c.name.endswith("_exponent") else 0.5)
+    return float(rng.uniform(lo + (1e-3 if c.strict else 0.0), hi))
+
+
+def _random_model(rng, roles=("rate", "level", "position", "scale")):
+    """A random mix of the registered laws of ``roles`` (each present with probability 1/2),
+    every coefficient drawn inside its declared bounds; read from the registry, so a new law
+    is in the mix without editing this test."""
+    while True:
+        values = {}
+        for law in LAWS.values():
+            if law.role in roles and rng.random() < 0.5:
+                values.update({c.name: _random_coefficient(rng, c) for c in law.coefficients})
+        values.setdefault("coulomb_pos", rng.uniform(0.01, 0.3))
+        values.setdefault("coulomb_neg", rng.uniform(0.01, 0.3))
+        if "scale" in values:
+            values["scale"] = float(rng.uniform(0.5, 1.5))
+            values["drift"] = float(rng.uniform(-0.01, 0.01))
+        try:
+            return FrictionModel(**values)
+        except ValueError:  # a mix a law refuses (its check): draw again
+            continue
 
 
 def test_compiled_kernel_equals_friction_model():
     # the numba primitives the plant integrates and FrictionModel's numpy evaluation are two
     # implementations of one law: pinned together on random law mixes (1e-12 relative)
-    from fricctl.friction import kernels
+    from fricctl.friction import compiled
 
     rng = np.random.default_rng(2024)
     for _ in range(200):
@@ -101,12 +110,74 @@ def test_compiled_kernel_equals_friction_model():
             q, tm, t = rng.uniform(-10, 10), rng.uniform(-1.5, 1.5), rng.uniform(0, 30)
             s = 1.0 if w > 0 else -1.0
             numpy_t = m.torque(w, q, tm, t)
-            kernel_t = kernels.sliding(fp, w, s, tm, t) + kernels.ripple(fp, q)
+            kernel_t = compiled.sliding(fp, w, s, tm, t) + compiled.ripple(fp, q)
             assert kernel_t == pytest.approx(numpy_t, rel=1e-12, abs=1e-15)
             for d in (1, -1):
-                assert kernels.breakaway(fp, float(d), tm, t) == pytest.approx(
+                assert compiled.breakaway(fp, float(d), tm, t) == pytest.approx(
                     m.breakaway(d, q, tm, t), rel=1e-12, abs=1e-15)
-            assert kernels.scale_at(fp, t) == pytest.approx(float(m.scale_at(t)), rel=1e-15)
+            assert compiled.scale_at(fp, t) == pytest.approx(float(m.scale_at(t)), rel=1e-15)
+
+
+@pytest.mark.parametrize("name", [n for n, law in LAWS.items() if law.role != "state"])
+def test_each_law_numpy_term_equals_its_compiled_term(name):
+    # every registered law's two terms (numpy on arrays, the scalar one numba compiles) agree
+    # on random coefficients and inputs; the compiled one is run as plain Python here
+    import inspect
+
+    law = LAWS[name]
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        c = {x.name: _random_coefficient(rng, x) for x in law.coefficients}
+        w = float(rng.choice([-1, 1]) * 10 ** rng.uniform(-3, 1))
+        s = 1.0 if w > 0 else -1.0
+        sig = {"w": w, "s": s, "tm": float(rng.uniform(-2, 2)), "q": float(rng.uniform(-5, 5)),
+               "t": float(rng.uniform(0, 20))}
+        names = [n for n in inspect.signature(law.compiled).parameters if n not in c]
+        scalar = law.compiled(*[sig[n] for n in names], **c)
+        vector = law.term(*[np.array([sig[n]]) for n in names], **c)
+        assert float(np.asarray(vector).ravel()[0]) == pytest.approx(scalar, rel=1e-13, abs=1e-15)
+
+
+@pytest.mark.parametrize("name", list(LAWS))
+def test_each_law_declares_what_the_pipeline_needs(name):
+    from fricctl.friction import FrictionLaw
+    from fricctl.friction.layout import IDX
+
+    law = LAWS[name]
+    assert law.description and law.name == name and issubclass(law.constructor, FrictionLaw)
+    for c in law.coefficients:  # unit, doc, default inside its bounds, placed in the layout
+        assert c.unit and c.doc and c.name in IDX
+        assert FrictionModel().as_dict()[c.name] == c.default
+    # friction opposes motion: a law alone (on a Coulomb level, which presliding laws need)
+    # never gives a torque against the velocity (the position ripple is not friction)
+    if law.role in ("rate", "level"):
+        rng = np.random.default_rng(3)
+        for _ in range(20):
+            m = FrictionModel(**{"coulomb_pos": 0.1, "coulomb_neg": 0.1, **{
+                x.name: _random_coefficient(rng, x) for x in law.coefficients}})
+            w = rng.normal(0, 3, 200)
+            assert np.all(w * m.torque(w, tm=rng.normal(0, 1, 200)) >= 0)
+
+
+@pytest.mark.parametrize("name", [n for n, law in LAWS.items() if law.role == "state"])
+def test_each_state_law_slides_at_its_level_in_steady_state(name):
+    # at the state's equilibrium (z' = 0 while sliding) a presliding law carries exactly the
+    # level g in the direction of motion: the model's sliding torque (closed form)
+    from fricctl.friction import compiled
+
+    law = LAWS[name]
+    m = FrictionModel(coulomb_pos=0.12, coulomb_neg=0.08,
+                      **{law.state.switch: 50.0}) + Viscous(0.02)
+    fp = m.vector()
+    for w in (0.3, -0.7):
+        s = 1.0 if w > 0 else -1.0
+        g = compiled.level(fp, w, s, 0.0, 0.0)
+        z = s * g / 50.0
+        zd, f = compiled.state(fp, w, z, g)
+        assert zd == pytest.approx(0.0, abs=1e-12) and f == pytest.approx(s * g, rel=1e-12)
+        assert f + compiled.rate(fp, w, s, 0.0) == pytest.approx(m.torque(w), rel=1e-12)
+    with pytest.raises(ValueError, match="Static"):
+        m + Static(0.01)
 
 
 def test_layout_matches_the_model_fields():

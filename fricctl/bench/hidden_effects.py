@@ -144,12 +144,12 @@ class HiddenEffectRecord:
         m = sig.moving
         sse_truth = float(np.sum(predict(self.truth, sig).residual[m] ** 2))
         X = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
-        free = self.effect_free.as_dict()
+        free = _full_dict(self.effect_free)
         out = {}
         for name in self.causes:
             if name == causes.NONE:
                 continue
-            d = self.truth.as_dict()
+            d = _full_dict(self.truth)
             for key in causes.get(name).changes:  # this effect undone, the others kept
                 if key in d["friction"]:
                     d["friction"][key] = free["friction"][key]
@@ -295,15 +295,20 @@ PAIRS = tuple((a, b) for i, a in enumerate(HIDDEN_CAUSES[1:]) for b in HIDDEN_CA
               if compatible(a, b))
 
 
+def _full_dict(model: JointModel) -> dict:
+    """The model file's content with every friction coefficient (the file writes the changed ones)."""
+    return {**model.as_dict(), "friction": model.friction.as_dict()}
+
+
 def _merge(effects: dict, actuator):
     """One injection from several (name -> Injection): each effect's changed model parameters
     set on one nominal model."""
     items = list(effects.values())
     nominal = next((e.nominal for e in items if e.nominal != actuator.nominal()),
                    items[0].nominal)  # compliance redraws the link: its nominal holds it
-    merged = nominal.as_dict()
+    merged = _full_dict(nominal)
     for e in items:
-        got, ref = e.truth.as_dict(), e.nominal.as_dict()
+        got, ref = _full_dict(e.truth), _full_dict(e.nominal)
         for key, value in got.items():
             if key == "friction":
                 merged["friction"].update({k: x for k, x in value.items() if x != ref[key][k]})

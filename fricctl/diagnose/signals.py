@@ -24,14 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from .._jit import jit
 from .. import _validate as v
 from ..datasets import Run
 from ..estimation import butterworth_central, zero_phase_filter
 from ..friction import FrictionModel
 from ..plant import JointModel
 
-__all__ = ["Signals", "TorquePrediction", "estimate_signals", "dahl_state", "centred", "delayed",
+__all__ = ["Signals", "TorquePrediction", "estimate_signals", "centred", "delayed",
            "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
            "BAND_MARGIN", "MAX_CUTOFF", "SAMPLE_TIME_RANGE"]
 
@@ -45,25 +44,6 @@ MAX_CUTOFF = 0.25
 #: Sample times a diagnosis reads [s]: 1 us to 10 s (a drive's record is sampled at 0.1 Hz to
 #: 1 MHz; beyond, the acceleration's 1/Ts^2 and the filters' products leave double precision).
 SAMPLE_TIME_RANGE = (1e-6, 10.0)
-
-
-@jit
-def dahl_state(q, xc, z0):
-    """Normalised Dahl/LuGre bristle state along a position record (exact per step).
-
-    ``dz/dx = (1 - sign(dx)*z)/xc``, so over a step dx:
-    ``z <- s + (z - s)*exp(-|dx|/xc)`` with ``s = sign(dx)``.
-    """
-    z = np.empty(q.size)
-    zz = z0
-    z[0] = zz
-    for k in range(1, q.size):
-        dx = q[k] - q[k - 1]
-        if dx != 0.0:
-            s = 1.0 if dx > 0 else -1.0
-            zz = s + (zz - s) * math.exp(-abs(dx) / xc)
-        z[k] = zz
-    return z
 
 
 def delayed(x: np.ndarray, delay: float) -> np.ndarray:
@@ -341,15 +321,9 @@ def friction_columns(sig: Signals, fr: FrictionModel, tm_joint) -> np.ndarray:
 
 
 def _friction_raw(sig: Signals, fr: FrictionModel, tm_joint, w) -> np.ndarray:
-    if fr.is_lugre:
-        xc = min(fr.coulomb_pos, fr.coulomb_neg) / fr.lugre_sigma0
-        z = dahl_state(sig.qf, xc, 0.0)
-        s = np.sign(w)
-        level = np.where(z >= 0, fr.coulomb_pos, fr.coulomb_neg) + fr.load_coefficient * np.abs(tm_joint)
-        visc = np.where(w > 0, fr.viscous_pos, fr.viscous_neg) * w
-        damp = fr.lugre_sigma1 * w * (1 - s * z)
-        return fr.scale_at(sig.t) * (level * z + visc) + fr.ripple(sig.qf) + damp
-    return fr.torque(w, sig.qf, tm_joint, sig.t)
+    # the model's own evaluation along the measured motion (a presliding law integrates its
+    # state along the position record: its law's along_motion)
+    return fr.along_motion(sig.qf, w, tm_joint, sig.t)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -18,7 +18,7 @@ from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import replay
-from .signals import Signals, dahl_state, delay_in_samples, delayed, estimate_signals
+from .signals import Signals, delay_in_samples, delayed, estimate_signals
 
 __all__ = ["SimulationRMS", "WindowedSimulation", "WindowGrid", "window_grid", "simulate_windows",
            "windowed_simulation"]
@@ -140,11 +140,11 @@ def simulate_windows(model: JointModel, sig: Signals, starts, length: int) -> Wi
     fr = model.friction
     nsub = None
     zlug = None
-    if fr.is_lugre:
-        xc = min(fr.coulomb_pos, fr.coulomb_neg) / fr.lugre_sigma0
+    law = fr.state_law
+    if law is not None:  # presliding: sub-steps for the bristle's rate at the record's speeds
         vmax = float(np.percentile(np.abs(sig.w), 99.5)) + 1e-9
-        nsub = int(min(max(40, math.ceil(sig.ts * vmax / xc / 1.5)), 4000))
-        zlug = dahl_state(sig.qf, xc, 0.0) * xc
+        nsub = int(min(max(40, math.ceil(sig.ts * law.state.speed_rate(fr, vmax) / 1.5)), 4000))
+        zlug = law.state.initial(fr, sig.qf)
     for i, k0 in enumerate(starts):
         idx = np.arange(k0, k0 + length)
         torque = torque_all[idx]

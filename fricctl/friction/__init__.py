@@ -17,29 +17,37 @@ the drive must exceed to start moving from rest).  Laws compose by addition::
     >>> round(law.breakaway(+1), 3), round(float(law.torque(1.0)), 4)
     (0.18, 0.1609)
 
-Laws available: :class:`Viscous`, :class:`Coulomb`, :class:`Static` (breakaway
-excess without sliding contribution), :class:`Stribeck` (exponential decay of the
-excess with speed), :class:`LoadDependent` (friction growing with the
-transmitted torque ``|Tm|``), :class:`PositionRipple` (a torque periodic in
-position; not friction, not dissipative, but part of the resistive torque the
-joint sees), :class:`LuGre` (presliding: turns the Coulomb + Stribeck part into
-the LuGre bristle model), and the model-level ``scale`` and ``drift`` (overall
-friction level, and its steady change in time: wear, warm-up).
+Each law is one module of :mod:`fricctl.friction.laws` (registry :data:`LAWS`; what a law
+declares: :mod:`fricctl.friction.law`), whose public class is importable from here:
+:class:`Viscous`, :class:`Coulomb`, :class:`Static` (breakaway excess without sliding
+contribution), :class:`Stribeck` (exponential decay of the excess with speed),
+:class:`LoadDependent` (friction growing with the transmitted torque ``|Tm|``),
+:class:`PositionRipple` (a torque periodic in position; not friction, not dissipative, but
+part of the resistive torque the joint sees), presliding laws with a state such as
+:class:`LuGre` (they turn the Coulomb + Stribeck level into bristle dynamics), the
+model-level ``scale`` and ``drift`` (overall friction level, and its steady change in time:
+wear, warm-up), and whatever else :data:`LAWS` holds.  The numpy evaluation
+(:class:`FrictionModel`) and the compiled one (:mod:`fricctl.friction.compiled`) are both
+built from the registered laws.
 
 Notes
 -----
 Not modelled: the dependence of friction on temperature except through
 ``drift``; dwell-time dependence of breakaway; frictional memory (hysteresis in
-sliding) except through :class:`LuGre`.
+sliding) except through the presliding laws.
 """
 
 from __future__ import annotations
 
-from .laws import Coulomb, LoadDependent, LuGre, PositionRipple, Static, Stribeck, Viscous
+from .law import Coefficient, FrictionLaw, Law
+from .laws import LAWS, law_of_field, laws_with_role
 from .layout import FIELDS, IDX, NPARAM
-from .model import DEFAULTS, FrictionLaw, FrictionModel
+from .model import DEFAULTS, FrictionModel
 
-__all__ = [
-    "FrictionLaw", "FrictionModel", "Viscous", "Coulomb", "Static", "Stribeck", "LoadDependent",
-    "PositionRipple", "LuGre", "FIELDS", "IDX", "NPARAM", "DEFAULTS",
-]
+# every registered law's public class (Viscous, Coulomb, ...), read from the registry: a new
+# law module is importable from here without an edit of this file
+globals().update({law.constructor.__name__: law.constructor for law in LAWS.values()})
+
+__all__ = ["FrictionLaw", "FrictionModel", "FIELDS", "IDX", "NPARAM", "DEFAULTS", "LAWS", "Law",
+           "Coefficient", "laws_with_role", "law_of_field",
+           *(law.constructor.__name__ for law in LAWS.values())]

@@ -1,54 +1,21 @@
-""":class:`FrictionModel`, the sum of friction laws, and :class:`FrictionLaw`, their base.
+""":class:`FrictionModel`, the sum of friction laws, its fields those of the registered laws.
 
 See :mod:`fricctl.friction` for the sign convention and the laws.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+import math
+from dataclasses import field, fields, make_dataclass, replace
 
 import numpy as np
 
 from .. import _validate as v
-from .layout import FIELDS
+from .law import FrictionLaw
+from .laws import LAWS, laws_with_role
+from .layout import COEFFICIENTS, FIELDS
 
 __all__ = ["FrictionLaw", "FrictionModel", "DEFAULTS"]
-
-
-class FrictionLaw:
-    """Base of the elementary laws; adding laws (``Viscous(b) + Coulomb(Fc)``) gives a
-    :class:`FrictionModel`.
-
-    A law says which coefficients of the model it sets (:meth:`contribution`) and may
-    refuse to be added to a model it cannot share (:meth:`check_compatible`).
-    """
-
-    def contribution(self) -> dict:  # pragma: no cover - abstract
-        """``{field: value}`` this law adds to (or sets in) a model."""
-        raise NotImplementedError
-
-    def check_compatible(self, model: "FrictionModel") -> None:
-        """Raise ``ValueError`` if this law cannot be added to ``model``."""
-
-    def model(self) -> "FrictionModel":
-        """The model holding this law alone."""
-        return FrictionModel().add(self)
-
-    def __add__(self, other):
-        return self.model() + other
-
-    def __radd__(self, other):
-        if other == 0:  # sum([...]) support
-            return self.model()
-        return NotImplemented
-
-    def torque(self, omega, q=0.0, tm=0.0, t=0.0):
-        """:meth:`FrictionModel.torque` of this law alone [N*m]."""
-        return self.model().torque(omega, q, tm, t)
-
-    def breakaway(self, direction=1, q=0.0, tm=0.0, t=0.0):
-        """:meth:`FrictionModel.breakaway` of this law alone [N*m]."""
-        return self.model().breakaway(direction, q, tm, t)
 
 
 def _out(x):
@@ -57,11 +24,8 @@ def _out(x):
     return float(x) if x.ndim == 0 else x
 
 
-#: Coefficients that add when two laws or models are summed.
-_ADDITIVE = frozenset({"viscous_pos", "viscous_neg", "coulomb_pos", "coulomb_neg", "static_pos",
-                       "static_neg", "stribeck_pos", "stribeck_neg", "load_coefficient"})
-#: Coefficients that may be negative.
-_SIGNED = frozenset({"ripple_phase", "drift"})
+#: How each coefficient combines when two laws or models are summed (its law's declaration).
+_COMBINE = {c.name: c.combine for c in COEFFICIENTS}
 
 
 def _broadcast(**arrays) -> None:
@@ -87,69 +51,46 @@ def _direction(direction) -> int:
     return int(direction)
 
 
-@dataclass(frozen=True, kw_only=True)
-class FrictionModel:
+class _FrictionModelBase:
     """Sum of friction laws, stored as named coefficients (load side, SI).
 
-    Build it by adding laws (``Viscous(b) + Coulomb(Fc)``), not field by field.
-    ``scale`` multiplies every friction term (not the position ripple);
-    ``drift`` makes that scale change linearly in time:
+    Build it by adding laws (``Viscous(b) + Coulomb(Fc)``), not field by field.  Its fields
+    are the coefficients of the registered laws (:data:`fricctl.friction.laws.LAWS`), each
+    with its unit in the field's metadata.  ``scale`` multiplies every friction term (not the
+    position ripple); ``drift`` makes that scale change linearly in time:
     ``scale(t) = scale * (1 + drift*t)``.
     """
 
-    viscous_pos: float = field(default=0.0, metadata={"unit": "N*m*s/rad"})
-    viscous_neg: float = field(default=0.0, metadata={"unit": "N*m*s/rad"})
-    coulomb_pos: float = field(default=0.0, metadata={"unit": "N*m"})
-    coulomb_neg: float = field(default=0.0, metadata={"unit": "N*m"})
-    static_pos: float = field(default=0.0, metadata={"unit": "N*m"})
-    static_neg: float = field(default=0.0, metadata={"unit": "N*m"})
-    stribeck_pos: float = field(default=0.0, metadata={"unit": "N*m"})
-    stribeck_neg: float = field(default=0.0, metadata={"unit": "N*m"})
-    stribeck_velocity: float = field(default=1.0, metadata={"unit": "rad/s"})
-    stribeck_exponent: float = field(default=2.0, metadata={"unit": "-"})
-    ripple_amplitude: float = field(default=0.0, metadata={"unit": "N*m"})
-    ripple_period: float = field(default=0.0, metadata={"unit": "rad"})
-    ripple_phase: float = field(default=0.0, metadata={"unit": "rad"})
-    load_coefficient: float = field(default=0.0, metadata={"unit": "-"})
-    scale: float = field(default=1.0, metadata={"unit": "-"})
-    drift: float = field(default=0.0, metadata={"unit": "1/s"})
-    lugre_sigma0: float = field(default=0.0, metadata={"unit": "N*m/rad"})
-    lugre_sigma1: float = field(default=0.0, metadata={"unit": "N*m*s/rad"})
-
     def __post_init__(self):
-        for f in fields(self):
-            x = v.real(f.name, getattr(self, f.name), nonneg=f.name not in _SIGNED,
-                       unit=f.metadata["unit"])
-            object.__setattr__(self, f.name, x)
-        if self.stribeck_velocity <= 0 or self.stribeck_exponent <= 0:
-            raise ValueError("stribeck_velocity and stribeck_exponent must be > 0")
-        if self.ripple_amplitude > 0 and self.ripple_period <= 0:
-            raise ValueError("ripple_period must be > 0 when ripple_amplitude > 0")
-        if self.lugre_sigma0 > 0 and (self.static_pos > 0 or self.static_neg > 0):
-            raise ValueError("LuGre replaces stiction by bristle dynamics: it cannot be combined "
-                             "with a Static law (use Stribeck for the breakaway excess)")
-        if self.lugre_sigma0 > 0 and min(self.coulomb_pos, self.coulomb_neg) <= 0:
-            raise ValueError("LuGre needs a Coulomb level > 0 in both directions (g(omega) > 0)")
+        for c in COEFFICIENTS:
+            x = v.real(c.name, getattr(self, c.name), nonneg=c.lower == 0.0 and not c.strict,
+                       positive=c.lower == 0.0 and c.strict, unit=c.unit)
+            if (c.lower not in (0.0, -math.inf) and (x < c.lower or c.strict and x == c.lower)) \
+                    or x > c.upper:
+                raise ValueError(f"{c.name} must be in [{c.lower:g}, {c.upper:g}] {c.unit}, got {x!r}")
+            object.__setattr__(self, c.name, x)
+        for law in LAWS.values():
+            if law.check is not None:
+                law.check(self)
+        active = [law.name for law in laws_with_role("state") if law.active(self)]
+        if len(active) > 1:
+            raise ValueError(f"a model holds one presliding (state) law, got {', '.join(active)}")
 
     # -- composition -----------------------------------------------------
     def add(self, law) -> "FrictionModel":
         """This model plus a law or another model."""
         new = self.as_dict()
         if isinstance(law, FrictionModel):
-            for n in FIELDS:
-                x = getattr(law, n)
-                if n in _ADDITIVE or n == "drift":
-                    new[n] += x
-                elif n == "scale":
-                    new[n] *= x
-                elif x != DEFAULTS[n]:  # shape parameters: the added model's, where it sets them
-                    new[n] = x
-            return FrictionModel(**new)
-        if not isinstance(law, FrictionLaw):
+            given = {n: getattr(law, n) for n in FIELDS if getattr(law, n) != DEFAULTS[n]}
+        elif isinstance(law, FrictionLaw):
+            law.check_compatible(self)
+            given = law.contribution()
+        else:
             raise ValueError(f"cannot add {type(law).__name__} to a FrictionModel")
-        law.check_compatible(self)
-        for k, x in law.contribution().items():
-            new[k] = new[k] + x if k in _ADDITIVE else x
+        for n, x in given.items():
+            how = _COMBINE[n]
+            # magnitudes add, a scale multiplies, a shape parameter is the added one's
+            new[n] = new[n] + x if how == "add" else new[n] * x if how == "multiply" else x
         return FrictionModel(**new)
 
     def __add__(self, other):
@@ -178,9 +119,21 @@ class FrictionModel:
         return np.array([getattr(self, n) for n in FIELDS], dtype=float)
 
     @property
-    def is_lugre(self) -> bool:
-        """True when the LuGre presliding law is part of the model."""
-        return self.lugre_sigma0 > 0
+    def state_law(self):
+        """The active presliding (state) law of the model (LuGre, Dahl), or None."""
+        for law in laws_with_role("state"):
+            if law.active(self):
+                return law
+        return None
+
+    @property
+    def has_state(self) -> bool:
+        """True when a presliding law with a state (LuGre, Dahl) is part of the model."""
+        return self.state_law is not None
+
+    def laws(self) -> tuple:
+        """The registered laws this model holds (a coefficient away from its default)."""
+        return tuple(law for law in LAWS.values() if law.role != "scale" and law.active(self))
 
     def as_dict(self) -> dict:
         """Every coefficient by name (JSON-ready)."""
@@ -200,17 +153,34 @@ class FrictionModel:
             raise ValueError(f"unknown friction field(s): {', '.join(unknown)}")
         return cls(**d)
 
-    # -- evaluation (numpy, vectorised) ----------------------------------
+    # -- evaluation (numpy, vectorised; each term is its law's) -----------
+    def _terms(self, role: str, *args):
+        out = 0.0
+        for law in laws_with_role(role):
+            out = out + law.term(*args, **law.values(self))
+        return out
+
     def scale_at(self, t):
         """Friction scale at time ``t``: ``scale*(1 + drift*t)`` [-]."""
-        return self.scale * (1.0 + self.drift * v.array("t", t, ndim=None))
+        (law,) = laws_with_role("scale")
+        return law.term(v.array("t", t, ndim=None), **law.values(self))
 
     def ripple(self, q):
-        """Position-periodic torque at position ``q`` [N*m]."""
+        """Position-dependent torque at position ``q`` (the position laws; not scaled) [N*m]."""
         q = v.array("q", q, ndim=None)
-        if self.ripple_amplitude == 0:
-            return np.zeros_like(q)
-        return self.ripple_amplitude * np.sin(2 * np.pi * q / self.ripple_period + self.ripple_phase)
+        return np.zeros_like(q) + self._terms("position", q)
+
+    def rate_terms(self, omega):
+        """The rate laws' torque (viscous, drag) at ``omega``, not scaled [N*m]."""
+        w = v.array("omega", omega, ndim=None)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return self._terms("rate", w, np.sign(w))
+
+    def level(self, omega, direction, tm=0.0):
+        """The level laws' magnitude (Coulomb, Stribeck, load) sliding in ``direction``, not scaled [N*m]."""
+        w = v.array("omega", omega, ndim=None)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return self._terms("level", w, direction, v.array("tm", tm, ndim=None))
 
     def torque(self, omega, q=0.0, tm=0.0, t=0.0):
         """Sliding friction torque (plus ripple) at velocity ``omega`` [N*m].
@@ -219,15 +189,15 @@ class FrictionModel:
         booleans and a torque that overflows double precision raise :class:`ValueError`.
         For ``omega == 0`` the friction torque is not a function of velocity (it
         is whatever reaction keeps the joint at rest, up to :meth:`breakaway`);
-        this method returns the ripple alone there.  With ``LuGre`` this is
-        the steady-state (z at equilibrium) sliding torque.
+        this method returns the ripple alone there.  With a presliding law (LuGre, Dahl)
+        this is the steady-state (z at equilibrium) sliding torque.
 
         Parameters
         ----------
         omega : array_like
             Velocity [rad/s].
         q : array_like
-            Position [rad] (ripple only).
+            Position [rad] (position laws only).
         tm : array_like
             Transmitted motor torque [N*m] (load-dependent term only).
         t : array_like
@@ -236,19 +206,24 @@ class FrictionModel:
         w = v.array("omega", omega, ndim=None)
         tm = v.array("tm", tm, ndim=None)
         _broadcast(omega=w, q=v.array("q", q, ndim=None), tm=tm, t=v.array("t", t, ndim=None))
-        pos = w > 0
-        neg = w < 0
-        aw = np.abs(w)
-        b = np.where(pos, self.viscous_pos, self.viscous_neg)
-        fc = np.where(pos, self.coulomb_pos, self.coulomb_neg)
-        fs = np.where(pos, self.stribeck_pos, self.stribeck_neg)
-        with np.errstate(over="ignore"):  # (|w|/vs)^e -> inf: the Stribeck term's limit is 0
-            dip = np.exp(-(aw / self.stribeck_velocity) ** self.stribeck_exponent)
-        level = fc + self.load_coefficient * np.abs(tm) + fs * dip
-        sgn = pos.astype(float) - neg.astype(float)
+        sgn = (w > 0).astype(float) - (w < 0).astype(float)
         with np.errstate(over="ignore", invalid="ignore"):
-            out = self.scale_at(t) * (b * w + sgn * level) + self.ripple(q)
+            level = self._terms("level", w, sgn, tm)
+            out = self.scale_at(t) * (self._terms("rate", w, sgn) + sgn * level) + self.ripple(q)
         return _out(_finite("friction torque", out))
+
+    def along_motion(self, q, omega, tm, t):
+        """Friction torque along a measured motion (position record ``q``) [N*m].
+
+        Without a presliding law this is :meth:`torque`; with one (LuGre, Dahl) its state is
+        integrated along the position record from rest (its law's ``along_motion``), so the
+        torque at a reversal follows the bristle, not a jump.
+        """
+        law = self.state_law
+        if law is None:
+            return self.torque(omega, q, tm, t)
+        return law.state.along_motion(self, v.array("q", q), v.array("omega", omega),
+                                      v.array("tm", tm, ndim=None), v.array("t", t, ndim=None))
 
     def breakaway(self, direction=1, q=0.0, tm=0.0, t=0.0):
         """Torque the drive must exceed to start moving in ``direction`` (+1/-1) [N*m].
@@ -257,14 +232,16 @@ class FrictionModel:
         the drive torque (the joint breaks loose when ``Tm - ripple(q)`` leaves
         ``[-breakaway(-1), breakaway(+1)]``).
         """
-        if _direction(direction) > 0:
-            base = self.coulomb_pos + self.static_pos + self.stribeck_pos
-        else:
-            base = self.coulomb_neg + self.static_neg + self.stribeck_neg
+        s = _direction(direction)
         tm = v.array("tm", tm, ndim=None)
         _broadcast(q=v.array("q", q, ndim=None), tm=tm, t=v.array("t", t, ndim=None))
+        base = 0.0
+        for law in laws_with_role("level"):
+            c = law.values(self)
+            base = base + (law.breakaway(s, tm, **c) if law.breakaway is not None
+                           else law.term(np.zeros_like(tm), s, tm, **c))
         with np.errstate(over="ignore", invalid="ignore"):
-            out = self.scale_at(t) * (base + self.load_coefficient * np.abs(tm))
+            out = self.scale_at(t) * base
         return _out(_finite("breakaway torque", out))
 
     def sliding_level(self, direction=1) -> float:
@@ -275,6 +252,18 @@ class FrictionModel:
         parts = [f"{n}={x:.6g}" for n, x in self.changed().items()]
         return "FrictionModel(" + ", ".join(parts) + ")"
 
+
+def _field(c):
+    return (c.name, float, field(default=c.default, metadata={"unit": c.unit, "doc": c.doc,
+                                                              "provenance": c.provenance}))
+
+
+#: The model class: one field per coefficient of every registered law, in layout order.
+FrictionModel = make_dataclass("FrictionModel", [_field(c) for c in COEFFICIENTS],
+                               bases=(_FrictionModelBase,), frozen=True, kw_only=True)
+FrictionModel.__module__ = __name__
+FrictionModel.__qualname__ = "FrictionModel"
+FrictionModel.__doc__ = _FrictionModelBase.__doc__
 
 #: Default value of every coefficient (the empty model).
 DEFAULTS = {f.name: f.default for f in fields(FrictionModel)}

@@ -19,8 +19,11 @@ with the friction laws (``w`` = velocity, friction has the sign of ``w``)
   parameters ``inertia, viscous, coulomb, static, stribeck_velocity, offset``.
 
 This module states the models once, in numpy: their parameter names, units and
-bounds, the observation matrix of the linear ones (:func:`regressor`) and the
-torque every model predicts (:func:`inverse_dynamics`).
+bounds, the observation matrix of the linear ones (:func:`regressor`, its friction
+columns those the registered friction laws declare: ``Law.regressors``) and the
+torque every model predicts (:func:`inverse_dynamics`).  ``static`` is the absolute
+breakaway level ``Fs`` here as everywhere in fricctl (the ``Static`` law's coefficient is
+the excess ``static_excess = Fs - Fc``).
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .. import _validate as v
+from ..friction import LAWS
 from ..units import units as units_of
 
 __all__ = [
@@ -131,14 +135,10 @@ def regressor(model: str, velocity, acceleration, *, offset: bool | None = None)
         raise ValueError(f"model: {model!r} is not linear in its parameters; no regressor matrix")
     w = v.array("velocity", velocity)
     a = v.array("acceleration", acceleration, size=w.size)
-    s = np.sign(w)
     cols = {"inertia": a, "offset": np.ones_like(w)}
-    if model == "coulomb_viscous":
-        cols.update(viscous=w, coulomb=s)
-    else:
-        pos, neg = (1.0 + s) / 2.0, (1.0 - s) / 2.0  # EMPS's O+ and O- operators
-        cols.update(viscous_pos=w * pos, coulomb_pos=s * pos, viscous_neg=w * neg,
-                    coulomb_neg=s * neg)
+    for law in LAWS.values():  # each friction law linear in its coefficients gives its columns
+        if law.regressors is not None:
+            cols.update(law.regressors(w, model == "coulomb_viscous"))
     return np.column_stack([cols[n] for n in model_names(model, offset)])
 
 

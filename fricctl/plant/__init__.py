@@ -41,8 +41,8 @@ excursion outside the breakaway band shorter than one sub-interval is missed.
 from __future__ import annotations
 
 from .joints import FlexibleJoint, JointTorque, KernelArgs, RigidJoint
-from .kernels import FLEXIBLE, LUGRE, RIGID
+from .kernels import FLEXIBLE, LUGRE, RIGID, STATE
 from .model import MODEL_FORMAT, MODEL_VERSION, JointModel
 
 __all__ = ["RigidJoint", "FlexibleJoint", "KernelArgs", "JointTorque", "JointModel", "MODEL_FORMAT",
-           "MODEL_VERSION", "RIGID", "FLEXIBLE", "LUGRE"]
+           "MODEL_VERSION", "RIGID", "FLEXIBLE", "STATE", "LUGRE"]

@@ -15,9 +15,9 @@ import numpy as np
 from .. import _validate as v
 from ..friction import FrictionLaw, FrictionModel
 from ..params import ActuatorParams
-from .kernels import FLEXIBLE, LUGRE, RIGID, advance, state_torque
+from .kernels import FLEXIBLE, RIGID, STATE, advance, state_torque
 
-__all__ = ["RigidJoint", "FlexibleJoint", "KernelArgs", "JointTorque", "checked_state",
+__all__ = ["RigidJoint", "FlexibleJoint", "KernelArgs", "JointTorque", "plant_label", "checked_state",
            "checked_substeps"]
 
 
@@ -26,7 +26,7 @@ class KernelArgs:
     """What the compiled kernels need of a joint."""
 
     kind: int
-    """:data:`~fricctl.plant.RIGID`, :data:`~fricctl.plant.FLEXIBLE` or :data:`~fricctl.plant.LUGRE`."""
+    """:data:`~fricctl.plant.RIGID`, :data:`~fricctl.plant.FLEXIBLE` or `~fricctl.plant.STATE` (a presliding law)."""
     motor_inertia: float
     """Inertia on the motor (friction, encoder) side [kg*m^2]; the total one for a rigid joint."""
     load_inertia: float
@@ -45,6 +45,13 @@ class JointTorque:
     """Resistive torque Tat on the motor side (the reaction when stuck) [N*m]."""
     acceleration: float
     """Motor-side acceleration [rad/s^2]."""
+
+
+def plant_label(kind: int, friction: FrictionModel) -> str:
+    """``"rigid"``, ``"flexible"`` or ``"rigid (<presliding law>)"`` for a kernel's plant kind."""
+    if kind == STATE:
+        return f"rigid ({friction.state_law.constructor.__name__})"
+    return "flexible" if kind == FLEXIBLE else "rigid"
 
 
 def checked_state(state) -> np.ndarray:
@@ -139,7 +146,7 @@ class RigidJoint(_Joint):
 
     @property
     def kind(self) -> int:
-        return LUGRE if self.friction.is_lugre else RIGID
+        return STATE if self.friction.has_state else RIGID
 
     def kernel_args(self) -> KernelArgs:
         return KernelArgs(kind=self.kind, motor_inertia=self.inertia, load_inertia=self.inertia,
@@ -179,8 +186,9 @@ class FlexibleJoint(_Joint):
         object.__setattr__(self, "damping", v.real("damping", self.damping, nonneg=True,
                                                    unit="N*m*s/rad"))
         object.__setattr__(self, "friction", _friction(self.friction))
-        if self.friction.is_lugre:
-            raise ValueError("LuGre friction is supported on the rigid joint only")
+        if self.friction.has_state:
+            raise ValueError(f"{self.friction.state_law.constructor.__name__} friction is supported "
+                             "on the rigid joint only")
 
     @classmethod
     def from_params(cls, params: ActuatorParams, friction: FrictionModel | None = None):

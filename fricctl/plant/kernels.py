@@ -1,4 +1,4 @@
-"""Compiled plant kernels: one held-torque interval of the rigid, flexible or LuGre joint.
+"""Compiled plant kernels: one held-torque interval of the rigid, flexible or presliding joint.
 
 The state is ``[q (motor), omega (motor), q_load, omega_load, z]``; see
 :mod:`fricctl.plant` for the equations and the event handling.
@@ -9,19 +9,20 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..friction.kernels import breakaway as _breakaway
-from ..friction.kernels import level as _level
-from ..friction.kernels import ripple as _ripple
-from ..friction.kernels import sliding as _sliding
-from ..friction.kernels import viscous as _viscous
-from ..friction.layout import IDX
+from ..friction.compiled import breakaway as _breakaway
+from ..friction.compiled import level as _level
+from ..friction.compiled import rate as _rate
+from ..friction.compiled import ripple as _ripple
+from ..friction.compiled import sliding as _sliding
+from ..friction.compiled import state as _state
 
-__all__ = ["RIGID", "FLEXIBLE", "LUGRE", "advance", "state_torque"]
+__all__ = ["RIGID", "FLEXIBLE", "STATE", "LUGRE", "advance", "state_torque"]
 
-#: Plant kinds understood by the compiled kernel.
-RIGID, FLEXIBLE, LUGRE = 0, 1, 2
-
-_L0, _L1 = IDX["lugre_sigma0"], IDX["lugre_sigma1"]
+#: Plant kinds understood by the compiled kernel: a rigid joint with exact stick, the elastic
+#: joint (Eq. 1), a rigid joint whose friction has a presliding state (LuGre, Dahl).
+RIGID, FLEXIBLE, STATE = 0, 1, 2
+#: The presliding kind under its first law's name (kept for callers of fricctl < 0.2).
+LUGRE = STATE
 
 
 # --------------------------------------------------------------------------
@@ -266,28 +267,28 @@ def _flex_state_torque(fp, qm, wm, ql, wl, tm, t, jm, k, d):
 
 
 # --------------------------------------------------------------------------
-# LuGre (rigid, smooth; no events)
+# presliding state (LuGre, Dahl: rigid, smooth; no events)
 # --------------------------------------------------------------------------
 @jit
-def _lugre_deriv(fp, q, w, z, tm, t, inv_i):
+def _state_deriv(fp, q, w, z, tm, t, inv_i):
     s = 1.0 if w >= 0.0 else -1.0
     g = _level(fp, w, s, tm, t)
-    zd = w - fp[_L0] * abs(w) * z / g
-    f = fp[_L0] * z + fp[_L1] * zd + _viscous(fp, w, s, t) + _ripple(fp, q)
+    zd, fz = _state(fp, w, z, g)
+    f = fz + _rate(fp, w, s, t) + _ripple(fp, q)
     return (tm - f) * inv_i, zd, f
 
 
 @jit
-def _lugre_interval(fp, q, w, z, tm, t0, dt, nsub, inv_i):
+def _state_interval(fp, q, w, z, tm, t0, dt, nsub, inv_i):
     h = dt / nsub
     for i in range(nsub):
         t = t0 + i * h
-        a1, z1, f = _lugre_deriv(fp, q, w, z, tm, t, inv_i)
-        a2, z2, f = _lugre_deriv(fp, q + 0.5 * h * w, w + 0.5 * h * a1, z + 0.5 * h * z1, tm, t + 0.5 * h, inv_i)
+        a1, z1, f = _state_deriv(fp, q, w, z, tm, t, inv_i)
+        a2, z2, f = _state_deriv(fp, q + 0.5 * h * w, w + 0.5 * h * a1, z + 0.5 * h * z1, tm, t + 0.5 * h, inv_i)
         w2 = w + 0.5 * h * a1
-        a3, z3, f = _lugre_deriv(fp, q + 0.5 * h * w2, w + 0.5 * h * a2, z + 0.5 * h * z2, tm, t + 0.5 * h, inv_i)
+        a3, z3, f = _state_deriv(fp, q + 0.5 * h * w2, w + 0.5 * h * a2, z + 0.5 * h * z2, tm, t + 0.5 * h, inv_i)
         w3 = w + 0.5 * h * a2
-        a4, z4, f = _lugre_deriv(fp, q + h * w3, w + h * a3, z + h * z3, tm, t + h, inv_i)
+        a4, z4, f = _state_deriv(fp, q + h * w3, w + h * a3, z + h * z3, tm, t + h, inv_i)
         w4 = w + h * a3
         q = q + h / 6.0 * (w + 2.0 * w2 + 2.0 * w3 + w4)
         w = w + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
@@ -309,7 +310,7 @@ def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d):
         st[0], st[1], st[2], st[3] = _flex_interval(fp, st[0], st[1], st[2], st[3], tm, t0, dt,
                                                      nsub, jm, jl, k, d)
     else:
-        st[0], st[1], st[4] = _lugre_interval(fp, st[0], st[1], st[4], tm, t0, dt, nsub, 1.0 / jm)
+        st[0], st[1], st[4] = _state_interval(fp, st[0], st[1], st[4], tm, t0, dt, nsub, 1.0 / jm)
         st[2] = st[0]
         st[3] = st[1]
 
@@ -321,5 +322,5 @@ def state_torque(kind, st, fp, tm, t, jm, k, d):
         return _rigid_state_torque(fp, st[0], st[1], tm, t, 1.0 / jm)
     if kind == FLEXIBLE:
         return _flex_state_torque(fp, st[0], st[1], st[2], st[3], tm, t, jm, k, d)
-    acc, zd, f = _lugre_deriv(fp, st[0], st[1], st[4], tm, t, 1.0 / jm)
+    acc, zd, f = _state_deriv(fp, st[0], st[1], st[4], tm, t, 1.0 / jm)
     return f, acc

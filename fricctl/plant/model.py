@@ -210,8 +210,9 @@ class JointModel:
                 raise ValueError("load_inertia must be < inertia (the motor side needs inertia too)")
             if not self.stiffness > 0:
                 raise ValueError("stiffness: an elastic joint (load_inertia > 0) needs stiffness > 0")
-            if self.friction.is_lugre:
-                raise ValueError("friction: LuGre friction is supported on the rigid joint only")
+            if self.friction.has_state:
+                raise ValueError(f"friction: {self.friction.state_law.constructor.__name__} friction "
+                                 "is supported on the rigid joint only")
         v.text("source", self.source)
         v.instance("provenance", self.provenance, (dict, types.MappingProxyType), "a mapping")
         allowed = provenance_keys()
@@ -391,7 +392,7 @@ class JointModel:
     def as_dict(self) -> dict:
         """The JSON file content (format ``fricctl.joint_model``, version 2)."""
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "units": self.units,
-                "inertia": self.inertia, "friction": self.friction.as_dict(),
+                "inertia": self.inertia, "friction": self.friction.changed(),
                 "offset": self.offset, "delay": self.delay, "load_inertia": self.load_inertia,
                 "stiffness": self.stiffness, "damping": self.damping,
                 "sample_time": self.sample_time, "encoder_resolution": self.encoder_resolution,
@@ -485,9 +486,18 @@ def _text(name, x) -> str:
     return x
 
 
+#: Friction fields renamed since the first model files (old name -> name now).
+_RENAMED = {"static_pos": "static_excess_pos", "static_neg": "static_excess_neg"}
+
+
 def _friction(fr) -> FrictionModel:
     if not isinstance(fr, dict):
         raise ValueError("friction: must be an object of FrictionModel fields")
+    both = [old for old, new in _RENAMED.items() if old in fr and new in fr]
+    if both:
+        raise ValueError(f"friction: {both[0]!r} and {_RENAMED[both[0]]!r} are the same field "
+                         "(its old and new name); give one")
+    fr = {_RENAMED.get(k, k): x for k, x in fr.items()}
     unknown = sorted(set(fr) - set(FRICTION_FIELDS))
     if unknown:
         raise ValueError(f"friction: unknown field(s) {', '.join(map(repr, unknown))}")

@@ -8,7 +8,9 @@ coefficient of 20 N*m*s/rad on the paper's actuator gave ``|q| = 1.8e300``).  Th
 here keeps ``h*|lambda| <= 1``, well inside the region and accurate to about 2 % per
 sub-step on the fastest mode:
 
-* viscous friction on the moving inertia: ``lambda = b/J``;
+* the friction laws' slopes on the moving inertia: ``lambda = d/J`` with ``d`` the sum of
+  what each registered law declares (:attr:`fricctl.friction.Law.damping`: the viscous
+  coefficient, the drag's ``2*c*|w|`` at the largest speed, the LuGre bristle damping);
 * the elastic joint (Eq. 1): ``omega_r = sqrt(K (1/Jm + 1/Jl))`` and the structural
   damping ``d (1/Jm + 1/Jl)``;
 * LuGre bristles: their damping ``(sigma1 + b)/J``; the bristle stiffness acts at a rate
@@ -28,9 +30,9 @@ from __future__ import annotations
 import math
 
 from .. import _validate as v
-from ..friction import FrictionModel
+from ..friction import LAWS, FrictionModel
 
-__all__ = ["fastest_rate", "required_substeps", "MAX_SUBSTEPS", "RATE_PER_SUBSTEP"]
+__all__ = ["fastest_rate", "friction_slope", "speed_bound", "required_substeps", "MAX_SUBSTEPS", "RATE_PER_SUBSTEP"]
 
 #: ``h*|lambda|`` allowed per sub-step [-].
 RATE_PER_SUBSTEP = 1.0
@@ -38,8 +40,26 @@ RATE_PER_SUBSTEP = 1.0
 MAX_SUBSTEPS = 100_000
 
 
+def friction_slope(friction: FrictionModel, speed: float | None = None) -> float:
+    """The largest slope ``dTat/dw`` the model's laws declare up to ``speed`` [N*m*s/rad].
+
+    Friction laws (rate and level roles) are multiplied by the model's scale; a presliding
+    law's damping is not.  ``speed`` None: the slopes that grow with speed (drag) count as 0.
+    """
+    scaled = unscaled = 0.0
+    for law in LAWS.values():
+        if law.damping is None:
+            continue
+        d = law.damping(law.values(friction), speed)
+        if law.role in ("rate", "level"):
+            scaled += d
+        else:
+            unscaled += d
+    return friction.scale * scaled + unscaled
+
+
 def fastest_rate(*, inertia: float, friction: FrictionModel, load_inertia: float = 0.0,
-                 stiffness: float = 0.0, damping: float = 0.0) -> float:
+                 stiffness: float = 0.0, damping: float = 0.0, speed: float | None = None) -> float:
     """The fastest linear rate of the joint's sliding dynamics [1/s].
 
     Parameters
@@ -49,20 +69,52 @@ def fastest_rate(*, inertia: float, friction: FrictionModel, load_inertia: float
     friction : FrictionModel
     load_inertia, stiffness, damping : float
         The elastic joint's load inertia [kg*m^2], K [N*m/rad] and d [N*m*s/rad]; 0 for rigid.
+    speed : float, optional
+        The largest speed of the run, for laws whose slope grows with speed (drag) [rad/s].
     """
     jm = v.real("inertia", inertia, positive=True, unit="kg*m^2")
     v.instance("friction", friction, FrictionModel)
     jl = v.real("load_inertia", load_inertia, nonneg=True, unit="kg*m^2")
     k = v.real("stiffness", stiffness, nonneg=True, unit="N*m/rad")
     d = v.real("damping", damping, nonneg=True, unit="N*m*s/rad")
+    if speed is not None:
+        speed = v.real("speed", speed, nonneg=True, unit="rad/s")
     # the drift changes the scale over a run: the caller checks the scale stays positive, and
     # uses the largest scale of the run when it passes one (``friction.scaled``)
-    b = friction.scale * max(friction.viscous_pos, friction.viscous_neg) + friction.lugre_sigma1
-    rates = [b / jm]
+    rates = [friction_slope(friction, speed) / jm]
     if jl > 0 and k > 0:
         inv = 1.0 / jm + 1.0 / jl
         rates += [math.sqrt(k * inv), d * inv]
     return float(max(rates))
+
+
+def speed_bound(friction: FrictionModel, torque: float | None, omega0: float = 0.0) -> float | None:
+    """The largest speed a joint reaches from ``omega0`` under drive torques up to ``torque`` [rad/s].
+
+    Friction grows with speed while sliding, so the joint cannot outrun the speed where its
+    sliding friction (with the position ripple at its worst) equals the largest drive torque;
+    a run that starts faster only slows down.  None when ``torque`` is unknown (None) or the
+    friction never reaches it (no rate law: then no law's slope depends on speed).
+    """
+    w0 = abs(v.real("omega0", omega0))
+    if torque is None:
+        return None
+    need = abs(v.real("torque", torque)) + friction.ripple_amplitude
+
+    def sliding(w):  # the weaker direction's sliding friction at speed w, ripple left out
+        return min(abs(friction.torque(w) - friction.ripple(0.0)),
+                   abs(friction.torque(-w) - friction.ripple(0.0)))
+
+    hi = 1.0
+    while sliding(hi) < need:
+        hi *= 2.0
+        if hi > 1e12:
+            return None
+    lo = 0.0
+    for _ in range(60):  # bisection
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if sliding(mid) < need else (lo, mid)
+    return max(hi, w0)
 
 
 def required_substeps(*, sample_time: float, rate: float) -> int:

@@ -15,8 +15,8 @@ from ..compensators import Compensator, NoCompensation
 from ..controllers import Controller
 from ..friction import NPARAM, FrictionLaw, FrictionModel
 from ..params import ActuatorParams
-from ..plant import FLEXIBLE, LUGRE, RIGID, FlexibleJoint, JointModel, KernelArgs, RigidJoint
-from ..plant.joints import checked_state, checked_substeps
+from ..plant import FLEXIBLE, RIGID, STATE, FlexibleJoint, JointModel, KernelArgs, RigidJoint
+from ..plant.joints import checked_state, checked_substeps, plant_label
 from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps
 from ..plant.kernels import advance, state_torque
 from .loop import OUTPUTS, run_compiled, run_python
@@ -26,7 +26,7 @@ __all__ = ["simulate", "simulate_batch", "simulate_model", "simulate_schedule", 
            "Schedule", "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
 
 #: Internal RK4 sub-intervals per sample, by plant kind.
-DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, LUGRE: 40}
+DEFAULT_SUBSTEPS = {RIGID: 4, FLEXIBLE: 10, STATE: 40}
 #: Memory per simulated sample [bytes]: 120 measured (peak RSS of a 1e6-sample P loop, 121 MB
 #: above a 1e4-sample one: the records and the loop's buffers), plus 8 for a noise draw, rounded up.
 BYTES_PER_SAMPLE = 160
@@ -206,13 +206,16 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     frs = [p.friction_model() for p in plist] if friction is None else _as_list(
         friction, n, "friction", FrictionModel)
     kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
-    lugre = {f.is_lugre for f in frs}
-    if len(lugre) > 1:
-        raise ValueError("a batch cannot mix LuGre and stick-slip friction models")
-    if lugre.pop():
+    state = {f.state_law for f in frs}
+    if len(state) > 1:
+        raise ValueError("a batch cannot mix presliding (LuGre, Dahl) and stick-slip friction "
+                         "models, or two presliding laws")
+    law = state.pop()
+    if law is not None:
         if kind == FLEXIBLE:
-            raise ValueError("LuGre friction is supported on the rigid joint only")
-        kind = LUGRE
+            raise ValueError(f"{law.constructor.__name__} friction is supported on the rigid "
+                             "joint only")
+        kind = STATE
     ts = plist[0].sample_time
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
@@ -277,7 +280,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     infos = tuple(SimInfo(
         params=plist[i], friction_model=frs[i], controller=clist[i].name, kp=clist[i].kp,
         kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
-        plant=plant if kind != LUGRE else "rigid (LuGre)", substeps=int(substeps),
+        plant=plant_label(kind, frs[i]), substeps=int(substeps),
         delay=int(delay), noise_std=float(noise_std), encoder_resolution=float(res[i]), loop=path)
         for i in range(n))
     return BatchResult(t=t, infos=infos, **_arrays(out, stuck))
@@ -405,7 +408,7 @@ def simulate_model(model: JointModel, controller: Controller,
     _check_finite(t, out, res)
     info = SimInfo(params=None, friction_model=fr, controller=controller.name, kp=controller.kp,
                    kd=controller.kd, compensator=comp.name, compensation_scale=comp.scale,
-                   plant={RIGID: "rigid", FLEXIBLE: "flexible", LUGRE: "rigid (LuGre)"}[a.kind],
+                   plant=plant_label(a.kind, fr),
                    substeps=int(substeps), delay=int(loop_args["delay"]),
                    noise_std=float(noise_std), encoder_resolution=float(res),
                    loop="compiled" if compiled is not None else "python")
@@ -506,7 +509,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     info = SimInfo(params=None, friction_model=joint.friction, controller="schedule",
                    kp=float(schedule.kp.max()), kd=float(schedule.kd.max()), compensator="none",
                    compensation_scale=1.0,
-                   plant={RIGID: "rigid", FLEXIBLE: "flexible", LUGRE: "rigid (LuGre)"}[a.kind],
+                   plant=plant_label(a.kind, joint.friction),
                    substeps=int(substeps), delay=int(delay),
                    noise_std=float(np.std(noise)) if noise.size > 1 else 0.0,
                    encoder_resolution=res, loop="compiled")

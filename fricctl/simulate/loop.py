@@ -29,7 +29,7 @@ from numba import prange
 
 from .._jit import jit
 from ..compensators import COMP_COULOMB, COMP_NN
-from ..nn.layout import forward_packed
+from ..netlayout import forward_packed
 from ..plant.kernels import advance, state_torque
 
 __all__ = ["OUTPUTS", "observe", "control_torque",

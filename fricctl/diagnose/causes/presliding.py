@@ -25,7 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...friction import FrictionModel, LuGre
-from ..signals import dahl_state
+from ...friction.presliding import bristle_state
 from .base import Cause, coulomb_level
 
 
@@ -46,7 +46,7 @@ def _variants(base, fold):
     fc = max(coulomb_level(base.fitted), 1e-300)
     for nc in np.logspace(np.log10(COUNTS[0]), np.log10(COUNTS[1]), 14):
         xc = nc * res
-        z = dahl_state(sig.q, xc, 0.0)
+        z = bristle_state(sig.q, xc, 0.0, 1.0)
         deflection = sig.filt(z - base.sign)
         damping = sig.filt(sig.w * (1.0 - np.sign(sig.w) * z))
         for zeta in DAMPING_RATIOS:
@@ -60,7 +60,7 @@ def _extend(model, term, base):
     fc = 0.5 * (d["coulomb_pos"] + d["coulomb_neg"])
     if min(d["coulomb_pos"], d["coulomb_neg"]) <= 0:
         return model
-    d["static_pos"] = d["static_neg"] = 0.0
+    d["static_excess_pos"] = d["static_excess_neg"] = 0.0
     return replace(model, friction=FrictionModel.from_dict(d) + LuGre(
         fc / xc, _sigma1(fc, xc, model.inertia, zeta)))
 
@@ -90,6 +90,6 @@ def _inject(rng, act):
 CAUSE = Cause(
     name="presliding", order=80,
     physical="friction depends on motion history near reversals and stops",
-    changes=("lugre_sigma0", "lugre_sigma1", "static_pos", "static_neg"),
+    changes=("lugre_sigma0", "lugre_sigma1", "static_excess_pos", "static_excess_neg"),
     params=("presliding_level",), variants=_variants, extend=_extend, evidence=_evidence,
     inject=_inject)
