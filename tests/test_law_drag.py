@@ -1,0 +1,44 @@
+"""The drag law (``fricctl/friction/laws/drag.py``): c*w*|w|, end to end through the registry."""
+
+import numpy as np
+import pytest
+
+from fricctl.friction import Coulomb, Drag, FrictionModel, Viscous
+from fricctl.plant.stability import friction_slope
+
+
+def test_drag_torque_is_quadratic_and_dissipative():
+    m = Coulomb(0.1) + Drag(pos=0.02, neg=0.03)
+    w = np.array([-4.0, -0.5, 0.5, 4.0])
+    # closed form: Fc*sign(w) + c_dir*w*|w|
+    expect = np.array([-0.1 - 0.03 * 16, -0.1 - 0.03 * 0.25, 0.1 + 0.02 * 0.25, 0.1 + 0.02 * 16])
+    assert m.torque(w) == pytest.approx(expect, rel=1e-14)
+    assert m.breakaway(1) == pytest.approx(0.1) and m.drag_neg == 0.03
+
+
+def test_drag_slope_grows_with_speed_for_the_integrator():
+    m = (Viscous(0.01) + Drag(0.02)).model()
+    assert friction_slope(m, speed=5.0) == pytest.approx(0.01 + 2 * 0.02 * 5.0)
+    assert friction_slope(m) == pytest.approx(0.01)  # speed unknown: the speed-free part
+
+
+def test_drag_runs_in_the_compiled_joint():
+    # a free joint under constant torque reaches the speed where torque = Fc + c*w^2
+    # (closed form w = sqrt((T - Fc)/c)); the same model file round trip keeps the law
+    from fricctl.plant import RigidJoint
+
+    m = (Coulomb(0.05) + Drag(0.02)).model()
+    joint = RigidJoint(inertia=1e-3, friction=m)
+    st = np.zeros(5)
+    for k in range(2000):
+        st = joint.advance(st, 0.25, t0=k * 0.002, dt=0.002, substeps=8)
+    assert st[1] == pytest.approx(np.sqrt((0.25 - 0.05) / 0.02), rel=1e-6)
+    assert FrictionModel.from_dict(m.as_dict()) == m
+
+
+def test_drag_identification_columns():
+    from fricctl.friction import LAWS
+
+    w = np.array([-2.0, 0.0, 3.0])
+    cols = LAWS["drag"].regressors(w, False)
+    assert cols["drag_pos"].tolist() == [0.0, 0.0, 9.0] and cols["drag_neg"].tolist() == [-4.0, 0.0, 0.0]
