@@ -72,13 +72,13 @@ def _show(value) -> str:
 
 
 def _flag_help(owners: list) -> str:
-    """``trainer: help (default ...; ... with --recipe R, at most N)`` for each trainer declaring it."""
+    """``trainer: help (default X; Y with --recipe R; at most N)`` for each trainer declaring it."""
     parts = []
     for t, opt in owners:
         first = t.defaults()[opt.name]
+        others = [(r.name, t.defaults(r.name)[opt.name]) for r in t.recipes[1:]]
         text = f"default {_show(first)}" + "".join(
-            f"; {_show(r.options[opt.name])} with --recipe {r.name}" for r in t.recipes[1:]
-            if r.options.get(opt.name, t.options()[opt.name]) != first)
+            f"; {_show(value)} with --recipe {name}" for name, value in others if value != first)
         if opt.high is not None:
             text += f"; at most {_show(opt.high)}"
         parts.append(f"{t.name}: {opt.help} ({text})")
