@@ -9,10 +9,13 @@ import pytest
 
 from fricctl.cli import main
 from fricctl.nn import load_net
+from fricctl.nn.pipelines import PIPELINES
+from fricctl.paper import EXTRA, paper_figures
 
-PIPELINES = ("paper", "fricctl")
-FIGS = sorted([f"fig{n:02d}.png" for n in (4, 5, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18)]
-              + ["sweep.png", "coast.png"])
+#: One PNG per registered figure, and the coast test and the robustness sweep.
+FIGS = sorted([f"fig{n:02d}.png" for n in paper_figures()] + ["sweep.png", "coast.png"])
+#: Claims of the registered figures (each maker makes one claim).
+N_CLAIMS = sum(len(fig.claims) for fig in paper_figures().values())
 
 
 @pytest.fixture(scope="module")
@@ -32,9 +35,10 @@ def test_reproduce_writes_everything(reproduced):
     out, code, stdout, stderr = reproduced
     assert code == 0  # 0 even with failing claims
     claims = json.loads((out / "claims.json").read_text())
-    # one object per (claim, pipeline): 23 claims (16 of the paper, 7 extras) x 2 pipelines
-    assert len(claims) == 46
-    assert [c["pipeline"] for c in claims[:2]] == list(PIPELINES)
+    # one object per (claim, pipeline), each claim with every pipeline in the registry's order
+    assert len(claims) == N_CLAIMS * len(PIPELINES)
+    assert [c["pipeline"] for c in claims[:len(PIPELINES)]] == list(PIPELINES)
+    assert len({(c["id"], c["pipeline"]) for c in claims}) == len(claims)
     keys = {"id", "claim", "paper", "measured", "passed", "figure", "note", "pipeline", "n_seeds",
             "pass_rate", "measured_median", "measured_min", "measured_max", "unit", "seeds", "undefined"}
     for c in claims:
@@ -52,14 +56,16 @@ def test_reproduce_writes_everything(reproduced):
     md = (out / "claims.md").read_text()
     assert "| id | claim | paper | paper pipeline | fricctl pipeline | figure |" in md
     assert "## Not reproduced, and why" in md and "paper_consistency.md" in md
-    for name in PIPELINES:
-        own = [c for c in claims if c["pipeline"] == name and c["paper"] != "not in the paper"]
-        assert len(own) == 16
+    n_paper = {name: sum(c["pipeline"] == name and c["paper"] != EXTRA for c in claims)
+               for name in PIPELINES}
+    assert len(set(n_paper.values())) == 1  # the same claims of the paper for every pipeline
+    for k, name in enumerate(PIPELINES):
+        own = [c for c in claims if c["pipeline"] == name and c["paper"] != EXTRA]
         n = sum(c["passed"] for c in own)
-        line = f"{name}: {n} of 16 claims of the paper hold in >= 90 % of 2 seeds"
+        line = f"{name}: {n} of {len(own)} claims of the paper hold in >= 90 % of 2 seeds"
         assert line in stdout
-        seed = claims[0 if name == "paper" else 1]["representative_seed"]
-        assert f"**{name} pipeline: {n} of 16 claims" in md and f"figures from seed {seed}" in md
+        seed = claims[k]["representative_seed"]
+        assert f"**{name} pipeline: {n} of {len(own)} claims" in md and f"figures from seed {seed}" in md
         # the figures of the representative seed, named by pipeline and seed
         pngs = sorted(p.name for p in (out / "figures" / f"{name}-seed{seed}").glob("*.png"))
         assert pngs == FIGS
@@ -108,7 +114,7 @@ def test_reproduce_refuses_a_non_empty_folder_without_force(reproduced, tmp_path
     assert (out / "mine.txt").read_text() == "keep me"
     assert sorted(p.name for p in (out / "nets").iterdir()) == ["fricctl-seed0.json"]
     assert (out / "claims.md").read_text() != "old"
-    assert len(json.loads((out / "claims.json").read_text())) == 23
+    assert len(json.loads((out / "claims.json").read_text())) == N_CLAIMS
 
 
 @pytest.mark.parametrize("argv, match", [

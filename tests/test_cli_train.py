@@ -1,12 +1,21 @@
 """Tests of ``fricctl train``."""
 
 import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import fricctl
 from fricctl.cli import main
-from fricctl.nn import fit_percent, load_net, smooth_friction_patterns
+from fricctl.nn import TRAINERS, fit_percent, load_net, smooth_friction_patterns
+from fricctl.nn.pipelines import PIPELINES
+from fricctl.nn.train import DEFAULT_TRAINER, Trainer
 
 
 @pytest.fixture()
@@ -139,3 +148,113 @@ def test_train_pipeline_shows_its_trainers_progress_when_asked(lattice_patterns_
     assert "attempt" in err                  # the certified trainer's step, on stderr
     assert main([*argv, "--out", str(tmp_path / "b.json"), "--progress", "off"]) == 0
     assert capsys.readouterr().err == ""
+
+
+# -- the trainers come from the registry ------------------------------------------------------
+# Parametrised over fricctl.nn.TRAINERS: a new trainer module is tested here without an edit.
+BARE = [name for name, t in TRAINERS.items() if t.requires is None]
+#: a value of each option type (the loop is not run: the options are only recorded)
+TEXT = {int: "7", float: "0.5", str: "x"}
+
+
+def _recorded_options(monkeypatch, argv):
+    """The trainer and options ``fricctl train ARGV`` hands to ``Trainer.train`` (not run)."""
+    seen = []
+
+    def record(self, tm, omega, target, **kw):
+        seen.append((self.name, {k: v for k, v in kw.items()
+                                 if k not in ("hidden", "rng", "metadata", "progress")}))
+        raise ValueError("recorded")
+
+    monkeypatch.setattr(Trainer, "train", record)
+    assert main(["train", *argv]) == 2 and len(seen) == 1
+    return seen[0]
+
+
+@pytest.mark.parametrize("name, flag", [(name, opt.flag) for name in BARE
+                                        for opt in TRAINERS[name].flags] + [(n, None) for n in BARE])
+def test_each_trainer_option_reaches_the_trainer(patterns_csv, tmp_path, monkeypatch, capsys, name,
+                                                 flag):
+    path, _ = patterns_csv
+    t = TRAINERS[name]
+    argv = [str(path), "--out", str(tmp_path / "n.json"), "--trainer", name]
+    if flag is None:  # no flag: the trainer's defaults (its first recipe, else its loop's)
+        assert _recorded_options(monkeypatch, argv) == (name, t.defaults())
+        for recipe in t.recipes:
+            assert _recorded_options(monkeypatch, [*argv, "--recipe", recipe.name]) == (
+                name, t.defaults(recipe.name))
+        return
+    opt = next(o for o in t.flags if o.flag == flag)
+    got = _recorded_options(monkeypatch, [*argv, flag, TEXT[opt.type]])
+    assert got == (name, {**t.defaults(), opt.name: opt.type(TEXT[opt.type])})
+    assert "recorded" in capsys.readouterr().err
+    # a flag another trainer does not declare is refused with that trainer, naming the owners
+    for other in BARE:
+        if opt.name not in {o.name for o in TRAINERS[other].flags}:
+            assert main(["train", *argv[:-1], other, flag, TEXT[opt.type]]) == 2
+            assert f"{flag} applies to --trainer" in capsys.readouterr().err
+
+
+def _squash(text: str) -> str:
+    return "".join(text.split())  # argparse wraps lines, also after a hyphen
+
+
+def test_train_help_lists_every_trainer_and_its_options(capsys):
+    assert main(["train", "--help"]) == 0
+    text = _squash(capsys.readouterr().out)
+    choices = re.search(r"--trainer\{([^}]*)\}", text).group(1).split(",")
+    assert choices == BARE and DEFAULT_TRAINER in BARE
+    for name, t in TRAINERS.items():
+        if t.requires is None:
+            assert _squash(f"{name}: {t.description}") in text and _squash(t.limits) in text
+            assert all(f"[{opt.flag}" in text for opt in t.flags)
+            assert all(_squash(f"{name} {r.name}") in text for r in t.recipes)
+        else:  # not offered, and --help says why
+            assert _squash(f"{name} (only in a pipeline: it needs {t.requires})") in text
+    pipelines = re.search(r"--pipeline\{([^}]*)\}", text).group(1).split(",")
+    assert pipelines == list(PIPELINES)
+
+
+DUMMY = '''"""A trainer dropped in by a test: keeps the initial weights."""
+import numpy as np
+
+from .core import LoopResult, Trainer, TrainerOption
+
+
+def loop(problem, *, spread: float = 1.0):
+    theta = problem.initial_theta() * spread
+    loss = np.full(2, 0.5)
+    return LoopResult(theta=theta, loss=loss, elapsed=np.zeros(2), metadata={"spread": spread})
+
+
+TRAINER = Trainer(name="dummy", description="keeps the initial weights", step="nothing",
+                  loop=loop, flags=(TrainerOption(name="spread", type=float,
+                                                  help="initial weights times this [-]"),))
+'''
+
+
+def test_a_new_trainer_module_appears_in_the_command_with_its_options(patterns_csv, tmp_path):
+    # issue 19: adding a trainer is adding its module; nothing in fricctl train is edited
+    path, _ = patterns_csv
+    scratch = tmp_path / "scratch"
+    # with the byte code (copy2 keeps the times it is checked against): no recompiling
+    shutil.copytree(Path(fricctl.__file__).parent, scratch / "fricctl")
+    (scratch / "fricctl" / "nn" / "train" / "dummy.py").write_text(DUMMY)
+    out = tmp_path / "dummy.json"
+    script = ("import json, sys\nfrom fricctl.cli import main\nfrom fricctl.nn import TRAINERS\n"
+              "print(json.dumps(list(TRAINERS)))\nmain(['train', '--help'])\nprint('====')\n"
+              f"sys.exit(main(['train', {str(path)!r}, '--out', {str(out)!r}, '--trainer', 'dummy', "
+              "'--spread', '0.25', '--json']))\n")
+    env = {**os.environ, "PYTHONPATH": str(scratch), "MPLBACKEND": "Agg"}
+    proc = subprocess.run([sys.executable, "-c", script], env=env, cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    names, rest = proc.stdout.split("\n", 1)
+    helptext, report = rest.split("====\n")
+    assert "dummy" in json.loads(names)
+    helptext = _squash(helptext)
+    assert "dummy" in re.search(r"--trainer\{([^}]*)\}", helptext).group(1).split(",")
+    assert _squash("dummy: keeps the initial weights") in helptext
+    assert _squash("--spread SPREAD dummy: initial weights times this [-] (default 1)") in helptext
+    assert json.loads(report)["trainer"] == "dummy"
+    assert load_net(out).metadata["spread"] == 0.25  # the option reached the loop

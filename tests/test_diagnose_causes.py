@@ -43,14 +43,15 @@ def _rms(x) -> float:
 
 # ----------------------------------------------------------------------------- registry
 def test_registry_order_and_names():
-    # the candidate order decides ties in score (and so the JSON ranking): pinned to the
-    # order the causes had before the registry existed
-    assert causes.CAUSES == ("none", "stribeck", "asymmetry", "load_dependent", "position_ripple",
-                             "time_delay", "thermal_drift", "compliance", "presliding", "inertia",
-                             "friction_scale")
-    assert causes.NOMINAL_ONLY == ("inertia", "friction_scale")
-    assert [c.name for c in causes.candidates(nominal=False)] == list(causes.CAUSES[1:9])
-    assert [c.name for c in causes.candidates(nominal=True)] == list(causes.CAUSES[1:])
+    # the candidate order decides ties in score (and so the JSON ranking): ascending ``order``,
+    # ``none`` first; a new cause takes the next free number (module docstring)
+    orders = [c.order for c in REGISTRY.values()]
+    assert orders == sorted(orders) and len(set(orders)) == len(orders)
+    assert causes.CAUSES == (causes.NONE, *REGISTRY) and causes.NONE == "none"
+    assert causes.NOMINAL_ONLY == tuple(n for n, c in REGISTRY.items() if c.nominal_only)
+    assert [c.name for c in causes.candidates(nominal=False)] == [
+        n for n in REGISTRY if n not in causes.NOMINAL_ONLY]
+    assert causes.candidates(nominal=True) == tuple(REGISTRY.values())
     assert causes.physical("none").startswith("the baseline explains")
     with pytest.raises(ValueError, match="no cause 'none'"):
         causes.get("none")
@@ -72,6 +73,10 @@ def test_none_injects_nothing():
 def test_module_defines_its_cause(name):
     cause = importlib.import_module(f"fricctl.diagnose.causes.{name}").CAUSE
     assert cause is REGISTRY[name] and cause.name == name
+    assert causes.get(name) is cause and causes.physical(name) == cause.physical
+    assert isinstance(cause.order, int) and [c.order for c in REGISTRY.values()].count(cause.order) == 1
+    assert cause in causes.candidates(nominal=True)
+    assert (cause in causes.candidates(nominal=False)) == (not cause.nominal_only)
     assert cause.physical and "\n" not in cause.physical and not cause.physical.endswith(".")
     assert len(set(cause.params)) == len(cause.params) == cause.n_extra
     assert cause.changes and set(cause.changes) <= MODEL_PARAMETERS

@@ -8,6 +8,7 @@ import json
 import math
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ from fricctl.nn import (FORMAT_VERSION, TRAINERS, FrictionNet, TrainingResult, c
                         fit_percent, fit_report, load_net, r_squared, save_net,
                         smooth_friction_patterns, train_backprop, train_casadi)
 from fricctl.nn import layout
-from fricctl.nn.train import Scaling, initial_theta, trainer
+from fricctl.nn.train import Recipe, Scaling, TrainerOption, initial_theta, trainer
 from fricctl.nn.train.backprop import (CONVERGING, SCHEDULES, epoch, learning_rates,
                                       loss_gradient)
 from fricctl.nn.train.lm import clear_cache, residual_functions
@@ -622,10 +623,61 @@ def test_compiled_vector_has_the_named_layout():
 
 
 # -- the trainers' seam ---------------------------------------------------------------
-def test_registry_lists_the_trainers_and_checks_options(sliding):
-    assert set(TRAINERS) == {"backprop", "casadi", "certified"}
-    for name, t in TRAINERS.items():
-        assert t.name == name and t.description and t.step in ("epoch", "iteration", "attempt")
+# Parametrised over the registry: a new trainer module is tested here without an edit.
+@pytest.mark.parametrize("name", list(TRAINERS))
+def test_each_trainer_is_its_modules_entry_and_declares_itself(name):
+    t = TRAINERS[name]
+    module = sys.modules[t.loop.__module__]
+    assert module.__name__.startswith("fricctl.nn.train.") and module.TRAINER is t
+    assert t.name == name and t.description and "\n" not in t.description and t.step
+    options = t.options()
+    for opt in t.flags:
+        assert opt.name in options and opt.flag == "--" + opt.name.replace("_", "-")
+    for recipe in t.recipes:
+        assert recipe.description and set(recipe.options) <= set(options)
+        assert t.defaults(recipe.name) == {**options, **recipe.options}
+    # what a command line runs when no recipe is named: the first recipe, else the loop's defaults
+    assert t.defaults() == {**options, **(t.recipes[0].options if t.recipes else {})}
+    assert t.requires is None or (t.requires and "\n" not in t.requires)
+
+
+@pytest.mark.parametrize("name", list(TRAINERS))
+def test_each_trainer_trains_tiny_patterns_or_refuses_them_for_its_reason(name, sliding):
+    t = TRAINERS[name]
+    (tm, om, f), _ = sliding
+    tm, om, f = tm[:60], om[:60], f[:60]
+    if t.requires is not None:
+        # the reason it gives is real: bare patterns (the seam's range scaling) are refused
+        with pytest.raises(ValueError):
+            t.train(tm, om, f, hidden=2, rng=np.random.default_rng(0), **t.defaults())
+        return
+    # the options a command line starts from (its first recipe, else the loop's defaults)
+    res = t.train(tm, om, f, hidden=2, rng=np.random.default_rng(0), **t.defaults())
+    net = res.net
+    assert all(np.all(np.isfinite(w)) for w in (net.w1, net.b1, net.w2, net.b2))
+    assert res.history.trainer == net.metadata["trainer"] == name and res.history.step == t.step
+    loss = res.history.loss
+    assert np.all(np.isfinite(loss)) and loss.shape == res.history.elapsed.shape
+    # it learns: the smooth law's training loss ends below that of the initial weights
+    assert loss[-1] < loss[0]
+
+
+@pytest.mark.parametrize("name, option", [(name, opt.name) for name, t in TRAINERS.items()
+                                          if t.requires is None
+                                          for opt in t.flags if opt.high is not None])
+def test_each_declared_largest_value_is_enforced_by_the_loop(name, option, sliding):
+    # --help states the largest value; the loop refuses the next one, naming the option, before
+    # it trains
+    t = TRAINERS[name]
+    opt = next(o for o in t.flags if o.name == option)
+    beyond = int(opt.high) + 1 if opt.type is int else float(np.nextafter(opt.high, np.inf))
+    (tm, om, f), _ = sliding
+    with pytest.raises(ValueError, match=option):
+        t.train(tm[:60], om[:60], f[:60], hidden=2, rng=np.random.default_rng(0),
+                **{**t.defaults(), option: beyond})
+
+
+def test_trainer_registry_checks_names_and_options(sliding):
     # the public functions' defaults are the inner loops' defaults
     for fun, name in ((train_backprop, "backprop"), (train_casadi, "casadi")):
         params = inspect.signature(fun).parameters
@@ -636,6 +688,16 @@ def test_registry_lists_the_trainers_and_checks_options(sliding):
     (tm, om, f), _ = sliding
     with pytest.raises(ValueError, match="unknown option.*epochs"):
         trainer("casadi").train(tm, om, f, rng=np.random.default_rng(0), epochs=3)
+    with pytest.raises(ValueError, match="not an option of its loop"):
+        dataclasses.replace(trainer("casadi"), flags=(TrainerOption(name="epochs", type=int,
+                                                                    help="x"),))
+    with pytest.raises(ValueError, match="not an option of its loop"):
+        dataclasses.replace(trainer("casadi"), recipes=(Recipe(name="r", description="x",
+                                                               options={"epochs": 3}),))
+    with pytest.raises(ValueError, match="must be int, float or str"):
+        TrainerOption(name="restarts", type=list, help="x")
+    with pytest.raises(ValueError, match="recipe of trainer 'backprop'"):
+        trainer("backprop").defaults("bogus")
 
 
 def test_training_result_is_a_frozen_record_not_a_tuple(sliding):

@@ -35,6 +35,8 @@ from fricctl.simulate import simulate
 
 P = paper_actuator()
 RES = P.encoder_resolution
+#: Claims of the registry's figures (each maker makes one claim).
+N_CLAIMS = sum(len(fig.claims) for fig in paper.paper_figures().values())
 
 
 @pytest.fixture(scope="module")
@@ -438,8 +440,8 @@ def test_fig18_sawtooth(figs, claims):
 # -- claims ----------------------------------------------------------------------
 def test_claims_of_one_network(claims, fclaims):
     for cs in (claims, fclaims):
-        assert len(cs) == 23  # 16 claims of the paper and 7 extras
-        assert sum(not paper.is_extra(c) for c in cs.values()) == 16
+        # one claim per maker of the registry's figures, each id once (the dict would merge two)
+        assert len(cs) == N_CLAIMS
         for c in cs.values():
             assert c.claim and c.paper and c.measured and c.unit and c.figure.startswith("Fig. ")
             assert isinstance(c.passed, bool) and isinstance(c.value, float)
@@ -722,15 +724,37 @@ def test_registry_is_built_from_the_figure_modules():
     folder = Path(paper.__file__).parent
     numbers = sorted(int(m.group(1)) for f in folder.glob("fig*.py")
                      if (m := re.fullmatch(r"fig(\d\d)\.py", f.name)))
-    reg = paper.paper_figures()
-    assert list(reg) == numbers == [4, 5, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18]
-    for n, fig in reg.items():
-        module = importlib.import_module(f"fricctl.paper.fig{n:02d}")
-        assert module.FIGURE is fig and fig.number == n and fig.run is module.run
-        assert paper.FIGURES[n] is fig.run
-        assert getattr(paper, f"fig{n:02d}") is module  # the package attribute is the module
+    assert list(paper.paper_figures()) == numbers and list(paper.FIGURES) == numbers
     with pytest.raises(TypeError):
         paper.FIGURES[99] = None  # read-only: nobody edits the registry by accident
+
+
+# Parametrised over the registry: a new figure module is tested here without an edit.
+@pytest.mark.parametrize("n", list(paper.paper_figures()))
+def test_each_figure_is_its_modules_entry(n):
+    fig = paper.paper_figures()[n]
+    module = importlib.import_module(f"fricctl.paper.fig{n:02d}")
+    assert module.FIGURE is fig and fig.number == n and fig.run is module.run
+    assert paper.FIGURES[n] is fig.run
+    assert getattr(paper, f"fig{n:02d}") is module  # the package attribute is the module
+    assert fig.title.strip() and "\n" not in fig.title
+    assert fp.PAPER_PLOTS[n] is not None  # its plot is registered
+
+
+@pytest.mark.parametrize("n", list(paper.paper_figures()))
+def test_each_figure_runs_to_its_result_type_and_makes_its_claims(n, figs, ffigs):
+    fig = paper.paper_figures()[n]
+    for results in (figs, ffigs):
+        assert type(results[n]) is fig.result_type
+        made = fig.make_claims(results[n], P)
+        assert len(made) == len(fig.claims) and all(isinstance(c, paper.Claim) for c in made)
+        assert all(c.figure == f"Fig. {n}" for c in made)
+        # unique ids (over the whole table: test_claims_of_one_network), the same for either
+        # pipeline's network
+        ids = [c.id for c in made]
+        assert len(set(ids)) == len(ids) and ids == [c.id for c in fig.make_claims(figs[n], P)]
+        # paper_claims of this figure alone is its makers' list
+        assert [c.id for c in paper.paper_claims({n: results[n]}, P)] == ids
 
 
 def test_results_are_frozen_and_keyword_only():
@@ -758,9 +782,12 @@ def test_claims_come_from_the_registry(figs, claims):
         made = fig.make_claims(figs[n], P)
         assert all(c.figure == f"Fig. {n}" for c in made)
         order += [c.id for c in made]
-    assert order == list(claims)
-    # a figure result missing from the input is skipped; a wrong result type is refused
-    assert [c.id for c in paper.paper_claims({9: figs[9]}, P)] == ["fig9-stick", "fig9-linear", "coast-decay"]
+    assert order == list(claims) and len(set(order)) == len(order)
+    # a figure result missing from the input is skipped (each figure alone:
+    # test_each_figure_runs_to_its_result_type_and_makes_its_claims); a wrong result type is refused
+    first, last = list(paper.paper_figures())[0], list(paper.paper_figures())[-1]
+    assert [c.id for c in paper.paper_claims({first: figs[first], last: figs[last]}, P)] == [
+        c.id for n in (first, last) for c in paper.paper_figures()[n].make_claims(figs[n], P)]
     with pytest.raises(ValueError, match="Fig9Result"):
         paper.paper_claims({9: figs[10]}, P)
 
@@ -806,7 +833,7 @@ def test_reproduce_paper_one_seed(fclaims):
                                                                for c in fclaims.values()]
     assert run.net.gain_at_rest() == pytest.approx(run.gain_at_rest, rel=1e-12)
     assert run.certificate["passed"] is True
-    assert [s.n_seeds for s in res.stats] == [1] * 23
+    assert [s.n_seeds for s in res.stats] == [1] * N_CLAIMS
     assert res.summary().startswith("fricctl: ")
     md = res.markdown()
     assert "figures from seed 0" in md and "Fs*(1 - g)/Kp" in md and "paper_consistency.md" in md

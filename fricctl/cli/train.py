@@ -5,8 +5,9 @@ optionally ``at_rest``): motor torque [N*m or N], velocity [rad/s or m/s] and fr
 [N*m or N], load side, one pattern per row (``fricctl patterns`` writes such files
 from records, with ``# units:`` and ``# velocity_quantum:`` lines).  Two ways to train:
 
-* ``--trainer casadi|backprop``: a trainer on all the patterns (the full friction);
-* ``--pipeline paper|fricctl``: a recipe of :mod:`fricctl.nn.pipelines`; ``fricctl``
+* ``--trainer NAME``: a trainer of fricctl.nn.TRAINERS on all the patterns (the full
+  friction), with the options it declares (``--recipe`` and the flags after it);
+* ``--pipeline NAME``: a recipe of :mod:`fricctl.nn.pipelines`; ``fricctl``
   trains the nonlinear part ``Tat - b_hat*omega`` with the gain at rest certified inside
   ``--gain-band LO,HI`` (needs the ``at_rest`` column and ``# velocity_quantum:``).
 
@@ -16,80 +17,134 @@ prints one JSON object instead: ``out, trainer, pipeline, units, hidden, seed,
 n_patterns, fit{...}, train_mse, gain_at_rest, viscous_removed, certificate,
 envelope{tm[lo, hi], omega[lo, hi]}, c_source``.  Outputs never overwrite an input or
 an existing file without ``--force``; every output is checked (its folder exists and is
-writable) before training starts.
-
-Limits (refused above them, with the setting that would finish; docs/limits.md):
-at most 32 hidden units and 100 restarts; back-prop at most 100 000 epochs per
-start and restarts*epochs*patterns*hidden <= 2e10 (~10-20 min on one core);
-Levenberg-Marquardt (casadi) restarts*200*patterns*(4*hidden+1)^2 <= 1e12.  Its
-iterations stop by themselves: ``--epochs`` is refused with it.  A progress bar is
-shown on stderr when stderr is a terminal (``--progress on|off`` to choose).
+writable) before training starts.  A progress bar is shown on stderr when stderr is a
+terminal (``--progress on|off`` to choose).
 """
+
+# The trainers, their options, recipes and limits, and the pipelines are read from their
+# registries (fricctl.nn.TRAINERS, fricctl.nn.pipelines.PIPELINES): a new trainer module
+# appears here with its flags without an edit of this file.
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import inspect
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
 
 from ..datasets import PATTERN_COLUMNS, read_patterns
 
-#: ``--recipe paper``: the back-prop options this command has always used.
-PAPER_RECIPE = dict(epochs=1000, learning_rate=0.01, momentum=0.9, batch_size=1,
-                    schedule="constant", restarts=1, velocity_scale=None)
-BACKPROP_FLAGS = ("epochs", "learning_rate", "momentum", "batch_size", "schedule", "restarts",
-                  "velocity_scale")
+#: The trainer each pipeline runs, for the unit of its progress bar (a Pipeline entry does not
+#: say; another pipeline's bar counts "step"s).
+_PIPELINE_TRAINER = {"paper": "casadi", "fricctl": "certified"}
+
+
+def _bare_trainers() -> dict:
+    """The trainers ``--trainer`` offers: those whose entry requires nothing beyond bare patterns."""
+    from ..nn import TRAINERS
+
+    return {name: t for name, t in TRAINERS.items() if t.requires is None}
+
+
+def _flags(trainers: dict) -> dict:
+    """Loop option -> [(trainer, TrainerOption)] over the trainers that declare it, in their order."""
+    found: dict = {}
+    for t in trainers.values():
+        for opt in t.flags:
+            found.setdefault(opt.name, []).append((t, opt))
+    for name, owners in found.items():
+        if len({opt.type for _, opt in owners}) > 1:
+            raise ValueError(f"trainers {', '.join(t.name for t, _ in owners)} declare "
+                             f"{owners[0][1].flag} with different types")
+    return found
+
+
+def _show(value) -> str:
+    if value is None:
+        return "none"
+    if isinstance(value, int):
+        return f"{value:,}".replace(",", " ")
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _flag_help(owners: list) -> str:
+    """``trainer: help (default X; Y with --recipe R; at most N)`` for each trainer declaring it."""
+    parts = []
+    for t, opt in owners:
+        first = t.defaults()[opt.name]
+        others = [(r.name, t.defaults(r.name)[opt.name]) for r in t.recipes[1:]]
+        text = f"default {_show(first)}" + "".join(
+            f"; {_show(value)} with --recipe {name}" for name, value in others if value != first)
+        if opt.high is not None:
+            text += f"; at most {_show(opt.high)}"
+        parts.append(f"{t.name}: {opt.help} ({text})")
+    return "; ".join(parts)
+
+
+def _description(trainers: dict) -> str:
+    from ..nn.train.core import MAX_HIDDEN, MAX_RESTARTS
+
+    limits = "".join(f"; {name}: {t.limits}" for name, t in trainers.items() if t.limits)
+    text = (f"Limits (refused above them, with the setting that would finish; docs/limits.md): at "
+            f"most {MAX_HIDDEN} hidden units and {MAX_RESTARTS} restarts{limits}.")
+    return __doc__.split("\n\n", 1)[1].rstrip() + "\n\n" + textwrap.fill(text, width=88) + "\n"
+
+
+def _escape(text: str) -> str:
+    return text.replace("%", "%%")  # argparse %-formats every help string
 
 
 def register(subparsers) -> None:
+    from ..nn import TRAINERS
+    from ..nn.pipelines import PIPELINES
+    from ..nn.train import DEFAULT_TRAINER
+    from ..nn.train.core import MAX_HIDDEN
+
+    trainers = _bare_trainers()
     p = subparsers.add_parser(
         "train",
         help="train the 2-H-1 friction network on (tm, omega, friction) patterns",
-        description=__doc__.split("\n\n", 1)[1],
+        description=_description(trainers),
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("patterns", type=Path, metavar="PATTERNS.csv",
                    help=f"CSV with header {','.join(PATTERN_COLUMNS)} [N*m, rad/s, N*m]")
     p.add_argument("--out", type=Path, required=True, metavar="NET.json",
                    help="where to write the trained network")
-    p.add_argument("--trainer", choices=("casadi", "backprop"), default=None,
-                   help="casadi: Levenberg-Marquardt (default); backprop: the paper's "
-                        "back-propagation with momentum")
-    p.add_argument("--pipeline", choices=("paper", "fricctl"), default=None,
-                   help="train with a recipe of fricctl.nn.pipelines instead of a bare trainer: "
-                        "paper (full friction, least squares) or fricctl (nonlinear part, gain "
-                        "at rest certified inside --gain-band)")
+    elsewhere = [f"{name} (only in a pipeline: it needs {t.requires})"
+                 for name, t in TRAINERS.items() if name not in trainers]
+    p.add_argument("--trainer", choices=tuple(trainers), default=None, help=_escape(
+        f"a trainer of fricctl.nn.TRAINERS (default {DEFAULT_TRAINER}): "
+        + "; ".join([f"{name}: {t.description}" for name, t in trainers.items()] + elsewhere)))
+    p.add_argument("--pipeline", choices=tuple(PIPELINES), default=None, help=_escape(
+        "train with a recipe of fricctl.nn.pipelines instead of a bare trainer: "
+        + "; ".join(f"{name}: {pl.description}" for name, pl in PIPELINES.items())))
     p.add_argument("--gain-band", default=None, metavar="LO,HI",
                    help="fricctl pipeline: band of dTat/dTm at rest, 0 < LO <= HI < 1 "
                         "(default 0.98,0.99)")
+    sizes = ", ".join(f"{inspect.signature(pl.train).parameters['max_patterns'].default} {name}"
+                      for name, pl in PIPELINES.items())
     p.add_argument("--max-patterns", type=int, default=None, metavar="N",
-                   help="pipelines: patterns drawn at random for training (default: the "
-                        "pipeline's, 4000 paper / 2000 fricctl)")
-    p.add_argument("--hidden", type=int, default=4, help="hidden units (paper: 4; at most 32)")
+                   help=f"pipelines: patterns drawn at random for training (default: the "
+                        f"pipeline's, {sizes})")
+    p.add_argument("--hidden", type=int, default=4,
+                   help=f"hidden units (paper: 4; at most {MAX_HIDDEN})")
     p.add_argument("--seed", type=int, default=0, help="seed of the initial weights")
-    p.add_argument("--recipe", choices=("paper", "converging"), default="paper",
-                   help="backprop: default options; paper: constant rate as in the paper "
-                        "(epochs 1000, learning rate 0.01, one start); converging: the options "
-                        "measured to reach the Levenberg-Marquardt loss on the paper's patterns "
-                        "(fricctl.nn.train.backprop.CONVERGING); the flags below override either")
-    p.add_argument("--epochs", type=int, default=None, help="backprop: epochs per start (at most 100 000, and restarts*epochs*patterns*"
-                        "hidden <= 2e10)")
-    p.add_argument("--learning-rate", type=float, default=None,
-                   help="backprop: step size (the first epoch's, for a schedule)")
-    p.add_argument("--momentum", type=float, default=None, help="backprop: momentum [0, 1)")
-    p.add_argument("--batch-size", type=int, default=None,
-                   help="backprop: patterns per update (1 = per pattern, as in the paper)")
-    p.add_argument("--schedule", default=None, metavar="{constant,cosine}",
-                   help="backprop: learning rate per epoch (constant = the paper's; cosine = "
-                        "annealed to zero over each start)")
-    p.add_argument("--velocity-scale", type=float, default=None, metavar="RAD_PER_S",
-                   help="backprop: the descent sees omega / this [rad/s] (default: the range "
-                        "scaling of every trainer)")
-    p.add_argument("--restarts", type=int, default=None,
-                   help="starting points, the best kept (casadi: default 3; backprop: 1, or 5 "
-                        "with --recipe converging); at most 100")
+    recipes = [(name, r) for name, t in trainers.items() for r in t.recipes]
+    if recipes:
+        p.add_argument("--recipe", choices=tuple(dict.fromkeys(r.name for _, r in recipes)),
+                       default=None, help=_escape("a named set of the trainer's options: " + "; ".join(
+                           f"{name} {r.name}{' (default)' if r is trainers[name].recipes[0] else ''}: "
+                           f"{r.description}" for name, r in recipes)
+                           + "; the flags below override it"))
+    for name, owners in _flags(trainers).items():
+        opt = owners[0][1]
+        metavar = next((o.metavar for _, o in owners if o.metavar), None)
+        p.add_argument(opt.flag, type=opt.type, default=None, metavar=metavar,
+                       help=_escape(_flag_help(owners)))
     p.add_argument("--c-source", type=Path, default=None, metavar="NET.c",
                    help="also write a self-contained C compensator of the net and its header "
                         "(NET.h beside it)")
@@ -167,16 +222,43 @@ def _train_pipeline(args, pats, rng, extra):
         quantum = p.velocity_quantum or 1.0   # the paper pipeline does not use it
     inp = PipelineInput(tm=p.tm, omega=p.omega, friction=p.friction, at_rest=p.at_rest,
                         velocity_quantum=quantum)
-    trainer = {"paper": "casadi", "fricctl": "certified"}[args.pipeline]
-    with progress_bar(args.progress, TRAINERS[trainer].step) as progress:
+    trainer = _PIPELINE_TRAINER.get(args.pipeline)
+    with progress_bar(args.progress, TRAINERS[trainer].step if trainer else "step") as progress:
         return pipeline(args.pipeline).train(inp, rng=rng, hidden=args.hidden, progress=progress,
                                              metadata={**extra, "units": p.units}, **options)
+
+
+def _recipe_chosen(args, trainers: dict) -> bool:
+    """``--recipe`` names a choice: a recipe that is no trainer's default (its first)."""
+    recipe = getattr(args, "recipe", None)  # no --recipe when no trainer declares a recipe
+    return recipe is not None and recipe not in {t.recipes[0].name for t in trainers.values()
+                                                 if t.recipes}
+
+
+def _trainer_options(args, trainers: dict, given: list) -> dict:
+    """The options of the trainer ``--trainer`` names: its recipe's, then the flags ``given``."""
+    t = trainers[args.trainer]
+    foreign = [name for name in given if name not in {o.name for o in t.flags}]
+    if foreign:
+        owners = [n for n, other in trainers.items() if any(o.name in foreign for o in other.flags)]
+        raise ValueError(f"{', '.join(_flags(trainers)[n][0][1].flag for n in foreign)} applies to "
+                         f"--trainer {', '.join(owners)} only")
+    recipe = getattr(args, "recipe", None)
+    if not t.recipes:
+        if _recipe_chosen(args, trainers):
+            owners = [n for n, other in trainers.items() if other.recipes]
+            raise ValueError(f"--recipe applies to --trainer {', '.join(owners)} only")
+        recipe = None
+    elif recipe is not None and recipe not in [r.name for r in t.recipes]:
+        raise ValueError(f"--recipe {recipe} is not a recipe of --trainer {t.name} (its recipes: "
+                         f"{', '.join(r.name for r in t.recipes)})")
+    return {**t.defaults(recipe), **{name: getattr(args, name) for name in given}}
 
 
 def run(args) -> int:
     from .. import nn
     from ..nn.c_export import c_header
-    from ..nn.train.backprop import CONVERGING
+    from ..nn.train import DEFAULT_TRAINER
     from ._output import check_outputs, json_text
 
     header = None if args.c_source is None else args.c_source.with_suffix(".h")
@@ -189,10 +271,12 @@ def run(args) -> int:
         raise ValueError(f"--seed must be >= 0, got {args.seed}")
     rng = np.random.default_rng(args.seed)
     extra = {"seed": args.seed, "patterns_file": args.patterns.name}
-    given = [f"--{k.replace('_', '-')}" for k in BACKPROP_FLAGS if getattr(args, k) is not None]
+    trainers = _bare_trainers()
+    given = [name for name in _flags(trainers) if getattr(args, name) is not None]
     if args.pipeline is not None:
-        if args.trainer is not None or given or args.recipe != "paper":
-            raise ValueError(f"{args.trainer and '--trainer' or ', '.join(given) or '--recipe'} "
+        if args.trainer is not None or given or _recipe_chosen(args, trainers):
+            flags = ", ".join(_flags(trainers)[n][0][1].flag for n in given)
+            raise ValueError(f"{args.trainer and '--trainer' or flags or '--recipe'} "
                              "does not go with --pipeline (a pipeline chooses its trainer)")
         trained = _train_pipeline(args, pats, rng, extra)
         net, hist, trainer = trained.net, trained.history, trained.net.metadata["trainer"]
@@ -201,20 +285,12 @@ def run(args) -> int:
     else:
         if args.gain_band is not None or args.max_patterns is not None:
             raise ValueError("--gain-band and --max-patterns go with --pipeline")
-        trainer = args.trainer or "casadi"
-        if trainer == "casadi":
-            given = [g for g in given if g != "--restarts"]
-            if given or args.recipe != "paper":
-                raise ValueError(f"{', '.join(given) or '--recipe'} applies to --trainer backprop only")
-        recipe = dict(PAPER_RECIPE if args.recipe == "paper" else CONVERGING)
-        backprop = {k: recipe[k] if getattr(args, k) is None else getattr(args, k)
-                    for k in BACKPROP_FLAGS}
-        options = {"casadi": dict(restarts=3 if args.restarts is None else args.restarts),
-                   "backprop": backprop}
-        with progress_bar(args.progress, nn.TRAINERS[trainer].step) as progress:
-            res = nn.TRAINERS[trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
-                                             metadata={**extra, "units": units}, progress=progress,
-                                             **options[trainer])
+        args.trainer = trainer = args.trainer or DEFAULT_TRAINER
+        options = _trainer_options(args, trainers, given)
+        with progress_bar(args.progress, trainers[trainer].step) as progress:
+            res = trainers[trainer].train(tm, omega, friction, hidden=args.hidden, rng=rng,
+                                          metadata={**extra, "units": units}, progress=progress,
+                                          **options)
         net, hist = res.net, res.history
         estimate, viscous, cert = net(tm, omega), 0.0, None
     nn.save_net(net, args.out)

@@ -5,25 +5,23 @@ Each trainer is one module of this package with an inner loop and a module-level
 registry :data:`TRAINERS` is built from the modules found here, so adding a
 trainer is adding its module.  Everything the trainers share (pattern checks,
 scaling, initial weights, history, metadata, the final fit) is in
-:mod:`fricctl.nn.train.core`.
-
-=========  ==================================================================
-name       trainer
-=========  ==================================================================
-backprop   :func:`~fricctl.nn.train.backprop.train_backprop`, the paper's
-           back-propagation with momentum (numba inner loop)
-casadi     :func:`~fricctl.nn.train.lm.train_casadi`, Levenberg-Marquardt
-           with CasADi's exact Jacobian
-certified  :mod:`~fricctl.nn.train.certified`, least squares under slope
-           constraints: the gain at rest certified inside a band
-=========  ==================================================================
+:mod:`fricctl.nn.train.core`.  Each module's docstring says its method, and its
+entry what ``fricctl train`` shows of it: the options a command line sets
+(:class:`TrainerOption`), named option sets (:class:`Recipe`), the work its loop
+refuses, and what it ``requires`` beyond bare patterns (such a trainer is reached
+through a pipeline of :mod:`fricctl.nn.pipelines`).  ``fricctl train --help`` lists
+them all, read from this registry.
 
 Examples
 --------
->>> sorted(TRAINERS)
-['backprop', 'casadi', 'certified']
+>>> all(t.name == name and t.description for name, t in TRAINERS.items())
+True
+>>> TRAINERS[DEFAULT_TRAINER].requires is None
+True
 >>> trainer("casadi").options()
 {'restarts': 3, 'max_iterations': 200, 'tolerance': 1e-10}
+>>> trainer("backprop").defaults("converging")["schedule"]
+'cosine'
 """
 
 from __future__ import annotations
@@ -34,11 +32,12 @@ import types
 
 from ... import _validate as v
 from .backprop import train_backprop
-from .core import (LoopResult, Scaling, Trainer, TrainingHistory, TrainingProblem,
-                   TrainingResult, initial_theta)
+from .core import (LoopResult, Recipe, Scaling, Trainer, TrainerOption, TrainingHistory,
+                   TrainingProblem, TrainingResult, initial_theta)
 from .lm import train_casadi
 
-__all__ = ["TRAINERS", "trainer", "Trainer", "TrainingProblem", "LoopResult", "TrainingHistory",
+__all__ = ["TRAINERS", "DEFAULT_TRAINER", "trainer", "Trainer", "TrainerOption", "Recipe",
+           "TrainingProblem", "LoopResult", "TrainingHistory",
            "TrainingResult", "Scaling", "initial_theta", "train_backprop", "train_casadi"]
 
 
@@ -58,6 +57,13 @@ def _registry() -> types.MappingProxyType:
 
 #: The registered trainers by name (read-only).
 TRAINERS = _registry()
+#: The trainer used where none is named (``fricctl train`` without ``--trainer``):
+#: Levenberg-Marquardt stops by itself at the least-squares loss, which the paper's
+#: back-propagation at its constant rate does not reach (backprop.py, chapter 04).
+DEFAULT_TRAINER = "casadi"
+if DEFAULT_TRAINER not in TRAINERS or TRAINERS[DEFAULT_TRAINER].requires is not None:
+    raise ImportError(f"DEFAULT_TRAINER {DEFAULT_TRAINER!r} must be a registered trainer that "
+                      "trains on bare patterns")
 
 
 def trainer(name: str) -> Trainer:

@@ -72,7 +72,8 @@ import numpy as np
 from ..._jit import jit
 from ... import _validate as v
 from ..layout import forward_theta, pack, unpack
-from .core import MAX_RESTARTS, LoopResult, Trainer, TrainingProblem, TrainingResult, check_work
+from .core import (MAX_RESTARTS, LoopResult, Recipe, Trainer, TrainerOption, TrainingProblem,
+                   TrainingResult, check_work)
 
 __all__ = ["train_backprop", "loop", "loss_gradient", "epoch", "learning_rates", "SCHEDULES",
            "CONVERGING", "compile_kernels", "TRAINER", "MAX_EPOCHS", "MAX_WORK"]
@@ -278,9 +279,37 @@ def loop(problem: TrainingProblem, *, learning_rate: float = 0.05, momentum: flo
                                 "restart_mse": mse})
 
 
-TRAINER = Trainer(name="backprop", step="epoch", loop=loop, prepare=compile_kernels,
-                  description="back-propagation with momentum, the paper's trainer "
-                              "(numba inner loop)")
+TRAINER = Trainer(
+    name="backprop", step="epoch", loop=loop, prepare=compile_kernels,
+    description="back-propagation with momentum, the paper's trainer (numba inner loop)",
+    flags=(TrainerOption(name="epochs", type=int, high=MAX_EPOCHS,
+                         help="passes over the patterns per start"),
+           TrainerOption(name="learning_rate", type=float,
+                         help="step size (the first epoch's, for a schedule) [-]"),
+           TrainerOption(name="momentum", type=float, help="momentum factor in [0, 1) [-]"),
+           TrainerOption(name="batch_size", type=int,
+                         help="patterns per update (1 = per pattern, as in the paper)"),
+           TrainerOption(name="schedule", type=str, metavar="{" + ",".join(SCHEDULES) + "}",
+                         help="learning rate per epoch (constant = the paper's; cosine = "
+                              "annealed to zero over each start)"),
+           TrainerOption(name="velocity_scale", type=float, metavar="RAD_PER_S",
+                         help="the descent sees omega / this (none: the range scaling of "
+                              "every trainer) [rad/s]"),
+           TrainerOption(name="restarts", type=int, high=MAX_RESTARTS,
+                         help="starting points, each a full schedule, the best kept")),
+    # "paper" is what `fricctl train --trainer backprop` has always run (a constant rate of
+    # 0.01, not the loop's 0.05: the command's own choice, kept so that its nets do not move)
+    recipes=(Recipe(name="paper", options=dict(epochs=1000, learning_rate=0.01, momentum=0.9,
+                                               batch_size=1, schedule="constant", restarts=1,
+                                               velocity_scale=None),
+                    description="constant rate as in the paper (epochs 1000, learning rate "
+                                "0.01, one start)"),
+             Recipe(name="converging", options=CONVERGING,
+                    description="the options measured to reach the Levenberg-Marquardt loss on "
+                                "the paper's patterns (fricctl.nn.train.backprop.CONVERGING)")),
+    limits=(f"at most {MAX_EPOCHS:,} epochs per start".replace(",", " ")
+            + f" and restarts*epochs*patterns*hidden <= {MAX_WORK:.0e}".replace("e+", "e")
+            + " (~10-20 min on one core)"))
 
 
 def train_backprop(tm, omega, target, *, hidden: int = 4, learning_rate: float = 0.05,

@@ -377,4 +377,8 @@ def _net(theta, hidden, scaling) -> FrictionNet:
 TRAINER = Trainer(name="certified", step="attempt", loop=loop,
                   description="least squares under slope constraints (penalty Levenberg-Marquardt): "
                               "the gain at rest "
-                              "certified inside a band, bounded feedback of Tm while sliding")
+                              "certified inside a band, bounded feedback of Tm while sliding",
+                  # the loop refuses the seam's default range scaling and has no default for
+                  # sliding_velocity: bare patterns cannot feed it
+                  requires="a centred scaling (Scaling.centred) and sliding_velocity, one encoder "
+                           "count per sample: the fricctl pipeline prepares both")

@@ -17,7 +17,11 @@ them (:meth:`Trainer.train`):
    and the :class:`TrainingResult`.
 
 A new trainer is one module in this package defining its loop and a
-module-level ``TRAINER = Trainer(...)``; :mod:`fricctl.nn.train` finds it.
+module-level ``TRAINER = Trainer(...)``; :mod:`fricctl.nn.train` finds it.  The entry
+also declares what a command line shows of it (``fricctl train``): the loop options it
+may set (:class:`TrainerOption`: type, help, largest value), named option sets
+(:class:`Recipe`), the work the loop refuses, and what it needs that bare patterns do
+not give (``requires``); the command reads them, it does not restate them.
 """
 
 from __future__ import annotations
@@ -25,6 +29,8 @@ from __future__ import annotations
 import inspect
 import math
 import time
+import types
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -36,7 +42,7 @@ from ..metrics import fit_report
 from ..net import FrictionNet
 
 __all__ = ["Scaling", "initial_theta", "TrainingProblem", "LoopResult", "TrainingHistory",
-           "TrainingResult", "Trainer", "MAX_HIDDEN", "MAX_RESTARTS", "PATTERN_MAX",
+           "TrainingResult", "Trainer", "TrainerOption", "Recipe", "MAX_HIDDEN", "MAX_RESTARTS", "PATTERN_MAX",
            "PATTERN_MIN_SPAN", "check_work"]
 
 #: Most hidden units a trainer accepts (the paper's net has 4).  Levenberg-Marquardt's
@@ -253,8 +259,67 @@ def _patterns(tm, omega, target):
 
 
 @dataclass(frozen=True, kw_only=True)
+class TrainerOption:
+    """An option of a trainer's loop that a command line sets (``fricctl train --NAME``).
+
+    Its default is the loop's keyword default, or the value of the trainer's
+    :class:`Recipe` in use; the loop checks the value (the command line only reads it).
+    """
+
+    name: str
+    """The loop's keyword; the flag is ``--`` and the name with ``-`` for ``_``."""
+    type: type
+    """``int``, ``float`` or ``str``: what the flag's text is read as."""
+    help: str
+    """One line for ``--help``: what it sets, its unit in brackets, its domain."""
+    high: float | None = None
+    """The largest value the loop accepts (it refuses more with a ``ValueError`` naming
+    the option), stated in ``--help``; None: no fixed limit."""
+    metavar: str | None = None
+    """How ``--help`` shows the value (None: the name in capitals)."""
+
+    def __post_init__(self):
+        if not (isinstance(self.name, str) and self.name.isidentifier()):
+            raise ValueError(f"TrainerOption.name must be an identifier (the loop's keyword), "
+                             f"got {self.name!r}")
+        if self.type not in (int, float, str):
+            raise ValueError(f"TrainerOption {self.name}: type must be int, float or str, "
+                             f"got {self.type!r}")
+        v.text(f"TrainerOption {self.name}: help", self.help, empty=False)
+        if self.high is not None:
+            v.real(f"TrainerOption {self.name}: high", self.high)
+        if self.metavar is not None:
+            v.text(f"TrainerOption {self.name}: metavar", self.metavar, empty=False)
+
+    @property
+    def flag(self) -> str:
+        """The command line's flag, e.g. ``--learning-rate``."""
+        return "--" + self.name.replace("_", "-")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Recipe:
+    """A named set of a trainer's options (``fricctl train --recipe NAME``)."""
+
+    name: str
+    """What ``--recipe`` takes."""
+    description: str
+    """One line: what the set is and where its values come from."""
+    options: Mapping[str, object]
+    """Loop option -> value (read-only); the loop's defaults stand for the others."""
+
+    def __post_init__(self):
+        if not (isinstance(self.name, str) and self.name.isidentifier()):
+            raise ValueError(f"Recipe.name must be an identifier, got {self.name!r}")
+        v.text(f"Recipe {self.name}: description", self.description, empty=False)
+        v.instance(f"Recipe {self.name}: options", self.options, Mapping, "a mapping")
+        object.__setattr__(self, "options", types.MappingProxyType(dict(self.options)))
+
+
+@dataclass(frozen=True, kw_only=True)
 class Trainer:
-    """A registered trainer: its name, what it does, and its inner loop."""
+    """A registered trainer: its name, what it does, its inner loop, and what a command
+    line shows of it (``fricctl train``)."""
 
     name: str
     """Registry key, also the ``"trainer"`` entry of the net's metadata."""
@@ -266,6 +331,18 @@ class Trainer:
     """``loop(problem, **options) -> LoopResult``; its keyword defaults are the options'."""
     prepare: Callable[[], None] | None = None
     """Run before the clock starts (e.g. compile kernels), or None."""
+    flags: tuple = ()
+    """The loop options a command line may set (:class:`TrainerOption`), in ``--help``
+    order; the others keep their defaults there."""
+    recipes: tuple = ()
+    """Named option sets (:class:`Recipe`) a command line chooses with ``--recipe``; the
+    first is its default (none: the loop's own defaults)."""
+    limits: str = ""
+    """The work the loop refuses, one clause for ``fricctl train --help`` (docs/limits.md)."""
+    requires: str | None = None
+    """What the loop needs that bare patterns with the seam's default scaling do not give
+    (a scaling or an option only a pipeline prepares), or None.  A trainer that requires
+    something is reached through a pipeline, not through ``fricctl train --trainer``."""
 
     def __post_init__(self):
         v.text("name", self.name, empty=False)
@@ -273,11 +350,41 @@ class Trainer:
         v.text("step", self.step, empty=False)
         if not callable(self.loop) or not (self.prepare is None or callable(self.prepare)):
             raise ValueError("loop (and prepare, if given) must be callable")
+        v.text("limits", self.limits)
+        if self.requires is not None:
+            v.text("requires", self.requires, empty=False)
+        known = self.options()
+        for what, entries, cls in (("flags", self.flags, TrainerOption),
+                                   ("recipes", self.recipes, Recipe)):
+            v.instance(f"{self.name}: {what}", entries, tuple, "a tuple")
+            names = [v.instance(f"{self.name}: {what}", e, cls).name for e in entries]
+            if len(set(names)) != len(names):
+                raise ValueError(f"trainer {self.name!r}: {what} name one entry twice: {names}")
+        for name in [f.name for f in self.flags] + [k for r in self.recipes for k in r.options]:
+            if name not in known:
+                raise ValueError(f"trainer {self.name!r}: {name!r} is not an option of its loop "
+                                 f"({', '.join(known) or 'none'})")
 
     def options(self) -> dict:
         """The loop's options with their defaults."""
         params = list(inspect.signature(self.loop).parameters.values())[1:]
         return {p.name: p.default for p in params}
+
+    def defaults(self, recipe: str | None = None) -> dict:
+        """The loop's options as a command line starts from them.
+
+        The loop's defaults, updated by the :class:`Recipe` called ``recipe`` (None: the
+        first of :attr:`recipes`, if any); an unknown name raises ``ValueError``.
+        """
+        if recipe is None and not self.recipes:
+            return self.options()
+        if recipe is None:
+            chosen = self.recipes[0]
+        else:
+            names = [r.name for r in self.recipes]
+            chosen = self.recipes[names.index(v.choice(f"recipe of trainer {self.name!r}",
+                                                        recipe, names))]
+        return {**self.options(), **chosen.options}
 
     def train(self, tm, omega, target, *, hidden: int = 4, rng: np.random.Generator,
               metadata: dict | None = None, scaling: Scaling | None = None,

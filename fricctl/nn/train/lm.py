@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import _validate as v
-from .core import MAX_RESTARTS, LoopResult, Trainer, TrainingProblem, TrainingResult, check_work
+from .core import (MAX_RESTARTS, LoopResult, Trainer, TrainerOption, TrainingProblem,
+                   TrainingResult, check_work)
 
 __all__ = ["train_casadi", "loop", "ResidualFunctions", "residual_functions", "clear_cache",
            "TRAINER", "MAX_ITERATIONS", "MAX_WORK"]
@@ -191,9 +192,14 @@ def loop(problem: TrainingProblem, *, restarts: int = 3, max_iterations: int = 2
                                 "iterations": iterations})
 
 
-TRAINER = Trainer(name="casadi", step="iteration", loop=loop,
-                  description="Levenberg-Marquardt on the least-squares objective, exact "
-                              "Jacobian by CasADi's algorithmic differentiation")
+TRAINER = Trainer(
+    name="casadi", step="iteration", loop=loop,
+    description="Levenberg-Marquardt on the least-squares objective, exact Jacobian by CasADi's "
+                "algorithmic differentiation",
+    flags=(TrainerOption(name="restarts", type=int, high=MAX_RESTARTS,
+                         help="independent starting points, the best kept"),),
+    limits=(f"restarts*{loop.__kwdefaults__['max_iterations']}*patterns*(4*hidden+1)^2 <= "
+            f"{MAX_WORK:.0e}".replace("e+", "e") + " (its iterations stop by themselves)"))
 
 
 def train_casadi(tm, omega, target, *, hidden: int = 4, restarts: int = 3,
