@@ -155,6 +155,45 @@ def _arrays(out, stuck) -> dict:
     return dict(zip(OUTPUTS, out), stuck=stuck)
 
 
+def _batch_frictions(friction, plist, n: int, plant: str):
+    """(each run's FrictionModel, the plant kind) of a batch: laws become models, LuGre
+    friction makes the rigid joint a LuGre one."""
+    if isinstance(friction, FrictionLaw):
+        friction = friction.model()
+    elif isinstance(friction, (list, tuple)):
+        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
+    frs = [p.friction_model() for p in plist] if friction is None else _as_list(
+        friction, n, "friction", FrictionModel)
+    kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
+    lugre = {f.is_lugre for f in frs}
+    if len(lugre) > 1:
+        raise ValueError("a batch cannot mix LuGre and stick-slip friction models")
+    if lugre.pop():
+        if kind == FLEXIBLE:
+            raise ValueError("LuGre friction is supported on the rigid joint only")
+        kind = LUGRE
+    return frs, kind
+
+
+def _initial_positions(q0, n: int) -> np.ndarray:
+    try:
+        return np.broadcast_to(v.array("q0", q0, ndim=None), (n,)).copy()
+    except ValueError as exc:
+        if "q0" in str(exc):
+            raise
+        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
+                         f"{np.shape(q0)}") from None
+
+
+def _kernel_args(p: ActuatorParams, kind: int) -> KernelArgs:
+    """The joint of an actuator as the kernels see it: elastic (Eq. 1) or rigid (Eq. 2)."""
+    flex = kind == FLEXIBLE
+    return KernelArgs(kind=kind, motor_inertia=p.inertia if flex else p.total_inertia,
+                      load_inertia=p.link_inertia if flex else p.total_inertia,
+                      stiffness=p.stiffness if flex else 0.0,
+                      damping=p.joint_damping if flex else 0.0)
+
+
 def simulate_batch(params, controller, compensator=None, *, duration: float,
                    friction=None, plant: str = "rigid", substeps: int | None = None,
                    q0=0.0, noise_std: float = 0.0, rng: np.random.Generator | None = None,
@@ -199,20 +238,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", Controller)
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      Compensator)
-    if isinstance(friction, FrictionLaw):
-        friction = friction.model()
-    elif isinstance(friction, (list, tuple)):
-        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
-    frs = [p.friction_model() for p in plist] if friction is None else _as_list(
-        friction, n, "friction", FrictionModel)
-    kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
-    lugre = {f.is_lugre for f in frs}
-    if len(lugre) > 1:
-        raise ValueError("a batch cannot mix LuGre and stick-slip friction models")
-    if lugre.pop():
-        if kind == FLEXIBLE:
-            raise ValueError("LuGre friction is supported on the rigid joint only")
-        kind = LUGRE
+    frs, kind = _batch_frictions(friction, plist, n, plant)
     ts = plist[0].sample_time
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
@@ -220,24 +246,14 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     delay = _delay(delay, nsamp, ts)
     quantize = v.flag("quantize", quantize)
     noise_std, noise = _noise(noise_std, rng, (n, nsamp))
-    try:
-        q0a = np.broadcast_to(v.array("q0", q0, ndim=None), (n,)).copy()
-    except ValueError as exc:
-        if "q0" in str(exc):
-            raise
-        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
-                         f"{np.shape(q0)}") from None
+    q0a = _initial_positions(q0, n)
     if kind == FLEXIBLE and any(p.link_inertia <= 0 for p in plist):
         raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
     for f in frs:
         _check_drift(f, 0.0, nsamp * ts)
     flex = kind == FLEXIBLE
-    substeps = _substeps(substeps, kind, ts, [
-        KernelArgs(kind=kind, motor_inertia=p.inertia if flex else p.total_inertia,
-                   load_inertia=p.link_inertia if flex else p.total_inertia,
-                   stiffness=p.stiffness if flex else 0.0,
-                   damping=p.joint_damping if flex else 0.0) for p in plist],
-        frs, 0.0, nsamp * ts)
+    substeps = _substeps(substeps, kind, ts, [_kernel_args(p, kind) for p in plist], frs, 0.0,
+                         nsamp * ts)
 
     t = np.arange(nsamp) * ts
     plant_args = dict(
