@@ -299,3 +299,21 @@ def test_substeps_follow_the_plants_fastest_rate_and_never_return_non_finite():
     with pytest.raises(ValueError, match="too stiff for this sample time"):
         simulate(P.with_link().replace(stiffness=1e14), p_control(1.0, step(0.3)), duration=0.5,
                  plant="flexible")
+
+
+def test_every_field_of_the_loops_specs_says_what_it_is():
+    # the typed records the compiled loop reads (issue 19): a new plant parameter or loop
+    # setting is one field, and its meaning and unit live in the class docstring
+    import re
+    import typing
+
+    from fricctl.simulate import spec
+
+    classes = [getattr(spec, name) for name in spec.__all__]
+    assert all(issubclass(c, tuple) and c._fields for c in classes)  # NamedTuples: numba compiles them
+    for cls in classes:
+        hints = typing.get_type_hints(cls)
+        for name in cls._fields:
+            entry = re.search(rf"^    {name} : .+\n        \S.*", cls.__doc__, re.M)
+            assert entry, f"{cls.__name__}.{name} is not documented"
+            assert name in hints, f"{cls.__name__}.{name} has no type"

@@ -13,14 +13,14 @@ from .._jit import jit
 from .. import _validate as v
 from ..compensators import Compensator, NoCompensation
 from ..controllers import Controller
-from ..friction import NPARAM, FrictionLaw, FrictionModel
+from ..friction import FrictionLaw, FrictionModel
 from ..params import ActuatorParams
 from ..plant import FLEXIBLE, RIGID, STATE, FlexibleJoint, JointModel, KernelArgs, RigidJoint
 from ..plant.joints import checked_state, checked_substeps, plant_label
 from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps
-from ..plant.kernels import advance, state_torque
-from .loop import OUTPUTS, run_compiled, run_python
+from .loop import OUTPUTS, joint_interval, run_compiled, run_python
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
+from .spec import CompensatorSpec, ControlSpec, LoopSpec, PlantSpec
 
 __all__ = ["simulate", "simulate_batch", "simulate_model", "simulate_schedule", "replay",
            "Schedule", "DEFAULT_SUBSTEPS", "MAX_SAMPLES"]
@@ -37,6 +37,7 @@ MEMORY_BUDGET = 4e9
 #: refused with the number, before any work.
 MAX_SAMPLES = int(MEMORY_BUDGET // BYTES_PER_SAMPLE)
 _PLANTS = {"rigid": RIGID, "flexible": FLEXIBLE}
+#: ``SimInfo.plant`` of each plant kind.
 
 
 def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
@@ -147,12 +148,69 @@ def _noise(noise_std, rng, shape):
     return noise_std, np.zeros((1, 1))
 
 
-def _outputs(n, nsamp):
-    return np.empty((len(OUTPUTS), n, nsamp)), np.empty((n, nsamp), dtype=np.bool_)
-
-
 def _arrays(out, stuck) -> dict:
     return dict(zip(OUTPUTS, out), stuck=stuck)
+
+
+def _run(plant: PlantSpec, loop: LoopSpec, control: ControlSpec, compensators, t):
+    """Run a batch (one compensator per run) at sample instants ``t``: compiled when every
+    compensator compiles to one kind, else with the compensators evaluated in Python.
+
+    Returns the records (11, N, K) (rows :data:`~fricctl.simulate.loop.OUTPUTS`), ``stuck``
+    (N, K) and the loop taken ("compiled" or "python"); a run that diverged is refused.
+    """
+    n = len(compensators)
+    out, stuck = np.empty((len(OUTPUTS), n, t.size)), np.empty((n, t.size), dtype=np.bool_)
+    comp = CompensatorSpec.of(compensators)
+    if comp is not None:
+        run_compiled(plant, loop, control, comp, out, stuck)
+    else:
+        run_python(plant, loop, control, compensators,
+                   np.array([c.scale for c in compensators], dtype=float), out, stuck)
+    _check_finite(t, out, loop.encoder_resolution)
+    return out, stuck, "compiled" if comp is not None else "python"
+
+
+def _batch_frictions(friction, plist, n: int, plant: str):
+    """(each run's FrictionModel, the plant kind) of a batch: laws become models, a presliding
+    law (LuGre, Dahl) makes the rigid joint the STATE kind."""
+    if isinstance(friction, FrictionLaw):
+        friction = friction.model()
+    elif isinstance(friction, (list, tuple)):
+        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
+    frs = [p.friction_model() for p in plist] if friction is None else _as_list(
+        friction, n, "friction", FrictionModel)
+    kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
+    state = {f.state_law for f in frs}
+    if len(state) > 1:
+        raise ValueError("a batch cannot mix presliding (LuGre, Dahl) and stick-slip friction "
+                         "models, or two presliding laws")
+    law = state.pop()
+    if law is not None:
+        if kind == FLEXIBLE:
+            raise ValueError(f"{law.constructor.__name__} friction is supported on the rigid "
+                             "joint only")
+        kind = STATE
+    return frs, kind
+
+
+def _initial_positions(q0, n: int) -> np.ndarray:
+    try:
+        return np.broadcast_to(v.array("q0", q0, ndim=None), (n,)).copy()
+    except ValueError as exc:
+        if "q0" in str(exc):
+            raise
+        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
+                         f"{np.shape(q0)}") from None
+
+
+def _kernel_args(p: ActuatorParams, kind: int) -> KernelArgs:
+    """The joint of an actuator as the kernels see it: elastic (Eq. 1) or rigid (Eq. 2)."""
+    flex = kind == FLEXIBLE
+    return KernelArgs(kind=kind, motor_inertia=p.inertia if flex else p.total_inertia,
+                      load_inertia=p.link_inertia if flex else p.total_inertia,
+                      stiffness=p.stiffness if flex else 0.0,
+                      damping=p.joint_damping if flex else 0.0)
 
 
 def simulate_batch(params, controller, compensator=None, *, duration: float,
@@ -199,23 +257,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", Controller)
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      Compensator)
-    if isinstance(friction, FrictionLaw):
-        friction = friction.model()
-    elif isinstance(friction, (list, tuple)):
-        friction = [f.model() if isinstance(f, FrictionLaw) else f for f in friction]
-    frs = [p.friction_model() for p in plist] if friction is None else _as_list(
-        friction, n, "friction", FrictionModel)
-    kind = _PLANTS[v.choice("plant", plant, tuple(_PLANTS))]
-    state = {f.state_law for f in frs}
-    if len(state) > 1:
-        raise ValueError("a batch cannot mix presliding (LuGre, Dahl) and stick-slip friction "
-                         "models, or two presliding laws")
-    law = state.pop()
-    if law is not None:
-        if kind == FLEXIBLE:
-            raise ValueError(f"{law.constructor.__name__} friction is supported on the rigid "
-                             "joint only")
-        kind = STATE
+    frs, kind = _batch_frictions(friction, plist, n, plant)
     ts = plist[0].sample_time
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
@@ -223,60 +265,21 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     delay = _delay(delay, nsamp, ts)
     quantize = v.flag("quantize", quantize)
     noise_std, noise = _noise(noise_std, rng, (n, nsamp))
-    try:
-        q0a = np.broadcast_to(v.array("q0", q0, ndim=None), (n,)).copy()
-    except ValueError as exc:
-        if "q0" in str(exc):
-            raise
-        raise ValueError(f"q0 must be a number or an array of {n} initial positions, got shape "
-                         f"{np.shape(q0)}") from None
+    q0a = _initial_positions(q0, n)
     if kind == FLEXIBLE and any(p.link_inertia <= 0 for p in plist):
         raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
     for f in frs:
         _check_drift(f, 0.0, nsamp * ts)
-    flex = kind == FLEXIBLE
-    substeps = _substeps(substeps, kind, ts, [
-        KernelArgs(kind=kind, motor_inertia=p.inertia if flex else p.total_inertia,
-                   load_inertia=p.link_inertia if flex else p.total_inertia,
-                   stiffness=p.stiffness if flex else 0.0,
-                   damping=p.joint_damping if flex else 0.0) for p in plist],
-        frs, 0.0, nsamp * ts)
+    joints = [_kernel_args(p, kind) for p in plist]
+    substeps = _substeps(substeps, kind, ts, joints, frs, 0.0, nsamp * ts)
 
     t = np.arange(nsamp) * ts
-    plant_args = dict(
-        kind=kind, fps=np.array([f.vector() for f in frs]).reshape(n, NPARAM),
-        jm=np.array([p.inertia if flex else p.total_inertia for p in plist]),
-        jl=np.array([p.link_inertia if flex else p.total_inertia for p in plist]),
-        kst=np.array([p.stiffness if flex else 0.0 for p in plist]),
-        dmp=np.array([p.joint_damping if flex else 0.0 for p in plist]))
     res = np.array([p.encoder_resolution if quantize else 0.0 for p in plist])
-    loop_args = dict(ts=ts, substeps=substeps, tmax=np.array([p.max_torque for p in plist]),
-                     res=res, q0=q0a, delay=delay, noise=noise)
-    shared_ctrl = len({id(c) for c in clist}) == 1
-    signals = clist[:1] if shared_ctrl else clist
-    control = dict(ref=np.array([c.reference(t) for c in signals]),
-                   ff=np.array([c.feedforward(t) for c in signals]),
-                   kp=np.array([[c.kp] for c in clist], dtype=float),
-                   kd=np.array([[c.kd] for c in clist], dtype=float),
-                   segments=np.zeros((1, 1), dtype=np.bool_))
-    out, stuck = _outputs(n, nsamp)
-    compiled = [c.compiled() for c in comps]
-    for c in compiled:
-        if c is not None and not np.all(np.isfinite(c.params)):
-            raise ValueError("the compensator's parameters contain NaN or inf")
-    scales = np.array([c.scale for c in comps], dtype=float)
-    if all(c is not None for c in compiled) and len({c.kind for c in compiled}) == 1:
-        width = max(c.params.size for c in compiled)
-        cpar = np.zeros((n, width))
-        for i, c in enumerate(compiled):
-            cpar[i, :c.params.size] = c.params
-        run_compiled(plant_args, loop_args, control,
-                     dict(kind=compiled[0].kind, params=cpar, scale=scales), out, stuck)
-        path = "compiled"
-    else:
-        run_python(plant_args, loop_args, control, comps, scales, out, stuck)
-        path = "python"
-    _check_finite(t, out, res)
+    loop = LoopSpec(sample_time=ts, encoder_resolution=res,
+                    max_torque=np.array([p.max_torque for p in plist]), q0=q0a, delay=delay,
+                    noise=noise)
+    out, stuck, path = _run(PlantSpec.of(joints, frs, substeps), loop, ControlSpec.of(clist, t),
+                            comps, t)
     infos = tuple(SimInfo(
         params=plist[i], friction_model=frs[i], controller=clist[i].name, kp=clist[i].kp,
         kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
@@ -307,6 +310,26 @@ def simulate(params: ActuatorParams, controller: Controller, compensator: Compen
     return simulate_batch(params, controller, compensator, duration=duration, friction=friction,
                           plant=plant, substeps=substeps, q0=q0, noise_std=noise_std, rng=rng,
                           delay=delay, quantize=quantize)[0]
+
+
+def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise) -> LoopSpec:
+    """The loop around a model's joint: its torque limit (None: none), its delay in whole
+    samples, its offset as a constant torque in what the joint receives."""
+    ts = model.sample_time
+    if model.offset != 0.0:  # the joint receives Tm - offset: a constant term of the loop's noise
+        noise = np.broadcast_to(noise, (1, nsamp)) - model.offset
+    tmax = math.inf if model.max_torque is None else model.max_torque
+    return LoopSpec(sample_time=ts, encoder_resolution=np.array([res]), max_torque=np.array([tmax]),
+                    q0=np.array([v.real("q0", q0)]),
+                    delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
+                    noise=noise)
+
+
+def _one_result(t, out, stuck, **info) -> SimResult:
+    """The result of a one-run batch without :class:`~fricctl.params.ActuatorParams`
+    (``info``: the other :class:`SimInfo` fields)."""
+    return SimResult(t=t, info=SimInfo(params=None, **info),
+                     **{k: x[0] for k, x in _arrays(out, stuck).items()})
 
 
 def simulate_model(model: JointModel, controller: Controller,
@@ -375,44 +398,20 @@ def simulate_model(model: JointModel, controller: Controller,
     ts = model.sample_time
     nsamp = _samples(duration, ts, 1)
     fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
-    joint = (replace(model, friction=fr)).joint()
-    a = joint.kernel_args()
+    a = replace(model, friction=fr).joint().kernel_args()
     substeps = _substeps(substeps, a.kind, ts, [a], [fr], 0.0, nsamp * ts)
     res = model.encoder_resolution if v.flag("quantize", quantize) and model.encoder_resolution else 0.0
     noise_std, noise = _noise(noise_std, rng, (1, nsamp))
-    if model.offset != 0.0:  # the joint receives Tm - offset: a constant term of the loop's noise
-        noise = np.broadcast_to(noise, (1, nsamp)) - model.offset
     _check_drift(fr, 0.0, nsamp * ts)
     t = np.arange(nsamp) * ts
-    plant_args = dict(kind=a.kind, fps=fr.vector().reshape(1, NPARAM),
-                      jm=np.array([a.motor_inertia]), jl=np.array([a.load_inertia]),
-                      kst=np.array([a.stiffness]), dmp=np.array([a.damping]))
-    loop_args = dict(ts=ts, substeps=substeps, res=np.array([res]),
-                     tmax=np.array([math.inf if model.max_torque is None else model.max_torque]),
-                     q0=np.array([v.real("q0", q0)]),
-                     delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
-                     noise=noise)
-    control = dict(ref=controller.reference(t)[None, :], ff=controller.feedforward(t)[None, :],
-                   kp=np.array([[controller.kp]]), kd=np.array([[controller.kd]]),
-                   segments=np.zeros((1, 1), dtype=np.bool_))
-    out, stuck = _outputs(1, nsamp)
-    compiled = comp.compiled()
-    if compiled is not None and np.all(np.isfinite(compiled.params)):
-        run_compiled(plant_args, loop_args, control,
-                     dict(kind=compiled.kind, params=compiled.params.reshape(1, -1),
-                          scale=np.array([comp.scale], dtype=float)), out, stuck)
-    elif compiled is not None:
-        raise ValueError("the compensator's parameters contain NaN or inf")
-    else:
-        run_python(plant_args, loop_args, control, [comp], np.array([comp.scale]), out, stuck)
-    _check_finite(t, out, res)
-    info = SimInfo(params=None, friction_model=fr, controller=controller.name, kp=controller.kp,
-                   kd=controller.kd, compensator=comp.name, compensation_scale=comp.scale,
-                   plant=plant_label(a.kind, fr),
-                   substeps=int(substeps), delay=int(loop_args["delay"]),
-                   noise_std=float(noise_std), encoder_resolution=float(res),
-                   loop="compiled" if compiled is not None else "python")
-    return SimResult(t=t, info=info, **{k: x[0] for k, x in _arrays(out, stuck).items()})
+    loop = _model_loop(model, nsamp, res, q0, noise)
+    out, stuck, path = _run(PlantSpec.of([a], [fr], substeps), loop,
+                            ControlSpec.of([controller], t), [comp], t)
+    return _one_result(t, out, stuck, friction_model=fr, controller=controller.name,
+                       kp=controller.kp, kd=controller.kd, compensator=comp.name,
+                       compensation_scale=comp.scale, plant=plant_label(a.kind, fr),
+                       substeps=int(substeps), delay=int(loop.delay), noise_std=float(noise_std),
+                       encoder_resolution=float(res), loop=path)
 
 
 class Schedule:
@@ -493,39 +492,31 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     noise = (np.zeros((1, 1)) if noise is None
              else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
     _check_drift(joint.friction, 0.0, nsamp * ts)
-    plant_args = dict(kind=a.kind, fps=joint.friction.vector().reshape(1, NPARAM),
-                      jm=np.array([a.motor_inertia]), jl=np.array([a.load_inertia]),
-                      kst=np.array([a.stiffness]), dmp=np.array([a.damping]))
-    loop_args = dict(ts=ts, substeps=substeps, tmax=np.array([tmax]), res=np.array([res]),
-                     q0=np.zeros(1), delay=delay, noise=noise)
-    control = dict(ref=schedule.reference[None, :], ff=schedule.feedforward[None, :],
-                   kp=schedule.kp[None, :], kd=schedule.kd[None, :],
-                   segments=schedule.segment_start[None, :])
-    out, stuck = _outputs(1, nsamp)
-    run_compiled(plant_args, loop_args, control,
-                 dict(kind=NoCompensation().compiled().kind, params=np.zeros((1, 1)),
-                      scale=np.ones(1)), out, stuck)
-    _check_finite(np.arange(nsamp) * ts, out, res)
-    info = SimInfo(params=None, friction_model=joint.friction, controller="schedule",
-                   kp=float(schedule.kp.max()), kd=float(schedule.kd.max()), compensator="none",
-                   compensation_scale=1.0,
-                   plant=plant_label(a.kind, joint.friction),
-                   substeps=int(substeps), delay=int(delay),
-                   noise_std=float(np.std(noise)) if noise.size > 1 else 0.0,
-                   encoder_resolution=res, loop="compiled")
-    return SimResult(t=np.arange(nsamp) * ts, info=info,
-                     **{k: x[0] for k, x in _arrays(out, stuck).items()})
+    loop = LoopSpec(sample_time=ts, encoder_resolution=np.array([res]), max_torque=np.array([tmax]),
+                    q0=np.zeros(1), delay=delay, noise=noise)
+    control = ControlSpec(reference=schedule.reference[None, :],
+                          feedforward=schedule.feedforward[None, :], kp=schedule.kp[None, :],
+                          kd=schedule.kd[None, :], segment_start=schedule.segment_start[None, :])
+    t = np.arange(nsamp) * ts
+    out, stuck, path = _run(PlantSpec.of([a], [joint.friction], substeps), loop, control,
+                            [NoCompensation()], t)
+    return _one_result(t, out, stuck, friction_model=joint.friction,
+                       controller="schedule", kp=float(schedule.kp.max()),
+                       kd=float(schedule.kd.max()), compensator="none", compensation_scale=1.0,
+                       plant=plant_label(a.kind, joint.friction), substeps=int(substeps), delay=int(delay),
+                       noise_std=float(np.std(noise)) if noise.size > 1 else 0.0,
+                       encoder_resolution=res, loop=path)
 
 
 @jit
-def _replay(kind, st, fp, torque, t0, ts, nsub, jm, jl, k, d, o_q, o_w, o_f):
+def _replay(plant, st, torque, t0, ts, o_q, o_w, o_f):
+    """Drive the joint of a one-run :class:`PlantSpec` from state ``st`` with ``torque`` held
+    per sample; records into ``o_q``, ``o_w``, ``o_f``."""
     for i in range(torque.size):
         t = t0 + i * ts
         o_q[i] = st[0]
         o_w[i] = st[1]
-        f, a = state_torque(kind, st, fp, torque[i], t, jm, k, d)
-        o_f[i] = f
-        advance(kind, st, fp, torque[i], t, ts, nsub, jm, jl, k, d)
+        o_f[i] = joint_interval(plant, 0, st, torque[i], t, ts)[0]
 
 
 def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float = 0.0,
@@ -568,7 +559,6 @@ def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float 
     _check_drift(joint.friction, t0, t0 + tq.size * ts)
     substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], t0, t0 + tq.size * ts)
     o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
-    _replay(a.kind, st, joint.friction.vector(), tq, t0, ts, substeps, a.motor_inertia,
-            a.load_inertia, a.stiffness, a.damping, o_q, o_w, o_f)
+    _replay(PlantSpec.of([a], [joint.friction], substeps), st, tq, t0, ts, o_q, o_w, o_f)
     _check_finite(t0 + np.arange(tq.size) * ts, np.vstack([o_q, o_w, o_f]), 0.0)
     return ReplayResult(q=o_q, omega=o_w, friction=o_f)

@@ -1,11 +1,13 @@
 """The ONE sampled-data loop (compiled), used by every simulation of fricctl.
 
-One sample of the loop is three compiled steps, each written once:
+One sample of the loop is four compiled steps, each written once:
 
 1. :func:`observe` -- encoder reading ``y_k`` and backward-difference velocity;
 2. :func:`control_torque` -- ``Tc_k = ff_k + Kp_k*(r_k - y_k) - Kd_k*omega_hat_k``;
 3. :func:`act` -- ``Tm_{k+1} = clip(Tc_k + s*T^at_k)``, what the joint receives
-   (delay, noise, saturation), the records, and one held-torque interval of the plant.
+   (delay, noise, saturation) and the records;
+4. :func:`joint_interval` -- the joint's resistive torque and one held-torque interval
+   of the plant.
 
 Between 2 and 3 the compensator gives ``T^at_k`` from ``(Tm_k, omega_hat_k)``.
 :func:`run_compiled` chains the steps for compensators the kernel evaluates itself
@@ -13,11 +15,13 @@ Between 2 and 3 the compensator gives ``T^at_k`` from ``(Tm_k, omega_hat_k)``.
 same steps for any other estimator callable (evaluated in Python between 2 and 3).
 The timing is stated in :mod:`fricctl.simulate`.
 
-Per-sample settings are 2-D arrays indexed ``[run, sample]``; a single row (or a
-single column) is shared by every run (or every sample): gains constant over a run
-are an ``(N, 1)`` array, a shared reference a ``(1, K)`` one.  ``segment_start``
-marks samples where the reference is re-zeroed at the current encoder reading
-(the hidden-effect bench chains experiments that way).
+What a batch is made of comes in the typed records of :mod:`fricctl.simulate.spec`
+(:class:`PlantSpec`, :class:`LoopSpec`, :class:`ControlSpec`, :class:`CompensatorSpec`),
+read by field name inside the compiled steps; the plant kernels' arguments are unpacked
+from a :class:`PlantSpec` in one place, :func:`joint_interval`.  Per-sample settings are
+2-D arrays indexed ``[run, sample]`` (a single row or column is shared by every run or
+sample); ``segment_start`` marks samples where the reference is re-zeroed at the current
+encoder reading (the hidden-effect bench chains experiments that way).
 """
 
 from __future__ import annotations
@@ -31,9 +35,10 @@ from .._jit import jit
 from ..compensators import COMP_COULOMB, COMP_NN
 from ..netlayout import forward_packed
 from ..plant.kernels import advance, state_torque
+from .spec import CompensatorSpec, ControlSpec, LoopSpec, PlantSpec
 
-__all__ = ["OUTPUTS", "observe", "control_torque",
-           "compensate", "act", "run_compiled", "run_python"]
+__all__ = ["OUTPUTS", "observe", "control_torque", "compensate", "act", "joint_interval",
+           "run_compiled", "run_python"]
 
 #: Rows of the float output array, in order.
 OUTPUTS = ("q", "q_meas", "q_load", "omega", "omega_hat", "torque_cmd", "torque_motor",
@@ -64,12 +69,14 @@ def observe(q, y_prev, k, ts, res):
 
 
 @jit
-def control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd):
-    """(r_k, Tc_k) of run n at sample k; ``offset`` is added to the reference of a segment."""
-    r = _at(ref, n, k)
+def control_torque(n, k, y, wh, offset, has_segments, control):
+    """(r_k, Tc_k) of run n at sample k (:class:`ControlSpec`); ``offset`` is added to the
+    reference of a segment."""
+    r = _at(control.reference, n, k)
     if has_segments:
         r = offset + r
-    tc = _at(ff, n, k) + _at(kp, n, k) * (r - y) - _at(kd, n, k) * wh
+    tc = (_at(control.feedforward, n, k) + _at(control.kp, n, k) * (r - y)
+          - _at(control.kd, n, k) * wh)
     return r, tc
 
 
@@ -88,10 +95,15 @@ def compensate(kind, p, tm, wh):
 
 
 @jit
-def act(n, k, st, tm_k, tc, fh, y, wh, r, cscale, tmax, delay, noise, kind, fp, ts, nsub,
-        jm, jl, kst, dmp, out, stuck):
-    """Command, what the joint receives, the records of sample k, one interval; returns Tm_{k+1}."""
-    tm_next = min(max(tc + cscale * fh, -tmax), tmax)
+def act(n, k, st, tm_k, tc, fh, y, wh, r, scale, loop, out, stuck):
+    """The command ``Tm_{k+1}``, the torque the joint receives over sample k (delay, noise,
+    saturation) and the records of sample k; returns both torques.
+
+    ``scale`` is the compensation scale s of run n, ``loop`` the :class:`LoopSpec`.
+    """
+    # fields read first: the spec's other arrays are not held (reference-counted) to the end
+    tmax, delay, noise = loop.max_torque[n], loop.delay, loop.noise
+    tm_next = min(max(tc + scale * fh, -tmax), tmax)
     if delay > 0:
         applied = out[_TM, n, k - delay] if k >= delay else 0.0
     else:
@@ -109,80 +121,88 @@ def act(n, k, st, tm_k, tc, fh, y, wh, r, cscale, tmax, delay, noise, kind, fp, 
     out[_FH, n, k] = fh
     out[_R, n, k] = r
     stuck[n, k] = st[1] == 0.0
-    f, a = state_torque(kind, st, fp, applied, k * ts, jm, kst, dmp)
-    out[_F, n, k] = f
-    out[_A, n, k] = a
-    advance(kind, st, fp, applied, k * ts, ts, nsub, jm, jl, kst, dmp)
-    return tm_next
+    return tm_next, applied
 
 
 @jit
-def _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
-             ckind, cpar, cscale, delay, noise, out, stuck):
+def joint_interval(plant, n, st, tm, t0, dt):
+    """(resistive torque Tat, motor acceleration) of run n's joint right after ``t0``, then
+    the joint (:class:`PlantSpec`) advanced in place over ``[t0, t0 + dt)`` with ``tm`` held.
+
+    The one place the plant kernels' arguments are unpacked from a :class:`PlantSpec`.
+    """
+    # every field is read before the kernels run: the spec's arrays are not held
+    # (reference-counted) across the calls; holding them cost ~7 % of the loop's time
+    kind, fp, nsub = plant.kind, plant.friction[n], plant.substeps
+    jm, jl = plant.motor_inertia[n], plant.load_inertia[n]
+    kst, dmp = plant.stiffness[n], plant.damping[n]
+    f, a = state_torque(kind, st, fp, tm, t0, jm, kst, dmp)
+    advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, kst, dmp)
+    return f, a
+
+
+@jit
+def _one_run(n, plant, loop, control, comp, out, stuck):
     st = np.zeros(5)
-    st[0] = q0[n]
-    st[2] = q0[n]
+    st[0] = loop.q0[n]
+    st[2] = loop.q0[n]
     tm_next = 0.0
-    y_prev = quantize(q0[n], res[n])
+    res = loop.encoder_resolution[n]
+    y_prev = quantize(loop.q0[n], res)
     offset = 0.0
-    has_segments = segs.shape[1] == out.shape[2]
+    has_segments = control.segment_start.shape[1] == out.shape[2]
     for k in range(out.shape[2]):
-        y, wh = observe(st[0], y_prev, k, ts, res[n])
-        if has_segments and _at(segs, n, k):
+        y, wh = observe(st[0], y_prev, k, loop.sample_time, res)
+        if has_segments and _at(control.segment_start, n, k):
             offset = y
-        r, tc = control_torque(n, k, y, wh, offset, has_segments, ref, ff, kp, kd)
+        r, tc = control_torque(n, k, y, wh, offset, has_segments, control)
         tm_k = tm_next
-        fh = compensate(ckind, cpar[n], tm_k, wh)
-        tm_next = act(n, k, st, tm_k, tc, fh, y, wh, r, cscale[n], tmax[n], delay, noise, kind,
-                      fps[n], ts, nsub, jm[n], jl[n], kst[n], dmp[n], out, stuck)
+        fh = compensate(comp.kind, comp.params[n], tm_k, wh)
+        tm_next, applied = act(n, k, st, tm_k, tc, fh, y, wh, r, comp.scale[n], loop, out, stuck)
+        out[_F, n, k], out[_A, n, k] = joint_interval(plant, n, st, applied, k * loop.sample_time,
+                                                      loop.sample_time)
         y_prev = y
 
 
 @jit
-def _runs_serial(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
-                 ckind, cpar, cscale, delay, noise, out, stuck):
-    for n in range(fps.shape[0]):
-        _one_run(n, kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
-                 ckind, cpar, cscale, delay, noise, out, stuck)
+def _runs_serial(plant, loop, control, comp, out, stuck):
+    for n in range(out.shape[1]):
+        _one_run(n, plant, loop, control, comp, out, stuck)
 
 
 @jit(parallel=True)
-def _runs_parallel(kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp, kd, segs,
-                   ckind, cpar, cscale, delay, noise, out, stuck):
-    for n in prange(fps.shape[0]):  # runs are independent: one per thread
-        _one_run(np.int64(n), kind, ts, nsub, jm, jl, kst, dmp, fps, tmax, res, q0, ref, ff, kp,
-                 kd, segs, ckind, cpar, cscale, delay, noise, out, stuck)
+def _runs_parallel(plant, loop, control, comp, out, stuck):
+    for n in prange(out.shape[1]):  # runs are independent: one per thread
+        _one_run(np.int64(n), plant, loop, control, comp, out, stuck)
 
 
-def run_compiled(plant, loop, control, compensator, out, stuck):
+def run_compiled(plant: PlantSpec, loop: LoopSpec, control: ControlSpec, comp: CompensatorSpec,
+                 out, stuck) -> None:
     """Run every run of the batch through the compiled loop (runs in parallel when N > 1).
 
-    ``plant``, ``loop``, ``control`` and ``compensator`` are the argument groups built by
-    :func:`fricctl.simulate.api.simulate_batch` (dicts of arrays); ``out`` (11, N, K) and
-    ``stuck`` (N, K) receive the records.
+    ``out`` (11, N, K) and ``stuck`` (N, K) receive the records (rows :data:`OUTPUTS`).
     """
-    runs = _runs_parallel if plant["fps"].shape[0] > 1 else _runs_serial
-    runs(plant["kind"], loop["ts"], loop["substeps"], plant["jm"], plant["jl"], plant["kst"],
-         plant["dmp"], plant["fps"], loop["tmax"], loop["res"], loop["q0"], control["ref"],
-         control["ff"], control["kp"], control["kd"], control["segments"], compensator["kind"],
-         compensator["params"], compensator["scale"], loop["delay"], loop["noise"], out, stuck)
+    runs = _runs_parallel if out.shape[1] > 1 else _runs_serial
+    runs(plant, loop, control, comp, out, stuck)
 
 
-def run_python(plant, loop, control, estimators, scales, out, stuck):
+def run_python(plant: PlantSpec, loop: LoopSpec, control: ControlSpec, estimators, scales,
+               out, stuck) -> None:
     """The same steps as :func:`run_compiled`, with ``T^at`` from Python callables.
 
     ``estimators`` holds one callable ``(tm, omega_hat) -> T^at`` per run (the same
-    object for every run is evaluated once per sample on the whole batch).
+    object for every run is evaluated once per sample on the whole batch); ``scales``
+    their compensation scales s [-].
     """
     n_runs, nsamp = stuck.shape
-    ts, res, tmax = loop["ts"], loop["res"], loop["tmax"]
+    ts, res = loop.sample_time, loop.encoder_resolution
     states = np.zeros((n_runs, 5))
-    states[:, 0] = loop["q0"]
-    states[:, 2] = loop["q0"]
+    states[:, 0] = loop.q0
+    states[:, 2] = loop.q0
     tm_next = np.zeros(n_runs)
-    y_prev = np.array([quantize(q, r) for q, r in zip(loop["q0"], res)])
+    y_prev = np.array([quantize(q, r) for q, r in zip(loop.q0, res)])
     offset = np.zeros(n_runs)
-    segs = control["segments"]
+    segs = control.segment_start
     has_segments = segs.shape[1] == nsamp
     y, wh, r, tc = (np.empty(n_runs) for _ in range(4))
     shared = len({id(e) for e in estimators}) == 1
@@ -191,8 +211,7 @@ def run_python(plant, loop, control, estimators, scales, out, stuck):
             y[n], wh[n] = observe(states[n, 0], y_prev[n], k, ts, res[n])
             if has_segments and segs[min(n, segs.shape[0] - 1), k]:
                 offset[n] = y[n]
-            r[n], tc[n] = control_torque(n, k, y[n], wh[n], offset[n], has_segments,
-                                         control["ref"], control["ff"], control["kp"], control["kd"])
+            r[n], tc[n] = control_torque(n, k, y[n], wh[n], offset[n], has_segments, control)
         tm_k = tm_next.copy()
         if shared:
             fh = np.broadcast_to(np.asarray(estimators[0](tm_k, wh), dtype=float), (n_runs,)).copy()
@@ -202,8 +221,7 @@ def run_python(plant, loop, control, estimators, scales, out, stuck):
         if not np.all(np.isfinite(fh)):
             raise ValueError(f"the compensator returned NaN or inf at t = {k * ts:g} s")
         for n in range(n_runs):
-            tm_next[n] = act(n, k, states[n], tm_k[n], tc[n], fh[n], y[n], wh[n], r[n], scales[n],
-                             tmax[n], loop["delay"], loop["noise"], plant["kind"], plant["fps"][n],
-                             ts, loop["substeps"], plant["jm"][n], plant["jl"][n], plant["kst"][n],
-                             plant["dmp"][n], out, stuck)
+            tm_next[n], applied = act(n, k, states[n], tm_k[n], tc[n], fh[n], y[n], wh[n], r[n],
+                                      scales[n], loop, out, stuck)
+            out[_F, n, k], out[_A, n, k] = joint_interval(plant, n, states[n], applied, k * ts, ts)
         y_prev = y.copy()
