@@ -1,6 +1,6 @@
 """Noise-free training patterns of a known smooth friction law (tests, benchmarks, teaching).
 
-Where the virtual bench (:mod:`fricctl.experiments`) is not needed, these
+Where the virtual bench (:mod:`fricctl.bench.experiments`) is not needed, these
 patterns give the network a target it can represent, so that its only error is
 its approximation error.
 """
