@@ -32,7 +32,7 @@ from fricctl.identify import idim_ls, regressor
 from fricctl.nn import TRAINERS, fit_report
 from fricctl.nn.c_export import c_header, c_source
 from fricctl.nn.cache import cached_pipeline_net
-from fricctl.nn.pipelines import PipelineInput, PipelineNet, pipeline
+from fricctl.nn.pipelines import PipelineNet, pipeline
 from fricctl.params import paper_actuator
 from fricctl.plant import JointModel
 from fricctl.simulate import simulate_model
@@ -290,10 +290,8 @@ if est is not None:
 
 # %%
 if est is not None:
-    inp = PipelineInput(tm=pats.tm, omega=pats.omega, friction=pats.friction,
-                        at_rest=pats.at_rest, velocity_quantum=pats.velocity_quantum)
     try:
-        pipeline("fricctl").train(inp, rng=np.random.default_rng(0))
+        pipeline("fricctl").train(pats, rng=np.random.default_rng(0))
         refused = ""
     except ValueError as exc:
         refused = str(exc)

@@ -87,14 +87,15 @@ def test_missing_file_and_bad_option_exit_2(patterns_csv, tmp_path, capsys):
 @pytest.fixture()
 def lattice_patterns_csv(tmp_path):
     """Patterns as `fricctl patterns` writes them: at_rest column and the velocity quantum."""
-    from fricctl.datasets import PatternSet, write_patterns
+    from fricctl.datasets import FrictionPatterns, write_patterns
 
     q = 0.0157
     pats = smooth_friction_patterns(np.random.default_rng(4), n_sliding=500, n_stuck=250)
     om = np.round(pats.omega / q) * q          # the loop's velocity lattice
     path = tmp_path / "lattice.csv"
-    write_patterns(path, PatternSet(tm=pats.tm, omega=om, friction=pats.friction,
-                                    at_rest=om == 0, units="rotary", velocity_quantum=q, meta={}))
+    write_patterns(path, FrictionPatterns(tm=pats.tm, omega=om, friction=pats.friction,
+                                          at_rest=om == 0, units="rotary", velocity_quantum=q,
+                                          meta={}))
     return path
 
 

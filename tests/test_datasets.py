@@ -202,13 +202,13 @@ def test_encoder_grid():
 
 # -- patterns ---------------------------------------------------------------------------------
 def _pattern_set(**kw):
-    from fricctl.datasets import PatternSet
+    from fricctl.datasets import FrictionPatterns
 
     args = dict(tm=[0.1, 0.2, 0.3], omega=[0.0, 1.0, -1.0], friction=[0.1, 0.5, -0.5],
                 at_rest=np.array([True, False, False]), units="linear", velocity_quantum=5e-5,
                 meta={"source": "by hand"})
     args.update(kw)
-    return PatternSet(**args)
+    return FrictionPatterns(**args)
 
 
 def test_patterns_round_trip_exact(tmp_path):

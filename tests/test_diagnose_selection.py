@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from scipy.optimize import lsq_linear
 
+from fricctl._json import json_safe
 from fricctl.bench.hidden_effects import PAIRS, compatible, hidden_effect_record
 from fricctl.diagnose import MIN_SCORE, diagnose
 from fricctl.diagnose.causes import REGISTRY, Baseline, Term
 from fricctl.diagnose.causes.load_dependent import MAX_LOAD_COEFFICIENT
 from fricctl.diagnose.crossval import Problem, baseline_fit, solve_bounded
-from fricctl.diagnose.report import json_ready
 from fricctl.diagnose.selection import COLLINEAR_SHARE, collinearity
 from fricctl.diagnose.signals import delayed, estimate_signals, motion_band
 from fricctl.diagnose.twin import effect_free_twin, feedback_gains
@@ -82,8 +82,8 @@ def test_collinearity_of_a_copy_and_of_an_independent_column():
     assert collinearity(problem, (), other) > 0.1
 
 
-def test_json_ready_makes_every_number_finite():
-    out = json_ready({"a": float("nan"), "b": [np.float64(1.5), float("inf")], "c": np.int64(2)})
+def test_json_safe_makes_every_number_finite():
+    out = json_safe({"a": float("nan"), "b": [np.float64(1.5), float("inf")], "c": np.int64(2)})
     assert out == {"a": None, "b": [1.5, None], "c": 2}
     json.dumps(out, allow_nan=False)
 

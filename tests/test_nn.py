@@ -747,6 +747,7 @@ def test_smooth_patterns_obey_the_law():
                                rtol=1e-15)  # definition
     np.testing.assert_array_equal(f[50:], tm[50:])  # stuck: Tat = Tm
     np.testing.assert_array_equal(om[50:], 0.0)
+    np.testing.assert_array_equal(pats.at_rest, np.arange(70) >= 50)  # the stuck ones, by construction
     assert np.all(om[:50] * f[:50] >= 0)  # friction dissipates
     with pytest.raises(ValueError, match="n_stuck"):
         smooth_friction_patterns(rng, n_stuck=-1)

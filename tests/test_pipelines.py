@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
+from fricctl.datasets import FrictionPatterns
 from fricctl.nn import smooth_friction_patterns
-from fricctl.nn.pipelines import PIPELINES, PipelineInput, pipeline, viscous_fit
+from fricctl.nn.pipelines import PIPELINES, pipeline, viscous_fit
 from fricctl.nn.train import TRAINERS, Scaling
 from fricctl.nn.train.certified import certify
 
@@ -92,11 +93,16 @@ def test_pipelines_on_the_fast_bench(name):
 
 def test_pipeline_input_is_checked():
     with pytest.raises(ValueError, match="at_rest"):
-        PipelineInput(tm=[0.0, 1.0], omega=[0.0, 1.0], friction=[0.0, 1.0], at_rest=[1, 0],
-                      velocity_quantum=0.01)
+        FrictionPatterns(tm=[0.0, 1.0], omega=[0.0, 1.0], friction=[0.0, 1.0], at_rest=[1, 0],
+                         velocity_quantum=0.01)
     with pytest.raises(ValueError, match="velocity_quantum"):
-        PipelineInput(tm=[0.0, 1.0], omega=[0.0, 1.0], friction=[0.0, 1.0],
-                      at_rest=np.array([True, False]), velocity_quantum=0.0)
+        FrictionPatterns(tm=[0.0, 1.0], omega=[0.0, 1.0], friction=[0.0, 1.0],
+                         at_rest=np.array([True, False]), velocity_quantum=0.0)
+    # the fricctl pipeline scales the velocity by the quantum: patterns without it are refused
+    tm, om, f, rest = _patterns(np.random.default_rng(5))
+    with pytest.raises(ValueError, match="velocity_quantum"):
+        pipeline("fricctl").train(FrictionPatterns(tm=tm, omega=om, friction=f, at_rest=rest),
+                                  rng=np.random.default_rng(0))
 
 
 def test_cache_reads_back_the_same_network_and_retrains_on_a_new_key(tmp_path, monkeypatch):
@@ -110,8 +116,8 @@ def test_cache_reads_back_the_same_network_and_retrains_on_a_new_key(tmp_path, m
 
     def make():
         calls.append(1)
-        return pipeline("fricctl").train(PipelineInput(tm=tm, omega=om, friction=f, at_rest=rest,
-                                                       velocity_quantum=0.0157),
+        return pipeline("fricctl").train(FrictionPatterns(tm=tm, omega=om, friction=f, at_rest=rest,
+                                                          velocity_quantum=0.0157),
                                          rng=np.random.default_rng(0), max_patterns=600)
 
     a = cached_pipeline_net({"k": 1}, make)

@@ -21,21 +21,21 @@ against the simulator's truth (issue: "which estimator, how wrong").
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .. import _validate as v
 from ..compensators import Compensator, NoCompensation
 from ..controllers import open_loop, p_control, pd_control, sequence, sinusoid
-from ..datasets import Run
+from ..datasets import FrictionPatterns, Run
 from ..estimation import ESTIMATORS, at_rest, estimate
 from ..friction import FrictionModel
 from ..params import ActuatorParams, paper_actuator
 from ..simulate import SimResult, simulate, simulate_batch
 
 __all__ = [
-    "Experiment", "training_experiments", "Patterns", "PatternSplit", "friction_patterns", "true_patterns", "train_network",
+    "Experiment", "training_experiments", "BenchPatterns", "PatternSplit", "friction_patterns", "true_patterns", "train_network",
     "EstimatorError", "compare_estimators", "DeadZone", "dead_zone", "DeadZonePrediction", "predicted_dead_zone", "PaperGains", "paper_gains",
 ]
 
@@ -152,41 +152,42 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     return out
 
 
-@dataclass(frozen=True, kw_only=True)
-class Patterns:
-    """Training patterns ``(Tm, omega) -> Tat`` with where they came from.
+@dataclass(frozen=True, kw_only=True, eq=False)
+class BenchPatterns(FrictionPatterns):
+    """Friction patterns made on the virtual bench, with where each came from and what the
+    simulator knows of it.
 
-    Attributes
-    ----------
-    tm : motor torque [N*m]
-    omega : estimated velocity [rad/s]
-    friction : ``Tm - I*alpha_hat`` [N*m]
-    friction_true : the simulator's true friction at the same samples [N*m]
-    t : sample time within its experiment [s]
-    experiment : index of the experiment each pattern comes from
-    method : velocity/acceleration estimator used
+    A :class:`~fricctl.datasets.FrictionPatterns` (``tm``, ``omega``, ``friction``,
+    ``at_rest``, ``velocity_quantum``: what a pipeline trains on) plus what only a
+    simulation has: the true friction at each pattern, its time and experiment, the
+    estimator that made it.  The added arrays are checked like the others (one value per
+    pattern) and kept as read-only copies.
     """
 
-    tm: np.ndarray
-    omega: np.ndarray
-    friction: np.ndarray
-    friction_true: np.ndarray
-    t: np.ndarray
+    friction_true: np.ndarray = field(metadata={"unit": "N*m"})
+    """The simulator's true friction at the same samples [N*m]."""
+    t: np.ndarray = field(metadata={"unit": "s"})
+    """Time of each pattern within its experiment [s]."""
     experiment: np.ndarray
+    """Index of the experiment (in the list given) each pattern comes from."""
     method: str
-    at_rest: np.ndarray
-    """True where the encoder stood still over ``guard`` samples either side (a pattern with
-    ``omega_hat = 0`` that is not at rest is a breakaway transient)."""
+    """The velocity/acceleration estimator that made ``omega`` and ``friction``
+    (``"truth"``: the simulator's own, :func:`true_patterns`)."""
 
-    def __len__(self):
-        return self.tm.size
+    def __post_init__(self):
+        super().__post_init__()
+        n = self.tm.size
+        for name in ("friction_true", "t"):
+            object.__setattr__(self, name, _frozen(v.array(name, getattr(self, name), size=n)))
+        experiment = np.asarray(self.experiment)
+        if experiment.dtype.kind not in "iu" or experiment.shape != (n,):
+            raise ValueError(f"experiment must be an integer array of {n} patterns")
+        object.__setattr__(self, "experiment", _frozen(experiment))
+        v.text("method", self.method, empty=False)
 
-    def subset(self, index) -> "Patterns":
+    def subset(self, index) -> "BenchPatterns":
         """The patterns at ``index`` (a boolean mask or integer indices)."""
-        return Patterns(tm=self.tm[index], omega=self.omega[index], friction=self.friction[index],
-                        friction_true=self.friction_true[index], t=self.t[index],
-                        experiment=self.experiment[index], method=self.method,
-                        at_rest=self.at_rest[index])
+        return replace(self, **{name: getattr(self, name)[index] for name in _PER_PATTERN})
 
     def split(self, fraction: float, rng: np.random.Generator) -> "PatternSplit":
         """Random split; ``fraction`` of the patterns go to training, the rest are held out."""
@@ -198,17 +199,28 @@ class Patterns:
         return PatternSplit(train=self.subset(np.sort(idx[:k])), held_out=self.subset(np.sort(idx[k:])))
 
 
+#: The fields of :class:`BenchPatterns` with one value per pattern.
+_PER_PATTERN = ("tm", "omega", "friction", "at_rest", "friction_true", "t", "experiment")
+
+
+def _frozen(x: np.ndarray) -> np.ndarray:
+    x = np.array(x)
+    x.setflags(write=False)
+    return x
+
+
 @dataclass(frozen=True, kw_only=True)
 class PatternSplit:
     """Patterns split at random into a training and a held-out part."""
 
-    train: Patterns
-    held_out: Patterns
+    train: BenchPatterns
+    held_out: BenchPatterns
 
 
 def friction_patterns(experiments, params: ActuatorParams, *, method: str = "polynomial_segments",
-                      border: int = 5, guard: int = 2, **options) -> Patterns:
-    """Friction patterns ``Tat = Tm - I*alpha_hat`` from the experiments' encoder records.
+                      border: int = 5, guard: int = 2, **options) -> BenchPatterns:
+    """Friction patterns ``Tat = Tm - I*alpha_hat`` from the experiments' encoder records
+    (``velocity_quantum``: one encoder count per sample of ``params``).
 
     Parameters
     ----------
@@ -236,15 +248,17 @@ def friction_patterns(experiments, params: ActuatorParams, *, method: str = "pol
         parts.append((tm, est.velocity[sl], tm - params.total_inertia * est.acceleration[sl],
                       ex.truth.friction[sl], ex.run.t[sl], np.full(tm.size, i),
                       at_rest(ex.run.position, guard=guard)[sl]))
-    return _patterns(parts, method)
+    return _patterns(parts, method,
+                     velocity_quantum=params.encoder_resolution / params.sample_time)
 
 
-def _patterns(parts, method) -> Patterns:
+def _patterns(parts, method, velocity_quantum=None) -> BenchPatterns:
     names = ("tm", "omega", "friction", "friction_true", "t", "experiment", "at_rest")
-    return Patterns(method=method, **{n: np.concatenate(c) for n, c in zip(names, zip(*parts))})
+    return BenchPatterns(method=method, velocity_quantum=velocity_quantum,
+                         **{n: np.concatenate(c) for n, c in zip(names, zip(*parts))})
 
 
-def true_patterns(experiments, *, border: int = 5) -> Patterns:
+def true_patterns(experiments, *, border: int = 5) -> BenchPatterns:
     """The patterns a perfect measuring chain would give: the simulator's true velocity and friction.
 
     Same samples as :func:`friction_patterns` with the same ``border``; an upper
@@ -258,7 +272,7 @@ def true_patterns(experiments, *, border: int = 5) -> Patterns:
     return _patterns(parts, "truth")
 
 
-def train_network(patterns: Patterns, *, trainer: str = "casadi", hidden: int = 4, max_patterns: int = 4000,
+def train_network(patterns: BenchPatterns, *, trainer: str = "casadi", hidden: int = 4, max_patterns: int = 4000,
                   rng: np.random.Generator | None = None, **options):
     """Train the friction network on (a random subset of at most ``max_patterns``) patterns.
 

@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import contextlib
 import json
-import math
 import os
 from pathlib import Path
 
-import numpy as np
+from .._json import json_safe
 
 __all__ = ["check_outputs", "check_figure", "json_text", "about", "FIGURE_FORMATS"]
 
@@ -102,29 +101,6 @@ def about(*paths):
         raise ValueError(f"{names}: {msg}") from exc
 
 
-def _finite(obj, path: str, undefined: dict, reasons: dict):
-    if isinstance(obj, dict):
-        return {k: _finite(x, f"{path}.{k}" if path else str(k), undefined, reasons)
-                for k, x in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(x, f"{path}[{i}]", undefined, reasons) for i, x in enumerate(obj)]
-    if isinstance(obj, np.ndarray):
-        return _finite(obj.tolist(), path, undefined, reasons)
-    if isinstance(obj, (np.bool_,)):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        x = float(obj)
-        if math.isfinite(x):
-            return x
-        undefined[path] = reasons.get(path, f"not a finite number ({x!r})")
-        return None
-    if obj is None and path in reasons:
-        undefined[path] = reasons[path]
-    return obj
-
-
 def json_text(obj: dict, *, reasons: dict | None = None, indent: int | None = 2) -> str:
     """``obj`` as standard JSON: non-finite numbers become null with a reason.
 
@@ -152,7 +128,15 @@ def json_text(obj: dict, *, reasons: dict | None = None, indent: int | None = 2)
     '{"a": 1.0, "b": null, "undefined": {"b": "not a finite number (nan)"}}'
     """
     undefined: dict = {}
-    out = _finite(obj, "", undefined, dict(reasons or {}))
+    reasons = dict(reasons or {})
+
+    def note(path: str, x: float | None) -> None:
+        if x is not None:
+            undefined[path] = reasons.get(path, f"not a finite number ({x!r})")
+        elif path in reasons:
+            undefined[path] = reasons[path]
+
+    out = json_safe(obj, note)
     if undefined:
         if "undefined" in out:  # pragma: no cover - a summary never uses the key itself
             raise RuntimeError("a summary uses the key 'undefined' that json_text adds")

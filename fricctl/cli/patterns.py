@@ -26,6 +26,7 @@ inertia, records[{source, n_samples, sample_time}], friction_rms``, and with
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -65,7 +66,6 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from ..datasets import load_record, record_patterns, write_patterns
-    from ..datasets.patterns import PatternSet
     from ..plant import JointModel
     from ..units import units as units_of
     from ._output import about, check_outputs, json_text
@@ -87,11 +87,10 @@ def run(args) -> int:
                                estimator_options=options, border=args.border, guard=args.guard,
                                velocity_quantum=model.velocity_quantum)
     described = ", ".join(f"{k}={x}" for k, x in options.items())
-    pats = PatternSet(tm=pats.tm, omega=pats.omega, friction=pats.friction, at_rest=pats.at_rest,
-                      units=pats.units, velocity_quantum=pats.velocity_quantum,
-                      meta={"source": "; ".join(r.source for r in records),
-                            "estimator": args.estimator + (f" ({described})" if described else ""),
-                            "inertia": f"{model.inertia!r} (from {Path(args.model).name})"})
+    estimator = args.estimator + (f" ({described})" if described else "")
+    pats = replace(pats, meta={"source": "; ".join(r.source for r in records),
+                               "estimator": estimator,
+                               "inertia": f"{model.inertia!r} (from {Path(args.model).name})"})
     net_fit = None
     if args.net is not None:
         from ..nn import fit_report, load_net

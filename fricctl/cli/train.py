@@ -200,7 +200,7 @@ def _gain_band(text):
 
 def _train_pipeline(args, pats, rng, extra):
     from ..nn import TRAINERS
-    from ..nn.pipelines import DEFAULT_GAIN_BAND, PipelineInput, pipeline
+    from ..nn.pipelines import DEFAULT_GAIN_BAND, pipeline
 
     p = pats.patterns
     options = {}
@@ -215,16 +215,11 @@ def _train_pipeline(args, pats, rng, extra):
             raise ValueError(f"{args.patterns}: no at_rest column; write the patterns with "
                              "fricctl patterns, which marks the samples at rest")
         options["gain_band"] = DEFAULT_GAIN_BAND if args.gain_band is None else _gain_band(args.gain_band)
-        quantum = p.velocity_quantum
-    else:
-        if args.gain_band is not None:
-            raise ValueError("--gain-band applies to --pipeline fricctl only")
-        quantum = p.velocity_quantum or 1.0   # the paper pipeline does not use it
-    inp = PipelineInput(tm=p.tm, omega=p.omega, friction=p.friction, at_rest=p.at_rest,
-                        velocity_quantum=quantum)
+    elif args.gain_band is not None:
+        raise ValueError("--gain-band applies to --pipeline fricctl only")
     trainer = _PIPELINE_TRAINER.get(args.pipeline)
     with progress_bar(args.progress, TRAINERS[trainer].step if trainer else "step") as progress:
-        return pipeline(args.pipeline).train(inp, rng=rng, hidden=args.hidden, progress=progress,
+        return pipeline(args.pipeline).train(p, rng=rng, hidden=args.hidden, progress=progress,
                                              metadata={**extra, "units": p.units}, **options)
 
 

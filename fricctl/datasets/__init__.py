@@ -21,7 +21,8 @@ any other column is an error.  For a linear axis (``units="linear"``) the
 Every CSV file fricctl reads goes through :func:`read_columns` (columns named by
 a header, in any order): records (:meth:`Run.from_csv`) and the network's
 training patterns (:func:`read_patterns`, header ``tm,omega,friction[,at_rest]``,
-written by :func:`write_patterns` from :func:`record_patterns`).  Its errors name
+written by :func:`write_patterns` from :func:`record_patterns`; :class:`FrictionPatterns`,
+the one pattern type of fricctl).  Its errors name
 the file, the line and the column.  :func:`load_record` reads a record from a CSV
 file or from a MATLAB file in the EMPS layout.
 
@@ -33,8 +34,8 @@ environment variable (the folder that holds ``emps/DATA_EMPS.mat``).
 from __future__ import annotations
 
 from .emps_data import EMPS_SOURCE_HINT, EmpsData, emps, emps_file, load_record
-from .patterns import (PATTERN_COLUMNS, PatternSet, PatternTable, read_patterns, record_patterns,
-                       write_patterns)
+from .patterns import (PATTERN_COLUMNS, FrictionPatterns, PatternTable, read_patterns,
+                       record_patterns, write_patterns)
 from .run import MIN_SAMPLES, TIME_STEP_RTOL, Run
 from .table import Table, read_columns
 
@@ -46,7 +47,7 @@ __all__ = [
     "load_record",
     "Table",
     "read_columns",
-    "PatternSet",
+    "FrictionPatterns",
     "PatternTable",
     "record_patterns",
     "write_patterns",

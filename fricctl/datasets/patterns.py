@@ -1,5 +1,11 @@
-"""Friction patterns from records: :func:`record_patterns`, their CSV file
-(:func:`write_patterns`, :func:`read_patterns`).
+"""Friction patterns: the one type (:class:`FrictionPatterns`), patterns from records
+(:func:`record_patterns`) and their CSV file (:func:`write_patterns`, :func:`read_patterns`).
+
+:class:`FrictionPatterns` is what every part of fricctl that makes or uses patterns
+hands over: records (here), noise-free patterns of a known law
+(:func:`fricctl.nn.smooth_friction_patterns`), the virtual bench
+(:class:`fricctl.bench.experiments.BenchPatterns`, which adds the simulator's truth) and
+the pipelines that train the compensating network (:mod:`fricctl.nn.pipelines`).
 
 Patterns file layout::
 
@@ -31,8 +37,8 @@ from ..units import KINDS, units as units_of
 from .run import Run
 from .table import Table, read_columns
 
-__all__ = ["PATTERN_COLUMNS", "PatternSet", "record_patterns", "write_patterns", "PatternTable",
-           "read_patterns"]
+__all__ = ["PATTERN_COLUMNS", "FrictionPatterns", "record_patterns", "write_patterns",
+           "PatternTable", "read_patterns"]
 
 #: Columns of a training-patterns file (``fricctl train``): motor torque [N*m],
 #: velocity [rad/s] and friction torque [N*m], load side ([N], [m/s], [N] on a linear
@@ -41,21 +47,29 @@ PATTERN_COLUMNS = ("tm", "omega", "friction")
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class PatternSet:
-    """Friction patterns ``(Tm, omega) -> Tat`` and what a pipeline must know of their records."""
+class FrictionPatterns:
+    """Friction patterns ``(Tm, omega) -> Tat`` and what a pipeline must know of their records
+    (load side).
+
+    The arrays are checked (real, finite, one value per pattern, at least 2 patterns) and
+    kept as read-only copies.
+    """
 
     tm: np.ndarray = field(metadata={"unit": "N*m or N"})
-    """Motor torque (force) [N*m] or [N]."""
+    """Motor torque (force) of each pattern [N*m] or [N]."""
     omega: np.ndarray = field(metadata={"unit": "rad/s or m/s"})
-    """Velocity estimate [rad/s] or [m/s]."""
+    """Velocity estimate [rad/s] or [m/s] (exact for noise-free or true patterns)."""
     friction: np.ndarray = field(metadata={"unit": "N*m or N"})
-    """``Tm - I*alpha_hat`` [N*m] or [N]."""
+    """Friction torque (force) ``Tat = Tm - I*alpha_hat`` [N*m] or [N]."""
     at_rest: np.ndarray
-    """True where the encoder stood still around the pattern (:func:`fricctl.estimation.at_rest`)."""
+    """True where the joint was at rest: the encoder stood still over ``guard`` samples
+    either side of the pattern (:func:`fricctl.estimation.at_rest`); a pattern with
+    ``omega = 0`` that is not at rest is a breakaway transient (``Tat = Tm`` is wrong there)."""
     units: str = "rotary"
     """``"rotary"`` or ``"linear"``."""
-    velocity_quantum: float | None = None
-    """One encoder count per controller sample [rad/s] or [m/s]; None when unknown."""
+    velocity_quantum: float | None = field(default=None, metadata={"unit": "rad/s or m/s"})
+    """One encoder count per controller sample, resolution/Ts [rad/s] or [m/s] (the fricctl
+    pipeline's velocity scale); None when unknown."""
     meta: Mapping[str, str] = field(default_factory=dict)
     """Other ``# key: value`` lines of the file (source, estimator, inertia, ...)."""
 
@@ -94,7 +108,7 @@ _PATTERN_META = ("units", "velocity_quantum")
 
 def record_patterns(runs, *, inertia: float, estimator: str = "polynomial_segments",
                     estimator_options: dict | None = None, border: int = 5, guard: int = 2,
-                    velocity_quantum: float | None = None) -> PatternSet:
+                    velocity_quantum: float | None = None) -> FrictionPatterns:
     """The paper's friction patterns from measured records: ``Tat = Tm - I*alpha_hat``.
 
     Parameters
@@ -159,11 +173,11 @@ def record_patterns(runs, *, inertia: float, estimator: str = "polynomial_segmen
         cols["omega"].append(est.velocity[sl])
         cols["friction"].append(r.torque[sl] - inertia * est.acceleration[sl])
         cols["at_rest"].append(at_rest(r.position, guard=guard)[sl])
-    return PatternSet(**{k: np.concatenate(c) for k, c in cols.items()}, units=kinds[0],
-                      velocity_quantum=velocity_quantum)
+    return FrictionPatterns(**{k: np.concatenate(c) for k, c in cols.items()}, units=kinds[0],
+                            velocity_quantum=velocity_quantum)
 
 
-def write_patterns(path, patterns: PatternSet, *, overwrite: bool = True) -> Path:
+def write_patterns(path, patterns: FrictionPatterns, *, overwrite: bool = True) -> Path:
     """Write patterns as CSV: ``# key: value`` lines, header ``tm,omega,friction,at_rest``.
 
     Numbers are written with 17 significant digits (exact round trip);
@@ -173,11 +187,11 @@ def write_patterns(path, patterns: PatternSet, *, overwrite: bool = True) -> Pat
     ----------
     path : str or os.PathLike
         Destination.
-    patterns : PatternSet
+    patterns : FrictionPatterns
     overwrite : bool
         False: refuse (:class:`FileExistsError`) when ``path`` exists.
     """
-    v.instance("patterns", patterns, PatternSet)
+    v.instance("patterns", patterns, FrictionPatterns)
     path = Path(path)
     if not v.flag("overwrite", overwrite) and path.exists():
         raise FileExistsError(17, "already exists (not overwritten)", str(path))
@@ -200,7 +214,7 @@ def write_patterns(path, patterns: PatternSet, *, overwrite: bool = True) -> Pat
 class PatternTable(Table):
     """A patterns file as read by :func:`read_patterns`: the columns and the checked metadata."""
 
-    patterns: PatternSet
+    patterns: FrictionPatterns
     """The patterns (``at_rest`` all False when the file has no such column)."""
     has_at_rest: bool
     """Whether the file has the ``at_rest`` column (today's 3-column files do not)."""
@@ -230,9 +244,9 @@ def read_patterns(path) -> PatternTable:
             raise ValueError(f"column 'at_rest' must hold 0 or 1, got {float(rest[row])!r} in data "
                              f"row {row + 1}")
         meta.pop("columns", None)
-        pats = PatternSet(tm=table["tm"], omega=table["omega"], friction=table["friction"],
-                          at_rest=np.zeros(table.n_rows, bool) if rest is None else rest == 1,
-                          units=units, velocity_quantum=quantum, meta=meta)
+        pats = FrictionPatterns(tm=table["tm"], omega=table["omega"], friction=table["friction"],
+                                at_rest=np.zeros(table.n_rows, bool) if rest is None else rest == 1,
+                                units=units, velocity_quantum=quantum, meta=meta)
     except ValueError as exc:
         raise ValueError(f"{table.path}: {exc}") from None
     return PatternTable(path=table.path, columns=table.columns, meta=table.meta,

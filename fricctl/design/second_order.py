@@ -26,6 +26,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import _validate as v
+from .._json import finite_or_none
 
 __all__ = [
     "RISE_TIME_DEFINITIONS",
@@ -87,14 +88,7 @@ class StepMetrics:
 
     def as_dict(self) -> dict:
         """Metrics as a plain dict; NaN becomes ``None`` (JSON has no NaN)."""
-        return {f.name: _json_float(getattr(self, f.name)) for f in fields(self)}
-
-
-def _json_float(x):
-    if x is None:
-        return None
-    x = float(x)
-    return x if math.isfinite(x) else None
+        return {f.name: finite_or_none(getattr(self, f.name)) for f in fields(self)}
 
 
 def _settling_tau(zeta: float) -> float:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import sys
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,10 +19,13 @@ from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
 from .report import Diagnosis, Gain, evidence_text
-from .selection import forward_selection
+from .selection import Selection, forward_selection
 from .signals import Signals, estimate_signals, predict
 from .twin import chain_shares, effect_free_twin
-from .windows import WindowedSimulation, simulate_windows, window_grid
+from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_grid
+
+if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
+    from ..identify import IdentificationResult
 
 __all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
            "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
@@ -111,6 +115,33 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     >>> diagnose(rec.run).causes
     ('time_delay',)
     """
+    req = _request(run, model, window, folds, progress)
+    setup = _setup(run, model, req)
+    bar = _ProgressBar(req.show, run.n_samples)
+    try:
+        sel = forward_selection(setup.problem, setup.base,
+                                causes.candidates(nominal=model is not None),
+                                _ChainShares(setup.base), _HeldOutSimulation.of(setup),
+                                progress=bar.step if req.show else None)
+    finally:
+        bar.close()
+    return _diagnosis(run, model, setup, sel, _extension(setup, sel))
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Request:
+    """The checked options of a diagnosis."""
+
+    folds: int
+    """Blocks of the blocked cross-validation."""
+    window: float
+    """Window of the re-simulation [s]."""
+    show: bool
+    """Whether a progress bar is shown."""
+
+
+def _request(run: Run, model: JointModel | None, window, folds, progress) -> _Request:
+    """The arguments of :func:`diagnose` checked (in this order), before any work."""
     _check_run(run)
     if model is not None:
         v.instance("model", model, JointModel, "a JointModel (or None)")
@@ -125,9 +156,31 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
             f"{MAX_SAMPLES} samples (a {MEMORY_BUDGET / 1e9:g} GB budget): cut the record or "
             f"decimate it by "
             f"{math.ceil(run.n_samples / MAX_SAMPLES)}")
-    sig = estimate_signals(run, folds)
-    grid = window_grid(sig, window)
-    if model is not None:  # a model the record's sample time cannot re-simulate: refused here
+    return _Request(folds=folds, window=window, show=show)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Setup:
+    """The record as every candidate sees it."""
+
+    sig: Signals
+    """The record's signals, cut into :attr:`_Request.folds` blocks."""
+    grid: WindowGrid
+    """The windows of the re-simulation."""
+    fit0: "IdentificationResult | None"
+    """The CasADi fit of the rigid baseline (fit mode), or None with a nominal model."""
+    base: Baseline
+    """The baseline every candidate extends."""
+    problem: Problem
+    """The record's normal equations."""
+
+
+def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
+    """Signals, windows and baseline of the record; a nominal model the record's sample
+    time cannot re-simulate is refused here."""
+    sig = estimate_signals(run, req.folds)
+    grid = window_grid(sig, req.window)
+    if model is not None:
         try:
             simulate_windows(model, sig, grid.starts[:1], grid.length)
         except ValueError as err:
@@ -135,77 +188,109 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                              f"({sig.ts:g} s): {err}") from None
     fit0 = baseline_fit(sig) if model is None else None
     base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
-    problem = Problem(sig, base.columns)
-    candidates = causes.candidates(nominal=model is not None)
-    twins: dict = {}
-    bar = _ProgressBar(show, run.n_samples)
+    return _Setup(sig=sig, grid=grid, fit0=fit0, base=base, problem=Problem(sig, base.columns))
 
-    def chain(floor: float, named: tuple, current: JointModel):
-        """The chain's shares on a twin of ``current`` with the residual ``floor``, after
-        ``named`` (twins within 10 % of a residual are shared)."""
-        key = (named, id(current), round(math.log(max(floor, 1e-300)) / math.log(1.1)))
-        if key not in twins:
-            for old in [k for k in twins if k[:2] != key[:2]]:
-                del twins[old]  # twins of an earlier step are never asked again: free them
-            twins[key] = chain_shares(_twin(base, floor, current), named)
-        return twins[key]
 
-    wfold = sig.folds[grid.starts]
-    inside = sig.folds[np.minimum(grid.starts + grid.length - 1, sig.t.size - 1)] == wfold
+class _ChainShares:
+    """``chain(floor, named, model)`` of :func:`~fricctl.diagnose.selection.forward_selection`:
+    the measuring chain's shares on an effect-free twin of ``model`` (the model as it stands,
+    with the causes ``named``) whose held-out residual is ``floor``.
 
-    def heldout_sim(models) -> WindowedSimulation:
-        """Each block's windows re-simulated with the model fitted without that block (NaN
-        errors and the reason when a fold's model cannot be re-simulated: too stiff for
-        the sample time, or diverging)."""
+    Twins are kept by the names of the causes named (within one diagnosis they say which
+    model stands) and the floor to within 10 %; a step's twins are freed when the next step
+    asks (they are never asked again)."""
+
+    def __init__(self, base: Baseline):
+        self.base = base
+        self.twins: dict = {}
+
+    def __call__(self, floor: float, named: tuple, model: JointModel):
+        names = tuple(c.name for c in named)
+        key = (names, round(math.log(max(floor, 1e-300)) / math.log(1.1)))
+        if key not in self.twins:
+            self.twins = {k: t for k, t in self.twins.items() if k[0] == names}
+            self.twins[key] = chain_shares(_twin(self.base, floor, model), named)
+        return self.twins[key]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _HeldOutSimulation:
+    """``simulate(fold_models)`` of :func:`~fricctl.diagnose.selection.forward_selection`:
+    each block's windows re-simulated with the model fitted without that block (NaN errors
+    and the reason when a fold's model cannot be re-simulated: too stiff for the sample
+    time, or diverging)."""
+
+    sig: Signals
+    grid: WindowGrid
+    starts: tuple
+    """Per block, the starts of the windows that lie wholly inside it [samples]."""
+
+    @classmethod
+    def of(cls, setup: _Setup) -> "_HeldOutSimulation":
+        sig, grid = setup.sig, setup.grid
+        wfold = sig.folds[grid.starts]
+        inside = sig.folds[np.minimum(grid.starts + grid.length - 1, sig.t.size - 1)] == wfold
+        return cls(sig=sig, grid=grid, starts=tuple(grid.starts[(wfold == f) & inside]
+                                                    for f in range(sig.n_folds)))
+
+    def __call__(self, models) -> WindowedSimulation:
+        sig, length = self.sig, self.grid.length
         try:
-            parts = [simulate_windows(models[f], sig, grid.starts[(wfold == f) & inside],
-                                      grid.length) for f in range(sig.n_folds)]
+            parts = [simulate_windows(models[f], sig, self.starts[f], length)
+                     for f in range(sig.n_folds)]
         except ValueError as err:
             return WindowedSimulation.failed(
-                np.concatenate([grid.starts[(wfold == f) & inside] for f in range(sig.n_folds)]),
-                n=sig.t.size, length=grid.length,
+                np.concatenate(self.starts), n=sig.t.size, length=length,
                 reason=f"the model cannot be re-simulated on this record ({err})")
-        return WindowedSimulation.merge(parts, n=sig.t.size, length=grid.length)
+        return WindowedSimulation.merge(parts, n=sig.t.size, length=length)
 
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Extension:
+    """The named terms refitted together on all data (the baseline itself for none)."""
+
+    fit: "IdentificationResult | None"
+    """The CasADi refit, or None (nothing named, nothing to fit, or IPOPT refused)."""
+    theta: np.ndarray
+    """The coefficients: the baseline's (fit mode), then each named term's."""
+    model: JointModel
+    """The extended model."""
+
+
+def _extension(setup: _Setup, sel: Selection) -> _Extension:
+    """The named terms refitted together on all data with CasADi (the bounded
+    least-squares solution where IPOPT refuses: rank)."""
+    base, problem = setup.base, setup.problem
+    if not sel.selected:
+        return _Extension(fit=None, theta=base.theta if base.fit_mode else np.zeros(0),
+                          model=base.fitted)
+    comp = compose([s.variant for s in sel.selected])
+    params = tuple(p for s in sel.selected for p in s.cause.params)
     try:
-        sel = forward_selection(problem, base, candidates, chain, heldout_sim,
-                                progress=bar.step if show else None)
-    finally:
-        bar.close()
+        refit = casadi_refit(problem, comp, params)
+    except ValueError:  # IPOPT refused (rank): keep the bounded least-squares solution
+        refit = None
+    theta = (refit.estimates.copy() if refit is not None
+             else full_fit(problem, [sel.selected[-1].variant],
+                           tuple(s.variant for s in sel.selected[:-1])).theta)
+    parts = [(s.cause, s.variant.h) for s in sel.selected]
+    return _Extension(fit=refit, theta=theta, model=base.model(parts, theta))
 
-    # ---- the named terms refitted together on all data with CasADi --------------
-    refit = None
-    if sel.selected:
-        comp = compose([s.variant for s in sel.selected])
-        params = tuple(p for s in sel.selected for p in s.cause.params)
-        try:
-            refit = casadi_refit(problem, comp, params)
-        except ValueError:  # IPOPT refused (rank): keep the bounded least-squares solution
-            refit = None
-        theta = (refit.estimates.copy() if refit is not None
-                 else full_fit(problem, [sel.selected[-1].variant],
-                               tuple(s.variant for s in sel.selected[:-1])).theta)
-        parts = [(s.cause, s.variant.h) for s in sel.selected]
-        extended = base.model(parts, theta)
-    else:
-        theta = base.theta if base.fit_mode else np.zeros(0)
-        parts = []
-        extended = base.fitted
-    nmov = int(sig.moving.sum())
-    before, after = sel.sim_before.rms(), sel.sim_after.rms()
-    gain = Gain(torque_rms_before=math.sqrt(float(np.sum(sel.baseline_test)) / nmov),
-                torque_rms_after=math.sqrt(float(np.sum(sel.test)) / nmov),
-                simulation_rms_before=before.position, velocity_rms_before=before.velocity,
-                simulation_rms_after=after.position, velocity_rms_after=after.velocity)
-    bodies = _evidence_bodies(base, sel.selected, theta, extended)
+
+def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection,
+               ext: _Extension) -> Diagnosis:
+    """The result: models with their provenance, held-out gain, evidence and report data."""
+    sig, base = setup.sig, setup.base
+    gain = _gain(sig, sel)
+    bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted, run, sig, model)
-    extended = _diagnosed(_record_fields(extended, run, sig, model), baseline_model, named)
+    extended = _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
                                             sel.not_identifiable, sig.units),
                      baseline=baseline_model, extended=extended, gain=gain,
-                     simulation_scores=sel.simulation_scores, fit=refit or fit0, t=sig.t,
+                     simulation_scores=sel.simulation_scores, fit=ext.fit or setup.fit0, t=sig.t,
                      torque=sig.tm, position=sig.q, velocity=sig.w,
                      residual_before=_sliding_residual(baseline_model, sig),
                      residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
@@ -213,6 +298,16 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=_twin(base).rms,
                      cutoff=sig.cutoff, notes=_notes(sel))
+
+
+def _gain(sig: Signals, sel: Selection) -> Gain:
+    """Held-out torque and simulation RMS errors of the baseline and the extended model."""
+    nmov = int(sig.moving.sum())
+    before, after = sel.sim_before.rms(), sel.sim_after.rms()
+    return Gain(torque_rms_before=math.sqrt(float(np.sum(sel.baseline_test)) / nmov),
+                torque_rms_after=math.sqrt(float(np.sum(sel.test)) / nmov),
+                simulation_rms_before=before.position, velocity_rms_before=before.velocity,
+                simulation_rms_after=after.position, velocity_rms_after=after.velocity)
 
 
 def _provenance_key(name: str) -> str:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._json import json_safe
 from ..plant import JointModel
 from ..units import units as unit_labels
 from . import causes
@@ -18,38 +19,7 @@ from .windows import WindowedSimulation
 if TYPE_CHECKING:
     from ..identify import IdentificationResult
 
-__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text", "json_ready", "undefined_numbers"]
-
-
-def json_ready(x):
-    """``x`` with every float made finite for JSON (NaN and infinities -> None), recursively."""
-    if isinstance(x, dict):
-        return {str(k): json_ready(val) for k, val in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [json_ready(val) for val in x]
-    if isinstance(x, (float, np.floating)):
-        return float(x) if np.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
-    return x
-
-
-def undefined_numbers(x, notes: dict, prefix: str = "") -> dict:
-    """Every number of ``x`` that :func:`json_ready` turns into null, by its path
-    (``"gain.simulation_rms_after"``, ``"steps[0].score"``), with the reason: ``notes``'
-    entry for the path or for its top-level key, else a generic one."""
-    out = {}
-    if isinstance(x, dict):
-        for k, val in x.items():
-            out.update(undefined_numbers(val, notes, f"{prefix}.{k}" if prefix else str(k)))
-    elif isinstance(x, (list, tuple)):
-        for i, val in enumerate(x):
-            out.update(undefined_numbers(val, notes, f"{prefix}[{i}]"))
-    elif isinstance(x, (float, np.floating)) and not np.isfinite(x):
-        head = prefix.split(".")[0].split("[")[0]
-        out[prefix] = notes.get(prefix) or notes.get(head) or (
-            "not a finite number on this record (an overflow or 0/0 of the computation)")
-    return out
+__all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text"]
 
 
 def _num(x, fmt: str = ".4g", scale: float = 1.0, unit: str = "") -> str:
@@ -189,8 +159,20 @@ class Diagnosis:
             "cutoff": float(self.cutoff),
             "nominal_model": self.nominal,
             "units": self.units}
-        out["undefined"] = undefined_numbers(out, dict(self.notes or {}))
-        return json_ready(out)
+        notes = dict(self.notes or {})
+        undefined: dict = {}
+
+        def note(path: str, x: float | None) -> None:
+            """Why the number at ``path`` is null: ``notes``' entry for the path or for its
+            top-level key, else a generic reason (None values of the object are not numbers)."""
+            if x is not None:
+                head = path.split(".")[0].split("[")[0]
+                undefined[path] = notes.get(path) or notes.get(head) or (
+                    "not a finite number on this record (an overflow or 0/0 of the computation)")
+
+        safe = json_safe(out, note)
+        safe["undefined"] = undefined
+        return safe
 
     def report(self) -> str:
         """Markdown report: causes step by step, evidence, ranking, models, gain."""

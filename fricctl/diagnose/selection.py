@@ -14,14 +14,14 @@ repeats until no candidate reaches it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Callable
+from dataclasses import dataclass, field, replace
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
 from ..plant import JointModel
 from .causes import Baseline, Cause, Term
-from .crossval import BlockedCV, Problem, compose, cross_validate, full_fit
+from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full_fit
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
@@ -132,140 +132,248 @@ def collinearity(problem: Problem, fixed: tuple, variant) -> float:
 
 def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                       chain: Callable[[float, tuple, JointModel], Callable[[Cause], float]],
-                      simulate: Callable[[list], WindowedSimulation], *,
+                      simulate: Callable[[Sequence], WindowedSimulation], *,
                       progress: Callable[[int, int, int], None] | None = None) -> Selection:
     """Name every cause the record supports, one step at a time (see the module notes).
 
     Parameters
     ----------
     problem, base : Problem, Baseline
-        The record's normal equations and the baseline every candidate extends.
+        The record's normal equations and the baseline every candidate extends (not
+        changed: each step works on :meth:`Baseline.advanced`).
     candidates : tuple of Cause
     chain : callable
         ``chain(floor, named, model)`` gives, for a twin of ``model`` (the model as it
-        stands, fitted on all data) whose held-out residual is ``floor`` [N^2*m^2],
-        ``share(cause)``: the held-out fraction of its residual the cause's term removes
-        after the causes ``named`` [-].  Asked for each candidate whose gross score
-        reaches :data:`MIN_SCORE`, with the residual the record keeps once that
-        candidate's term is in.
+        stands, fitted on all data, with the causes ``named`` so far) whose held-out
+        residual is ``floor`` [N^2*m^2], ``share(cause)``: the held-out fraction of its
+        residual the cause's term removes after the causes ``named`` [-].  Asked for each
+        candidate whose gross score reaches :data:`MIN_SCORE`, with the residual the record
+        keeps once that candidate's term is in.
     simulate : callable
         ``simulate(fold_models)``: the held-out windowed simulation of one model per fold.
     progress : callable, optional
         ``progress(step, done, total)``: called before the candidates of a step are scored
         (``done`` 0) and after each (for a progress bar).
     """
-    F = problem.sig.n_folds
-    nmov = max(int(problem.sig.moving.sum()), 1)
-    empty = base.variant(None, np.zeros((base.target.size, 0)), ())
-    cv0 = cross_validate(problem, lambda f: [empty])
-    cur_test = cv0.test.copy()
-    cur_fits = [(f.theta if f is not None else None) for f in cv0.fits]
-    base_models = [base.model((), th) if th is not None else base.fitted for th in cur_fits]
-    cur_models = list(base_models)
-    cur_model = base.fitted  # the model as it stands, fitted on all data
-    sim_base = cur_sim = simulate(cur_models)
-    selected: list = []
-    steps: list = []
-    not_told: dict = {}
-    sim_scores0: dict = {}
-    first_ranking: tuple = ()
-    last_ranking: tuple = ()
-    # a cause whose term cannot sit in one model with the baseline (or, later, with the
-    # causes named) is not tried: a limit of the models, not of the record
-    not_told.update(not_applicable(base, [], base.theta if base.fit_mode else np.zeros(0),
-                                   candidates))
-    remaining = [c for c in candidates if c.name not in not_told]
-    while remaining:
-        sse_prev = float(np.sum(cur_test))
+    state = _start(problem, base, candidates, simulate)
+    while state.remaining:
+        sse_prev = float(np.sum(state.test))
         if not sse_prev > 0:
             break
-
-        def fixed_for(f, sel=tuple(selected)):
-            return tuple(s.fold_variants[f] if s.fold_variants[f] is not None else s.variant
-                         for s in sel)
-
-        cvs = {}
-        if progress is not None:
-            progress(len(steps) + 1, 0, len(remaining))
-        for c in remaining:
-            cv = cross_validate(problem, lambda f, c=c: base.variants(c, f), fixed_for)
-            if progress is not None:
-                progress(len(steps) + 1, len(cvs) + 1, len(remaining))
-            test = np.where(np.isnan(cv.test), cur_test, cv.test)
-            cvs[c.name] = (1.0 - float(np.sum(test)) / sse_prev, cv, test)
-        named = tuple(s.cause for s in selected)
-        scored = {}
-        for c in remaining:
-            gross, cv, test = cvs[c.name]
-            share = 0.0
-            if gross >= MIN_SCORE:  # the twin keeps what the record keeps with the term in
-                share = max(chain(sse_prev * (1.0 - gross), named, cur_model)(c), 0.0)
-            scored[c.name] = (gross - share, gross, share, cv, test)
-        ranking = tuple(sorted(((n, s[0]) for n, s in scored.items()), key=lambda kv: -kv[1]))
-        last_ranking = ranking
-        if not steps:
-            first_ranking = ranking
-        supported = [n for n, s in ranking if s >= MIN_SCORE]
-        told = []
-        all_fixed = tuple(s.variant for s in selected)
-        for name in supported:
-            cause = next(c for c in remaining if c.name == name)
-            best = full_fit(problem, base.variants(cause, None), all_fixed)
-            if best is None:
-                not_told[name] = "no variant of the term can be fitted to all the data"
-                continue
-            share = collinearity(problem, all_fixed, best.variant)
-            if share < COLLINEAR_SHARE:
-                reason = (f"its column is collinear with the model's on this record (only "
-                          f"{100 * share:.2g} % of it lies outside their span)")
-            else:
-                coef = best.theta[best.theta.size - cause.n_extra:]
-                parts = [(s.cause, s.variant.h) for s in selected] + [(cause, best.variant.h)]
-                reason = cause.identifiable(base, Term(h=best.variant.h, coef=coef,
-                                                       extended=base.model(parts, best.theta)))
-            if reason is None:
-                told.append((cause, best))
-            else:
-                not_told[name] = reason
+        scored = _score(problem, state, chain, sse_prev, progress)
+        ranking = tuple(sorted(((name, s.net) for name, s in scored.items()),
+                               key=lambda kv: -kv[1]))
+        state = replace(state, last_ranking=ranking,
+                        first_ranking=state.first_ranking if state.steps else ranking)
+        verdict = _tell(problem, state, scored, ranking)
         # a cause that cannot be told on this record is not tried again
-        remaining = [c for c in remaining if c.name not in not_told]
-        if not told:
+        state = replace(state, not_told={**state.not_told, **verdict.reasons},
+                        remaining=tuple(c for c in state.remaining
+                                        if c.name not in verdict.reasons))
+        if not verdict.told:
             break
-        sims = {}
-        for cause, _ in told:
-            cv = scored[cause.name][3]
-            models = [_fold_model(base, selected, cause, cv, f, cur_models[f]) for f in range(F)]
-            sims[cause.name] = simulate(models)
-        pb = float(np.sum(cur_sim.position_error ** 2))
-        sim_score = {n: (1.0 - float(np.sum(s.position_error ** 2)) / pb if pb > 0 else 0.0)
-                     for n, s in sims.items()}
-        if not steps:
-            sim_scores0 = dict(sim_score)
-        credible = [t for t in told if sim_score[t[0].name] > 0.0] or told
-        cause, best = credible[0]
-        net, gross, share, cv, test = scored[cause.name]
-        fold_variants = tuple(fit.variant if fit is not None else None for fit in cv.fits)
-        cur_models = [_fold_model(base, selected, cause, cv, f, cur_models[f]) for f in range(F)]
-        selected.append(Selected(cause=cause, fold_variants=fold_variants, variant=best.variant))
-        cur_model = base.model([(s.cause, s.variant.h) for s in selected], best.theta)
-        base.advance(_residual(problem, all_fixed + (best.variant,), best.theta))
-        new_sim = sims[cause.name]
-        steps.append(Step(cause=cause.name, score=net, gross=gross, chain=share,
-                          torque_rms_before=math.sqrt(sse_prev / nmov),
-                          torque_rms_after=math.sqrt(float(np.sum(test)) / nmov),
-                          simulation_rms_before=cur_sim.rms().position,
-                          simulation_rms_after=new_sim.rms().position, ranking=ranking))
-        cur_test, cur_sim = test, new_sim
-        remaining = [c for c in remaining if c is not cause]
-        last_ranking = ()
-        gone = not_applicable(base, [(s.cause, s.variant.h) for s in selected], best.theta,
-                              remaining)
-        not_told.update(gone)
-        remaining = [c for c in remaining if c.name not in gone]
-    return Selection(selected=tuple(selected), steps=tuple(steps), first_ranking=first_ranking,
-                     last_ranking=last_ranking,
-                     simulation_scores=sim_scores0, not_identifiable=not_told, test=cur_test,
-                     baseline_test=cv0.test, sim_before=sim_base, sim_after=cur_sim)
+        state = _name(problem, state, verdict.told, scored, ranking, sse_prev, simulate)
+    return Selection(selected=state.selected, steps=state.steps,
+                     first_ranking=state.first_ranking, last_ranking=state.last_ranking,
+                     simulation_scores=state.simulation_scores,
+                     not_identifiable=dict(state.not_told), test=state.test,
+                     baseline_test=state.baseline_test, sim_before=state.sim_before,
+                     sim_after=state.sim)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _State:
+    """Where the forward selection stands after a step (each step returns a new one)."""
+
+    base: Baseline
+    """The baseline with the residual of the model as it stands (:meth:`Baseline.advanced`)."""
+    test: np.ndarray
+    """Held-out SSE per block of the model as it stands [N^2*m^2]."""
+    fold_models: tuple
+    """Per fold, the model as it stands fitted without that block."""
+    model: JointModel
+    """The model as it stands, fitted on all data."""
+    sim: WindowedSimulation
+    """Held-out windowed simulation of :attr:`fold_models`."""
+    baseline_test: np.ndarray
+    """Held-out SSE per block of the baseline [N^2*m^2]."""
+    sim_before: WindowedSimulation
+    """Held-out windowed simulation of the baseline."""
+    remaining: tuple
+    """The candidates still tried."""
+    not_told: Mapping[str, str]
+    """Candidates dropped, with the reason (:attr:`Selection.not_identifiable`)."""
+    selected: tuple = ()
+    """The :class:`Selected` causes, in the order named."""
+    steps: tuple = ()
+    """One :class:`Step` per named cause."""
+    first_ranking: tuple = ()
+    """The first step's ``(cause, net score)``, best first."""
+    last_ranking: tuple = ()
+    """The ranking of the last step if it named nothing, else ()."""
+    simulation_scores: Mapping[str, float] = field(default_factory=dict)
+    """First step that named a cause: the simulation score of each candidate told."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Scored:
+    """One candidate of a step, scored by the blocked cross-validation."""
+
+    cause: Cause
+    net: float
+    """:attr:`gross` less :attr:`chain` [-]."""
+    gross: float
+    """Held-out fraction of the remaining torque residual the term removes [-]."""
+    chain: float
+    """The measuring chain's share (0 unless :attr:`gross` reaches :data:`MIN_SCORE`) [-]."""
+    cv: BlockedCV
+    """The candidate's blocked cross-validation after the causes named."""
+    test: np.ndarray
+    """Held-out SSE per block with the term in (the model's where no variant fits)."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Told:
+    """A supported candidate that can be told on this record, fitted on all data."""
+
+    cause: Cause
+    fit: FullFit
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Verdict:
+    """Which supported candidates of a step can be told on this record."""
+
+    told: tuple
+    """The :class:`_Told` ones, best score first."""
+    reasons: Mapping[str, str]
+    """The others, with why not."""
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Trial:
+    """A told candidate added to each fold's model, and those models re-simulated."""
+
+    fold_models: tuple
+    sim: WindowedSimulation
+
+
+def _start(problem: Problem, base: Baseline, candidates: tuple,
+           simulate: Callable[[Sequence], WindowedSimulation]) -> _State:
+    """The baseline held out block by block, simulated, and the candidates it can take."""
+    empty = base.variant(None, np.zeros((base.target.size, 0)), ())
+    cv0 = cross_validate(problem, lambda f: [empty])
+    fold_models = tuple(base.model((), fit.theta) if fit is not None else base.fitted
+                        for fit in cv0.fits)
+    sim = simulate(fold_models)
+    # a cause whose term cannot sit in one model with the baseline (or, later, with the
+    # causes named) is not tried: a limit of the models, not of the record
+    not_told = not_applicable(base, [], base.theta if base.fit_mode else np.zeros(0), candidates)
+    return _State(base=base, test=cv0.test.copy(), fold_models=fold_models, model=base.fitted,
+                  sim=sim, baseline_test=cv0.test, sim_before=sim,
+                  remaining=tuple(c for c in candidates if c.name not in not_told),
+                  not_told=not_told)
+
+
+def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:
+    """Every remaining candidate held out after the causes named (``name -> _Scored``); the
+    chain's share is asked only once all are cross-validated."""
+    step, total = len(state.steps) + 1, len(state.remaining)
+    selected = state.selected
+
+    def fixed_for(f):
+        return tuple(s.fold_variants[f] if s.fold_variants[f] is not None else s.variant
+                     for s in selected)
+
+    if progress is not None:
+        progress(step, 0, total)
+    gross = {}
+    for i, c in enumerate(state.remaining):
+        cv = cross_validate(problem, lambda f, c=c: state.base.variants(c, f), fixed_for)
+        if progress is not None:
+            progress(step, i + 1, total)
+        test = np.where(np.isnan(cv.test), state.test, cv.test)
+        g = 1.0 - float(np.sum(test)) / sse_prev
+        gross[c.name] = _Scored(cause=c, net=g, gross=g, chain=0.0, cv=cv, test=test)
+    named = tuple(s.cause for s in selected)
+    scored = {}
+    for name, s in gross.items():
+        share = 0.0
+        if s.gross >= MIN_SCORE:  # the twin keeps what the record keeps with the term in
+            share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+        scored[name] = replace(s, net=s.gross - share, chain=share)
+    return scored
+
+
+def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple) -> _Verdict:
+    """The supported candidates, best first, fitted on all data and checked: collinear with
+    the model, or not identifiable by the cause's own test, is not told."""
+    told, reasons = [], {}
+    fixed = tuple(s.variant for s in state.selected)
+    for name, score in ranking:
+        if not score >= MIN_SCORE:
+            continue
+        cause = scored[name].cause
+        fit = full_fit(problem, state.base.variants(cause, None), fixed)
+        reason = _why_not_told(problem, state, cause, fit, fixed)
+        if reason is None:
+            told.append(_Told(cause=cause, fit=fit))
+        else:
+            reasons[name] = reason
+    return _Verdict(told=tuple(told), reasons=reasons)
+
+
+def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | None,
+                  fixed: tuple) -> str | None:
+    """Why the term of ``cause`` fitted on all data (``fit``) cannot be told on this record,
+    or None."""
+    if fit is None:
+        return "no variant of the term can be fitted to all the data"
+    share = collinearity(problem, fixed, fit.variant)
+    if share < COLLINEAR_SHARE:
+        return (f"its column is collinear with the model's on this record (only "
+                f"{100 * share:.2g} % of it lies outside their span)")
+    coef = fit.theta[fit.theta.size - cause.n_extra:]
+    parts = _parts(state.selected) + [(cause, fit.variant.h)]
+    return cause.identifiable(state.base, Term(h=fit.variant.h, coef=coef,
+                                               extended=state.base.model(parts, fit.theta)))
+
+
+def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: tuple,
+          sse_prev: float, simulate) -> _State:
+    """Name the best told candidate -- the first whose models simulate the held-out windows
+    better, else the first -- and move the model on by its term."""
+    trials = {}
+    for t in told:
+        models = tuple(_fold_model(state, t.cause, scored[t.cause.name].cv, f)
+                       for f in range(problem.sig.n_folds))
+        trials[t.cause.name] = _Trial(fold_models=models, sim=simulate(models))
+    pb = float(np.sum(state.sim.position_error ** 2))
+    sim_score = {n: (1.0 - float(np.sum(tr.sim.position_error ** 2)) / pb if pb > 0 else 0.0)
+                 for n, tr in trials.items()}
+    pick = ([t for t in told if sim_score[t.cause.name] > 0.0] or list(told))[0]
+    cause, fit = pick.cause, pick.fit
+    s, trial = scored[cause.name], trials[cause.name]
+    fold_variants = tuple(f.variant if f is not None else None for f in s.cv.fits)
+    selected = state.selected + (Selected(cause=cause, fold_variants=fold_variants,
+                                          variant=fit.variant),)
+    model = state.base.model(_parts(selected), fit.theta)  # the model as it now stands
+    fixed = tuple(x.variant for x in state.selected) + (fit.variant,)
+    base = state.base.advanced(_residual(problem, fixed, fit.theta))
+    nmov = max(int(problem.sig.moving.sum()), 1)
+    step = Step(cause=cause.name, score=s.net, gross=s.gross, chain=s.chain,
+                torque_rms_before=math.sqrt(sse_prev / nmov),
+                torque_rms_after=math.sqrt(float(np.sum(s.test)) / nmov),
+                simulation_rms_before=state.sim.rms().position,
+                simulation_rms_after=trial.sim.rms().position, ranking=ranking)
+    remaining = tuple(c for c in state.remaining if c is not cause)
+    gone = not_applicable(base, _parts(selected), fit.theta, remaining)
+    return replace(state, base=base, test=s.test, fold_models=trial.fold_models,
+                   model=model, sim=trial.sim,
+                   selected=selected, steps=state.steps + (step,), last_ranking=(),
+                   remaining=tuple(c for c in remaining if c.name not in gone),
+                   not_told={**state.not_told, **gone},
+                   simulation_scores=state.simulation_scores if state.steps else sim_score)
 
 
 def not_applicable(base: Baseline, parts: list, theta: np.ndarray, candidates) -> dict:
@@ -291,11 +399,16 @@ def _residual(problem: Problem, parts: tuple, theta: np.ndarray) -> np.ndarray:
     return v.y - problem.design(v) @ theta
 
 
-def _fold_model(base: Baseline, selected: list, cause: Cause, cv: BlockedCV, f: int,
-                fallback: JointModel) -> JointModel:
-    """The model fitted without block ``f``: the named causes and ``cause`` on top."""
+def _parts(selected: tuple) -> list:
+    """``(cause, h)`` of each named cause (the hyper-parameter chosen on all data)."""
+    return [(s.cause, s.variant.h) for s in selected]
+
+
+def _fold_model(state: _State, cause: Cause, cv: BlockedCV, f: int) -> JointModel:
+    """The model fitted without block ``f``: the named causes and ``cause`` on top (the
+    model as it stands where ``cause`` has no fit for that block)."""
     fit = cv.fits[f]
     if fit is None:
-        return fallback
-    parts = [(s.cause, (s.fold_variants[f] or s.variant).h) for s in selected]
-    return base.model(parts + [(cause, fit.h)], fit.theta)
+        return state.fold_models[f]
+    parts = [(s.cause, (s.fold_variants[f] or s.variant).h) for s in state.selected]
+    return state.base.model(parts + [(cause, fit.h)], fit.theta)

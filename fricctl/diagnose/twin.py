@@ -216,14 +216,14 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
 
     done: tuple = ()
     for cause in named:
-        cv = cross_validate(problem, lambda f, c=cause: tb.variants(c, f), fixed)
+        cv = cross_validate(problem, lambda f, c=cause, b=tb: b.variants(c, f), fixed)
         test = np.where(np.isnan(cv.test), test, cv.test)
         chosen.append([fit.variant if fit is not None else None for fit in cv.fits])
         full = full_fit(problem, tb.variants(cause, None), done)
         if full is not None:
             done = done + (full.variant,)
             comp = compose(done)
-            tb.advance(comp.y - problem.design(comp) @ full.theta)
+            tb = tb.advanced(comp.y - problem.design(comp) @ full.theta)
     base_sse = float(np.sum(test))
     shares: dict = {}
 

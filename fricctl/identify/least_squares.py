@@ -19,6 +19,7 @@ from typing import Callable
 import numpy as np
 
 from .. import _validate as v
+from .._json import finite_or_none
 from ..units import units as units_of
 from .models import inverse_dynamics, parameter_unit
 
@@ -183,13 +184,13 @@ class IdentificationResult:
             "model": self.model,
             "units": self.units,
             "n_samples": self.n_samples,
-            "parameters": {n: {"value": float(x), "std": _finite_or_none(s),
+            "parameters": {n: {"value": float(x), "std": finite_or_none(s),
                                "unit": parameter_unit(n, self.units), "at_bound": bool(ab),
                                "identified": bool(ok), "note": note}
                            for n, x, s, ab, ok, note in zip(self.names, self.estimates, self.std,
                                                             self.at_bound, self.identified,
                                                             self.notes())},
-            "fit_percent": _finite_or_none(self.fit_percent),
+            "fit_percent": finite_or_none(self.fit_percent),
             "relative_error_percent": self.relative_error,
             "residual_rms": self.residual_rms,
             "condition_number": self.condition_number,
@@ -199,11 +200,6 @@ class IdentificationResult:
     def to_json(self) -> str:
         """:meth:`as_dict` as a JSON string (standard JSON: undefined values are null)."""
         return json.dumps(self.as_dict(), indent=2, allow_nan=False)
-
-
-def _finite_or_none(x):
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 def linear_prediction(theta, rows):

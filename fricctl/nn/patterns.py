@@ -1,47 +1,26 @@
 """Noise-free training patterns of a known smooth friction law (tests, benchmarks, teaching).
 
-Where the virtual bench (:mod:`fricctl.experiments`) is not needed, these
+Where the virtual bench (:mod:`fricctl.bench.experiments`) is not needed, these
 patterns give the network a target it can represent, so that its only error is
 its approximation error.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .. import _validate as v
+from ..datasets import FrictionPatterns
 
-__all__ = ["FrictionPatterns", "smooth_friction_patterns"]
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class FrictionPatterns:
-    """Training patterns ``(Tm, omega) -> Tat`` of the friction network (load side, SI)."""
-
-    tm: np.ndarray
-    """Motor torque [N*m]."""
-    omega: np.ndarray
-    """Velocity [rad/s]."""
-    friction: np.ndarray
-    """Friction torque [N*m]."""
-
-    def __post_init__(self):
-        tm = v.array("tm", self.tm)
-        object.__setattr__(self, "tm", tm)
-        object.__setattr__(self, "omega", v.array("omega", self.omega, size=tm.size))
-        object.__setattr__(self, "friction", v.array("friction", self.friction, size=tm.size))
-
-    def __len__(self):
-        return self.tm.size
+__all__ = ["smooth_friction_patterns"]
 
 
 def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
                              n_stuck: int = 100, viscous: float = 0.0169,
                              coulomb: float = 0.144, static: float = 0.18,
                              smoothing_velocity: float = 0.05, omega_max: float = 2.0,
-                             inertia: float = 2.865e-3, alpha_max: float = 50.0):
+                             inertia: float = 2.865e-3,
+                             alpha_max: float = 50.0) -> FrictionPatterns:
     """Noise-free patterns ``(tm, omega, friction)`` of a known smooth law.
 
     Sliding patterns: ``omega ~ U(-omega_max, omega_max)``, friction
@@ -75,7 +54,7 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
     -------
     FrictionPatterns
         ``tm`` [N*m], ``omega`` [rad/s], ``friction`` [N*m]; the sliding patterns first,
-        then the stuck ones.
+        then the stuck ones (``at_rest``).
 
     Notes
     -----
@@ -106,5 +85,7 @@ def smooth_friction_patterns(rng: np.random.Generator, *, n_sliding: int = 400,
     fr = viscous * om + coulomb * np.tanh(om / smoothing_velocity)
     tm = fr + inertia * rng.uniform(-alpha_max, alpha_max, n_sliding)
     tm_stuck = rng.uniform(-static, static, n_stuck)
-    return FrictionPatterns(tm=np.concatenate([tm, tm_stuck]), omega=np.concatenate([om, np.zeros(n_stuck)]),
-                            friction=np.concatenate([fr, tm_stuck]))
+    return FrictionPatterns(tm=np.concatenate([tm, tm_stuck]),
+                            omega=np.concatenate([om, np.zeros(n_stuck)]),
+                            friction=np.concatenate([fr, tm_stuck]),
+                            at_rest=np.arange(n_sliding + n_stuck) >= n_sliding)

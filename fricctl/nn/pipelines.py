@@ -46,13 +46,13 @@ from typing import Callable
 import numpy as np
 
 from .. import _validate as v
+from ..datasets import FrictionPatterns
 from .io import net_from_dict, net_to_dict
 from .net import FrictionNet
 from .train import TRAINERS, Scaling, TrainingHistory
 from .train.certified import Certificate
 
-__all__ = ["PipelineInput", "PipelineNet", "Pipeline", "PIPELINES", "pipeline", "ViscousFit",
-           "viscous_fit",
+__all__ = ["PipelineNet", "Pipeline", "PIPELINES", "pipeline", "ViscousFit", "viscous_fit",
            "DEFAULT_GAIN_BAND"]
 
 #: Gain band of the fricctl pipeline, from the paper's loops and its Fs = 0.18 N*m.  A stuck
@@ -65,37 +65,6 @@ __all__ = ["PipelineInput", "PipelineNet", "Pipeline", "PIPELINES", "pipeline", 
 #: ``Tm(k+1) = Tc + s*g*Tm(k)`` a contraction with a time constant of at most 100 samples,
 #: with a margin below 1 for compensation scales s <= 1.
 DEFAULT_GAIN_BAND = (0.98, 0.99)
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class PipelineInput:
-    """Measured friction patterns and what a pipeline needs to know of the record."""
-
-    tm: np.ndarray
-    """Motor torque [N*m]."""
-    omega: np.ndarray
-    """Velocity estimate [rad/s]."""
-    friction: np.ndarray
-    """``Tm - I*alpha_hat`` [N*m]."""
-    at_rest: np.ndarray
-    """True where the encoder stood still over the ``guard`` samples around the pattern."""
-    velocity_quantum: float
-    """One encoder count per sample, resolution/Ts [rad/s]."""
-
-    def __post_init__(self):
-        tm = v.array("tm", self.tm, min_size=2)
-        object.__setattr__(self, "tm", tm)
-        object.__setattr__(self, "omega", v.array("omega", self.omega, size=tm.size))
-        object.__setattr__(self, "friction", v.array("friction", self.friction, size=tm.size))
-        rest = np.asarray(self.at_rest)
-        if rest.dtype != np.bool_ or rest.shape != tm.shape:
-            raise ValueError(f"at_rest must be a boolean array of {tm.size} patterns")
-        object.__setattr__(self, "velocity_quantum",
-                           v.real("velocity_quantum", self.velocity_quantum, positive=True,
-                                  unit="rad/s"))
-
-    def __len__(self):
-        return self.tm.size
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -159,7 +128,8 @@ class Pipeline:
     """Options of that estimator."""
     train: Callable[..., PipelineNet]
     """``train(patterns, *, rng, max_patterns, progress=None, **options) -> PipelineNet``
-    (``progress(done, total)`` is passed on to the trainer)."""
+    (``patterns`` a :class:`~fricctl.datasets.FrictionPatterns`; ``progress(done, total)``
+    is passed on to the trainer)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -195,8 +165,9 @@ def _subset(n_total: int, candidates: np.ndarray, max_patterns: int, rng) -> np.
     return np.sort(rng.choice(candidates, max_patterns, replace=False))
 
 
-def _train_paper(patterns: PipelineInput, *, rng: np.random.Generator, max_patterns: int = 4000,
-                 hidden: int = 4, metadata: dict | None = None, progress=None) -> PipelineNet:
+def _train_paper(patterns: FrictionPatterns, *, rng: np.random.Generator,
+                 max_patterns: int = 4000, hidden: int = 4, metadata: dict | None = None,
+                 progress=None) -> PipelineNet:
     idx = _subset(len(patterns), np.arange(len(patterns)), max_patterns, rng)
     res = TRAINERS["casadi"].train(patterns.tm[idx], patterns.omega[idx], patterns.friction[idx],
                                    hidden=hidden, rng=rng, progress=progress,
@@ -206,9 +177,13 @@ def _train_paper(patterns: PipelineInput, *, rng: np.random.Generator, max_patte
                        certificate=None, used=idx)
 
 
-def _train_fricctl(patterns: PipelineInput, *, rng: np.random.Generator, max_patterns: int = 2000,
-                   hidden: int = 4, gain_band=DEFAULT_GAIN_BAND, sliding_slope: float = 0.3,
-                   metadata: dict | None = None, progress=None) -> PipelineNet:
+def _train_fricctl(patterns: FrictionPatterns, *, rng: np.random.Generator,
+                   max_patterns: int = 2000, hidden: int = 4, gain_band=DEFAULT_GAIN_BAND,
+                   sliding_slope: float = 0.3, metadata: dict | None = None,
+                   progress=None) -> PipelineNet:
+    if patterns.velocity_quantum is None:
+        raise ValueError("velocity_quantum: the fricctl pipeline scales the velocity by one "
+                         "encoder count per sample; the patterns do not state it")
     keep = (patterns.omega != 0) | patterns.at_rest
     rest = keep & (patterns.omega == 0)
     if not rest.any():

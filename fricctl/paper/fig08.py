@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bench.experiments import Patterns, true_patterns
+from ..bench.experiments import BenchPatterns, true_patterns
 from ..nn import FitReport, FrictionNet, fit_report
 from ..nn.cache import cached_pipeline_net
-from ..nn.pipelines import PIPELINES, PipelineInput
+from ..nn.pipelines import PIPELINES
 from .claims import EXTRA, Claim
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
@@ -46,7 +46,7 @@ class Fig8Result:
     fit_exact: FitReport
 
 
-def _exact_net(net: PaperNetwork, train: Patterns, *, split_fraction: float) -> FrictionNet:
+def _exact_net(net: PaperNetwork, train: BenchPatterns, *, split_fraction: float) -> FrictionNet:
     """The paper recipe's least squares (:data:`fricctl.nn.pipelines.PIPELINES` ``"paper"``) on
     exact patterns, through the disk cache of trained nets: it depends on the experiments, the
     split and the seed, not on the pipeline judged, so both pipelines of a seed share it."""
@@ -54,9 +54,7 @@ def _exact_net(net: PaperNetwork, train: Patterns, *, split_fraction: float) -> 
     key = {"what": "Fig. 8 exact-pattern network", "params": p.as_dict(), "fast": net.fast,
            "seed": net.seed, "split_fraction": float(split_fraction), "patterns": len(train)}
     return cached_pipeline_net(key, lambda: PIPELINES["paper"].train(
-        PipelineInput(tm=train.tm, omega=train.omega, friction=train.friction, at_rest=train.at_rest,
-                      velocity_quantum=p.encoder_resolution / p.sample_time),
-        rng=np.random.default_rng(net.seed))).net
+        train, rng=np.random.default_rng(net.seed))).net
 
 
 def run(network: PaperNetwork) -> Fig8Result:

@@ -16,12 +16,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as v
-from ..bench.experiments import Experiment, Patterns, friction_patterns, training_experiments
+from ..bench.experiments import BenchPatterns, Experiment, friction_patterns, training_experiments
 from ..compensators import NNCompensator
 from ..design import DesignWarning
 from ..nn import FitReport, FrictionNet, fit_report
 from ..nn.cache import cached_pipeline_net
-from ..nn.pipelines import PipelineInput, PipelineNet
+from ..nn.pipelines import PipelineNet
 from ..nn.pipelines import pipeline as _pipeline
 from ..params import ActuatorParams, paper_actuator
 
@@ -49,9 +49,9 @@ class PaperNetwork:
 
     params: ActuatorParams
     experiments: tuple
-    patterns: Patterns
-    train: Patterns
-    held_out: Patterns
+    patterns: BenchPatterns
+    train: BenchPatterns
+    held_out: BenchPatterns
     trained: PipelineNet
     fit_held_out: FitReport
     fit_train: FitReport
@@ -139,9 +139,7 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
            "estimator": estimator, "estimator_options": estimator_options,
            "train_fraction": float(train_fraction), **meta}
     trained = cached_pipeline_net(key, lambda: recipe.train(
-        PipelineInput(tm=train.tm, omega=train.omega, friction=train.friction, at_rest=train.at_rest,
-                      velocity_quantum=p.encoder_resolution / p.sample_time),
-        rng=np.random.default_rng(seed), metadata=meta))
+        train, rng=np.random.default_rng(seed), metadata=meta))
 
     def fit(target, pats_):
         return fit_report(target, trained.estimate(pats_.tm, pats_.omega))

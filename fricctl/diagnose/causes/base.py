@@ -8,6 +8,7 @@ imports its interface without importing the registry that imports it.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Callable, Iterable, Mapping, Sequence
@@ -87,7 +88,8 @@ class Cause:
     None for all data); else it is called once with ``fold=None``."""
     per_step: bool = False
     """True when :attr:`variants` reads :attr:`Baseline.current_residual` (the residual of the
-    model as it stands): they are made again after each cause the selection names."""
+    model as it stands): they are made again after each cause the selection names
+    (:meth:`Baseline.advanced`)."""
     refine: Callable[["Baseline", list], list] | None = None
     """``refine(base, variants)``: a finer grid around the variants, or None; applied to every
     set of variants (:meth:`Baseline.variants`), so that a named cause's term is as good on
@@ -191,13 +193,24 @@ class Baseline:
     @property
     def current_residual(self) -> np.ndarray:
         """The residual on all samples of the model as it stands (the baseline until a cause
-        is named; :meth:`advance`) [N*m]."""
+        is named; :meth:`advanced`) [N*m]."""
         return self.residual if self._current is None else self._current
 
-    def advance(self, residual: np.ndarray) -> None:
-        """A cause was named: ``residual`` is the new model's residual on all samples."""
-        self._current = np.asarray(residual, dtype=float)
-        self._step += 1
+    def advanced(self, residual: np.ndarray) -> "Baseline":
+        """The baseline once a cause is named: ``residual`` is the new model's residual on all
+        samples.
+
+        A new object; this one is left as it was, so that whoever holds it (the diagnosis,
+        an earlier step) still sees the model it was given.  The values computed once per
+        record (columns, target, the fitted baseline) and the variants made so far are
+        shared; a per-step cause's variants are made again from the new residual (they are
+        keyed by the step).
+        """
+        new = copy.copy(self)
+        new._current = np.asarray(residual, dtype=float)
+        new._step = self._step + 1
+        new._variants = dict(self._variants)
+        return new
 
     @cached_property
     def model_torque(self) -> np.ndarray:
