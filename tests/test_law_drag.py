@@ -42,3 +42,18 @@ def test_drag_identification_columns():
     w = np.array([-2.0, 0.0, 3.0])
     cols = LAWS["drag"].regressors(w, False)
     assert cols["drag_pos"].tolist() == [0.0, 0.0, 9.0] and cols["drag_neg"].tolist() == [-4.0, 0.0, 0.0]
+
+
+def test_drag_sub_steps_follow_the_speed_the_run_can_reach():
+    # a stiff drag on a light joint: the slope 2*c*|w| at the terminal speed sqrt(T/c) needs
+    # many RK4 sub-steps; replaying a large torque sizes them from that speed (closed form)
+    # and stays finite, dissipating (friction has the sign of the velocity)
+    from fricctl.plant import RigidJoint
+    from fricctl.plant.stability import speed_bound
+    from fricctl.simulate import replay
+
+    m = (Coulomb(0.01) + Drag(0.5)).model()
+    assert speed_bound(m, 2.0) == pytest.approx(np.sqrt((2.0 - 0.01) / 0.5), rel=1e-9)
+    out = replay(RigidJoint(inertia=1e-5, friction=m), np.full(200, 2.0), 0.002, omega0=-30.0)
+    assert np.all(np.isfinite(out.omega)) and np.all(out.omega * out.friction >= 0)
+    assert out.omega[-1] == pytest.approx(np.sqrt((2.0 - 0.01) / 0.5), rel=1e-6)

@@ -17,7 +17,7 @@ from ..friction import FrictionLaw, FrictionModel
 from ..params import ActuatorParams
 from ..plant import FLEXIBLE, RIGID, STATE, FlexibleJoint, JointModel, KernelArgs, RigidJoint
 from ..plant.joints import checked_state, checked_substeps, plant_label
-from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps
+from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps, speed_bound
 from .loop import OUTPUTS, joint_interval, run_compiled, run_python
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
 from .spec import CompensatorSpec, ControlSpec, LoopSpec, PlantSpec
@@ -48,17 +48,22 @@ def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
                              f"1 + drift*t <= 0 at t = {t:g} s: friction would drive the joint")
 
 
-def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, t1: float) -> int:
+def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, t1: float, *,
+              torque=None, omega0: float = 0.0) -> int:
     """RK4 sub-steps: the kind's default raised to what the plant's fastest rate needs
     (:mod:`fricctl.plant.stability`); an explicit count below that need is refused, as is a
-    need above :data:`~fricctl.plant.stability.MAX_SUBSTEPS` (with the number)."""
+    need above :data:`~fricctl.plant.stability.MAX_SUBSTEPS` (with the number).  ``torque``:
+    the largest drive torque of the run (per run or one for all; None: unknown), which bounds
+    the speed for laws whose slope grows with it (drag)."""
     need, rate = 1, 0.0
-    for a, fr in zip(args_list, frictions):
+    torques = list(torque) if isinstance(torque, (list, tuple)) else [torque] * len(args_list)
+    for a, fr, tq in zip(args_list, frictions, torques):
         # the drifting scale is largest at one end of the run
         peak = max(1.0 + fr.drift * t0, 1.0 + fr.drift * t1, 1e-300)
         r = fastest_rate(inertia=a.motor_inertia, friction=fr.scaled(peak) if peak != 1.0 else fr,
                          load_inertia=a.load_inertia if a.stiffness > 0 else 0.0,
-                         stiffness=a.stiffness, damping=a.damping)
+                         stiffness=a.stiffness, damping=a.damping,
+                         speed=speed_bound(fr, tq, omega0))
         rate = max(rate, r)
         need = max(need, required_substeps(sample_time=ts, rate=r))
     if requested is None:
@@ -271,7 +276,8 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     for f in frs:
         _check_drift(f, 0.0, nsamp * ts)
     joints = [_kernel_args(p, kind) for p in plist]
-    substeps = _substeps(substeps, kind, ts, joints, frs, 0.0, nsamp * ts)
+    substeps = _substeps(substeps, kind, ts, joints, frs, 0.0, nsamp * ts,
+                         torque=[p.max_torque for p in plist])
 
     t = np.arange(nsamp) * ts
     res = np.array([p.encoder_resolution if quantize else 0.0 for p in plist])
@@ -399,7 +405,7 @@ def simulate_model(model: JointModel, controller: Controller,
     nsamp = _samples(duration, ts, 1)
     fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
     a = replace(model, friction=fr).joint().kernel_args()
-    substeps = _substeps(substeps, a.kind, ts, [a], [fr], 0.0, nsamp * ts)
+    substeps = _substeps(substeps, a.kind, ts, [a], [fr], 0.0, nsamp * ts, torque=model.max_torque)
     res = model.encoder_resolution if v.flag("quantize", quantize) and model.encoder_resolution else 0.0
     noise_std, noise = _noise(noise_std, rng, (1, nsamp))
     _check_drift(fr, 0.0, nsamp * ts)
@@ -487,7 +493,8 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
     nsamp = len(schedule)
     _samples(nsamp * ts, ts, 1)
     a = joint.kernel_args()
-    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], 0.0, nsamp * ts)
+    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], 0.0, nsamp * ts,
+                         torque=tmax)
     delay = _delay(delay, nsamp, ts)
     noise = (np.zeros((1, 1)) if noise is None
              else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
@@ -557,7 +564,8 @@ def replay(joint, torque, sample_time: float, *, q0: float = 0.0, omega0: float 
     st = joint.initial_state(q0, omega0) if state is None else checked_state(state)
     t0 = v.real("t0", t0)
     _check_drift(joint.friction, t0, t0 + tq.size * ts)
-    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], t0, t0 + tq.size * ts)
+    substeps = _substeps(substeps, a.kind, ts, [a], [joint.friction], t0, t0 + tq.size * ts,
+                         torque=float(np.max(np.abs(tq))), omega0=float(abs(st[1])))
     o_q, o_w, o_f = np.empty(tq.size), np.empty(tq.size), np.empty(tq.size)
     _replay(PlantSpec.of([a], [joint.friction], substeps), st, tq, t0, ts, o_q, o_w, o_f)
     _check_finite(t0 + np.arange(tq.size) * ts, np.vstack([o_q, o_w, o_f]), 0.0)
