@@ -48,6 +48,24 @@ def casadi_net(sliding):
 
 
 # -- evaluation ----------------------------------------------------------------
+def _numpy_momentum(tm, om, f, hidden, epochs, rate, mom):
+    """Reference full-batch gradient descent with momentum in numpy (analytic gradient):
+    the parameters after ``epochs`` steps of learning rate ``rate(k)``."""
+    scaling = Scaling.of(tm, om, f)
+    xn, tn = scaling.inputs(tm, om), scaling.target(f)
+    theta = initial_theta(hidden, np.random.default_rng(5))
+    v = np.zeros_like(theta)
+    for k in range(epochs):
+        w = layout.unpack(theta, hidden)
+        hid = np.tanh(w.w1 @ xn + w.b1[:, None])
+        e = w.w2 @ hid + w.b2 - tn
+        d = (w.w2[:, None] * (1 - hid**2)) * e
+        g = layout.pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
+        v = mom * v - rate(k) * g
+        theta = theta + v
+    return theta
+
+
 def test_call_matches_closed_form_one_unit():
     # reference: the formula of the module docstring written out by hand for H = 1
     net = one_unit_net()
@@ -174,18 +192,7 @@ def test_full_batch_backprop_matches_plain_numpy_momentum(sliding):
     res = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
                          epochs=epochs, batch_size=tm.size, rng=np.random.default_rng(5))
     net, hist = res.net, res.history
-    scaling = Scaling.of(tm, om, f)
-    xn, tn = scaling.inputs(tm, om), scaling.target(f)
-    theta = initial_theta(hidden, np.random.default_rng(5))
-    v = np.zeros_like(theta)
-    for _ in range(epochs):
-        w = layout.unpack(theta, hidden)
-        hid = np.tanh(w.w1 @ xn + w.b1[:, None])
-        e = w.w2 @ hid + w.b2 - tn
-        d = (w.w2[:, None] * (1 - hid**2)) * e
-        g = layout.pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
-        v = mom * v - lr * g
-        theta = theta + v
+    theta = _numpy_momentum(tm, om, f, hidden, epochs, lambda k: lr, mom)
     np.testing.assert_allclose(layout.pack(net.w1, net.b1, net.w2, net.b2), theta,
                                rtol=1e-10, atol=1e-12)  # summation-order rounding only
     assert hist.loss.shape == (epochs + 1,) and hist.step == "epoch"
@@ -278,18 +285,8 @@ def test_cosine_schedule_matches_plain_numpy_momentum(sliding):
     res = train_backprop(tm, om, f, hidden=hidden, learning_rate=lr, momentum=mom,
                          epochs=epochs, batch_size=tm.size, schedule="cosine",
                          rng=np.random.default_rng(5))
-    scaling = Scaling.of(tm, om, f)
-    xn, tn = scaling.inputs(tm, om), scaling.target(f)
-    theta = initial_theta(hidden, np.random.default_rng(5))
-    v = np.zeros_like(theta)
-    for k in range(epochs):
-        w = layout.unpack(theta, hidden)
-        hid = np.tanh(w.w1 @ xn + w.b1[:, None])
-        e = w.w2 @ hid + w.b2 - tn
-        d = (w.w2[:, None] * (1 - hid**2)) * e
-        g = layout.pack(d @ xn.T, d.sum(axis=1), hid @ e, e.sum()) / tn.size
-        v = mom * v - 0.5 * lr * (1 + math.cos(math.pi * k / epochs)) * g
-        theta = theta + v
+    theta = _numpy_momentum(tm, om, f, hidden, epochs,
+                            lambda k: 0.5 * lr * (1 + math.cos(math.pi * k / epochs)), mom)
     np.testing.assert_allclose(layout.pack(res.net.w1, res.net.b1, res.net.w2, res.net.b2),
                                theta, rtol=1e-10, atol=1e-12)  # summation-order rounding only
 
