@@ -9,8 +9,8 @@ least squares; :func:`cross_validate` predicts another record with its result.
 
 Notes
 -----
-Left out: instrumental-variable and output-error methods (closed-loop bias of
-least squares is not corrected), weighted least squares, and any static
+Left out here: instrumental-variable and output-error methods (they are
+:mod:`~fricctl.identify.iv` and :mod:`~fricctl.identify.didim`), weighted least squares, and any static
 (breakaway) information -- samples at rest carry none in an inverse model and
 are dropped by :func:`identify_run`.
 """
@@ -28,7 +28,8 @@ from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
 
-__all__ = ["identify_run", "IdimRecipe", "idim_ls", "CrossValidation", "cross_validate"]
+__all__ = ["identify_run", "IdimRecipe", "IdimObservations", "idim_observations", "idim_ls",
+           "CrossValidation", "cross_validate"]
 
 
 def _run(run) -> Run:
@@ -118,15 +119,20 @@ class IdimRecipe:
 
 
 @dataclass(frozen=True, kw_only=True)
-class _Observations:
-    """Observation matrix before decimation, and the decimated matrix and torque."""
+class IdimObservations:
+    """The observation matrix of a record by an :class:`IdimRecipe`, and its torque."""
 
     full: np.ndarray
+    """Observation matrix before decimation, one column per parameter."""
     decimated: np.ndarray
+    """Every column decimated (parallel filtering)."""
     torque: np.ndarray
+    """The torque (force) decimated the same way [N*m] or [N]."""
 
 
-def _idim_observations(run, model, offset, recipe: IdimRecipe) -> _Observations:
+def idim_observations(run, model, offset, recipe: IdimRecipe) -> IdimObservations:
+    """The IDIM-LS observations of ``run``: Butterworth + central differences, border
+    dropped, regressor columns and torque decimated (the EMPS recipe)."""
     if v.choice("model", model, MODELS) not in LINEAR_MODELS:
         raise ValueError(f"model: the IDIM-LS recipe decimates regressor columns, so it needs a "
                          f"linear model ({', '.join(LINEAR_MODELS)}), not {model!r}")
@@ -135,7 +141,7 @@ def _idim_observations(run, model, offset, recipe: IdimRecipe) -> _Observations:
     X0 = regressor(model, est.velocity[sl], est.acceleration[sl], offset=offset)
     y0 = np.asarray(run.torque[sl])
     X = np.column_stack([decimate(X0[:, j], recipe.decimation) for j in range(X0.shape[1])])
-    return _Observations(full=X0, decimated=X, torque=decimate(y0, recipe.decimation))
+    return IdimObservations(full=X0, decimated=X, torque=decimate(y0, recipe.decimation))
 
 
 def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
@@ -165,7 +171,7 @@ def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     """
     _run(run)
     recipe = IdimRecipe() if recipe is None else v.instance("recipe", recipe, IdimRecipe)
-    obs = _idim_observations(run, model, offset, recipe)
+    obs = idim_observations(run, model, offset, recipe)
     X, y = obs.decimated, obs.torque
     names = model_names(model, offset)
     res = fit_least_squares(linear_prediction, X, y, names=names,
@@ -225,6 +231,6 @@ def cross_validate(result: IdentificationResult, run, *,
         v.instance("recipe", recipe, IdimRecipe)
     recipe = recipe or result.recipe or IdimRecipe()
     offset = "offset" in result.names
-    obs = _idim_observations(run, result.model, offset, recipe)
+    obs = idim_observations(run, result.model, offset, recipe)
     return CrossValidation(measured=obs.torque, predicted=obs.decimated @ result.estimates,
                            condition_number=float(np.linalg.cond(obs.decimated)))

@@ -65,8 +65,14 @@ class IdentificationResult:
     """Per parameter: the estimate sits on one of its bounds (e.g. a friction coefficient
     held at 0): the record pushes it beyond what is physical, so it is not identified by
     this record.  Default: none."""
+    method: str = "IDIM-LS"
+    """The estimator: ``"IDIM-LS"``, ``"IDIM-IV"`` or ``"DIDIM"`` (the report's title)."""
+    warnings: tuple = ()
+    """What the fit cannot vouch for, one sentence each (also in the JSON)."""
 
     def __post_init__(self):
+        object.__setattr__(self, "method", v.text("method", self.method, empty=False))
+        object.__setattr__(self, "warnings", tuple(v.text("warnings[]", w) for w in self.warnings))
         if self.at_bound is None:
             object.__setattr__(self, "at_bound", np.zeros(len(self.names), dtype=bool))
         ab = np.array(self.at_bound, dtype=bool)
@@ -156,7 +162,7 @@ class IdentificationResult:
     def report(self) -> str:
         """Text report laid out like the EMPS IDIM-LS script output."""
         w = max(len(n) for n in self.names)
-        lines = [f"IDIM-LS: model {self.model or 'custom'}, {self.n_samples} samples",
+        lines = [f"{self.method}: model {self.model or 'custom'}, {self.n_samples} samples",
                  f"{'':<10}{'':<{w}}   {'estimate':>12} {'std':>10} {'rel. std':>9}"]
         for n, x, s, r, note in zip(self.names, self.estimates, self.std, self.relative_std,
                                     self.notes()):
@@ -170,6 +176,7 @@ class IdentificationResult:
                   f"Relative error (%): {self.relative_error:.4f}",
                   f"Deviation of error: {self.error_std:.4f}",
                   f"Fit (%): {self.fit_percent:.4f}"]
+        lines += [f"Warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
     def predict(self, velocity, acceleration) -> np.ndarray:
@@ -195,6 +202,8 @@ class IdentificationResult:
             "residual_rms": self.residual_rms,
             "condition_number": self.condition_number,
             "solver_status": self.solver_status,
+            "method": self.method,
+            "warnings": list(self.warnings),
         }
 
     def to_json(self) -> str:
