@@ -6,11 +6,18 @@ see :func:`fricctl.datasets.emps_file`).  ``--recipe plain`` (default) estimates
 velocity and acceleration with the chosen estimator, drops the border samples and
 the samples at rest, and fits the law by inverse-dynamics least squares (CasADi +
 IPOPT); ``--recipe idim_ls`` is the EMPS benchmark's IDIM-LS (Butterworth +
-central differences, decimation by 10; linear laws only).  Prints the estimates
+central differences, decimation by 10; linear laws only); ``--recipe idim_iv``
+refines it with instruments from the simulated model (Janot, Vandanjon & Gautier
+2014) and ``--recipe didim`` minimises the simulation error of the record
+(Gautier, Janot & Vandanjon 2013).  Both simulate a record with a moving reference
+in closed loop through its PD controller (``--controller KP KD``, else the gains
+fitted to the record's torque) and any other record open loop (its torque
+replayed); a record without reference column is simulated open loop with a
+warning.  Warnings go to stderr, one line each, and into the JSON.  Prints the estimates
 with standard errors in the IDIM-LS layout, or with ``--json`` one object:
 ``model, units, n_samples, parameters{name: {value, std, unit}}, fit_percent,
-relative_error_percent, residual_rms, condition_number, solver_status, estimator,
-recipe, out``.
+relative_error_percent, residual_rms, condition_number, solver_status, method,
+warnings, estimator, recipe, out``.
 
 ``--out MODEL.json`` writes the identified model (:class:`fricctl.plant.JointModel`,
 version 2) with each value's standard error in ``provenance``, the record's
@@ -25,7 +32,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-_RECIPES = ("plain", "idim_ls")
+#: The recipes; those that simulate the record take the controller.
+_RECIPES = ("plain", "idim_ls", "idim_iv", "didim")
+_SIMULATING = ("idim_iv", "didim")
 
 
 def register(subparsers) -> None:
@@ -44,7 +53,12 @@ def register(subparsers) -> None:
                    help="friction law (default coulomb_viscous: inertia, viscous, Coulomb, offset)")
     p.add_argument("--recipe", choices=_RECIPES, default="plain",
                    help="plain: estimator + least squares (default); idim_ls: the EMPS "
-                        "benchmark's IDIM-LS (Butterworth 100 Hz, decimation by 10)")
+                        "benchmark's IDIM-LS (Butterworth 100 Hz, decimation by 10); idim_iv: "
+                        "IDIM-LS with instruments from the simulated model; didim: the "
+                        "simulation error minimised")
+    p.add_argument("--controller", type=float, nargs=2, default=None, metavar=("KP", "KD"),
+                   help="idim_iv/didim: the record's PD gains [N*m/rad, N*m*s/rad or N/m, "
+                        "N*s/m] (default: fitted to the record's torque)")
     p.add_argument("--estimator", choices=tuple(ESTIMATORS), default=None,
                    help="plain recipe: velocity/acceleration estimator (default "
                         "butterworth_central, cut-off a fifth of the Nyquist frequency)")
@@ -79,8 +93,11 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
                 "the record's positions lie on no encoder grid: unknown")}
     if max_torque is not None:
         prov["max_torque"] = Provenance(source="datasheet", note="given as --max-torque")
-    note = (f"{'IDIM-LS' if recipe == 'idim_ls' else 'inverse-dynamics least squares'} "
-            f"({result.model}) on {where}; std = sigma*sqrt(diag((J^T J)^-1))")
+    how = {"idim_ls": "IDIM-LS", "idim_iv": "IDIM-IV", "didim": "DIDIM"}.get(
+        recipe, "inverse-dynamics least squares")
+    std = ("sigma^2 (Z^T X)^-1 Z^T Z (X^T Z)^-1" if recipe == "idim_iv"
+           else "sigma*sqrt(diag((J^T J)^-1))")
+    note = f"{how} ({result.model}) on {where}; std from {std}"
     return JointModel.from_estimates(
         result.parameters, std=dict(zip(result.names, map(float, result.std))),
         units=record.units, source=f"fricctl identify: {result.model} on {record.source}",
@@ -89,28 +106,43 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
 
 
 def run(args) -> int:
+    import sys
+
+    from ..controllers import constant, pd_control
     from ..datasets import load_record
-    from ..identify import identify_run, idim_ls
+    from ..identify import didim, identify_run, idim_iv, idim_ls
     from ._output import about, check_outputs, json_text
 
     check_outputs({"--out": args.out}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
-    if args.recipe == "idim_ls":
+    if args.recipe != "plain":
         given = [o for o, x in (("--estimator", args.estimator), ("--border", args.border))
                  if x is not None]
         if given:
-            raise ValueError(f"{', '.join(given)} has no effect with --recipe idim_ls (its "
+            raise ValueError(f"{', '.join(given)} has no effect with --recipe {args.recipe} (its "
                              f"estimator and border are the EMPS recipe's)")
+    if args.controller is not None and args.recipe not in _SIMULATING:
+        raise ValueError(f"--controller has no effect with --recipe {args.recipe} (only "
+                         f"{' and '.join(_SIMULATING)} simulate the record)")
+    controller = None
+    if args.controller is not None:
+        controller = pd_control(*args.controller, constant(0.0))
     with about(args.run):
         record = load_record(args.run, units=args.units)
         if args.recipe == "idim_ls":
             result = idim_ls(record, model=args.model)
             estimator = "butterworth_central"
+        elif args.recipe in _SIMULATING:
+            fit = idim_iv if args.recipe == "idim_iv" else didim
+            result = fit(record, model=args.model, controller=controller)
+            estimator = "butterworth_central"
         else:
             estimator = args.estimator or "butterworth_central"
             result = identify_run(record, model=args.model, estimator=estimator,
                                   border=50 if args.border is None else args.border)
+    for w in result.warnings:
+        print(f"fricctl identify: warning: {w}", file=sys.stderr)
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
                          max_torque=args.max_torque).save(args.out, overwrite=args.force)
@@ -121,7 +153,7 @@ def run(args) -> int:
         print(json_text(out))
     else:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s, "
-              f"{'recipe idim_ls' if args.recipe == 'idim_ls' else 'estimator ' + estimator}")
+              f"{'estimator ' + estimator if args.recipe == 'plain' else 'recipe ' + args.recipe}")
         print(result.report())
         if args.out is not None:
             print(f"model written to {args.out}")

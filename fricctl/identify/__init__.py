@@ -29,12 +29,17 @@ Modules
 * :mod:`~fricctl.identify.fit` -- :func:`fit_friction` (a law from samples);
 * :mod:`~fricctl.identify.idim` -- from a record: :func:`identify_run`, the EMPS
   recipe :class:`IdimRecipe` / :func:`idim_ls`, :class:`CrossValidation` /
-  :func:`cross_validate`.
+  :func:`cross_validate`;
+* :mod:`~fricctl.identify.simulation` -- the record simulated with identified
+  parameters (closed loop through its controller, or its torque replayed);
+* :mod:`~fricctl.identify.iv` -- :func:`idim_iv`, IDIM-LS refined with instruments
+  simulated by the model (Janot, Vandanjon & Gautier 2014);
+* :mod:`~fricctl.identify.didim` -- :func:`didim`, the simulation (output) error
+  minimised over the parameters (Gautier, Janot & Vandanjon 2013).
 
 Notes
 -----
-Left out: instrumental-variable and output-error methods (closed-loop bias of
-least squares is not corrected), weighted least squares, LuGre (its internal
+Left out: weighted least squares, nonlinear laws in IDIM-IV and DIDIM, LuGre (its internal
 state makes it an output-error problem), and any static (breakaway) information
 -- samples at rest carry none in an inverse model and are dropped by
 :func:`identify_run`.
@@ -43,7 +48,10 @@ state makes it an output-error problem), and any static (breakaway) information
 from __future__ import annotations
 
 from .fit import fit_friction
-from .idim import CrossValidation, IdimRecipe, cross_validate, identify_run, idim_ls
+from .didim import didim
+from .idim import (CrossValidation, IdimObservations, IdimRecipe, cross_validate, identify_run,
+                   idim_ls, idim_observations)
+from .iv import idim_iv
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import (
     LINEAR_MODELS,
@@ -72,4 +80,8 @@ __all__ = [
     "idim_ls",
     "CrossValidation",
     "cross_validate",
+    "IdimObservations",
+    "idim_observations",
+    "idim_iv",
+    "didim",
 ]
