@@ -235,3 +235,52 @@ def test_c_source_keeps_existing_functions(small_net):
     assert "fricctl_friction_net_compensation" in c_header(net)
     with pytest.raises(ValueError, match="units must be one of"):
         c_source(net, units="metric")
+
+
+def _cli(*args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "fricctl", *args], capture_output=True, text=True)
+
+
+def test_a_compensated_run_that_winds_up_warns(tmp_path):
+    # issue 25: a net with gain at rest 1.5 (Tat_hat = 1.5*tanh(Tm)) cannot hold the joint:
+    # Tm = Tc + 1.5*Tm has no fixed point, the torque winds up; simulate says so (stderr and JSON)
+    import json
+
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=1.5,
+                      envelope_low=[-2, -50], envelope_high=[2, 50])
+    assert net.gain_at_rest() == pytest.approx(1.5)
+    path = save_net(net, tmp_path / "bad.json")
+    out = _cli("simulate", "--compensation", "nn", "--net", str(path), "--controller", "pd",
+               "--rise-time", "0.3", "--damping", "0.9", "--reference", "step:0.08",
+               "--duration", "1", "--json")
+    assert out.returncode == 0, out.stderr
+    warns = json.loads(out.stdout)["warnings"]
+    assert len(warns) == 1 and "winds its torque up" in warns[0]
+    lines = out.stderr.splitlines()  # one line per warning (the design's own may come first)
+    assert all(ln.startswith("fricctl simulate: warning: ") for ln in lines)
+    assert sum("warning: the compensated joint winds its torque up" in ln for ln in lines) == 1
+
+
+def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
+    import json
+
+    out = _cli("simulate", "--compensation", "coulomb", "--controller", "pd", "--rise-time", "0.3",
+               "--damping", "0.9", "--reference", "step:0.08", "--duration", "0.5", "--json")
+    got = json.loads(out.stdout)
+    # the paper actuator's Coulomb level (params: 0.144 N*m = 0.8 * 0.18)
+    assert got["coulomb_compensation_pos"] == pytest.approx(0.144) and got["warnings"] == []
+    model = tmp_path / "viscous.json"
+    model.write_text(json.dumps({"format": "fricctl.joint_model", "version": 2, "units": "rotary",
+                                 "inertia": 0.003, "friction": {"viscous_pos": 0.02,
+                                                                 "viscous_neg": 0.02},
+                                 "sample_time": 0.002}))
+    out = _cli("simulate", "--model", str(model), "--compensation", "coulomb", "--controller",
+               "pd", "--kp", "1", "--kd", "0.1", "--reference", "step:0.1", "--duration", "0.5")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert "no Coulomb friction" in out.stderr

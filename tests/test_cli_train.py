@@ -259,3 +259,18 @@ def test_a_new_trainer_module_appears_in_the_command_with_its_options(patterns_c
     assert _squash("--spread SPREAD dummy: initial weights times this [-] (default 1)") in helptext
     assert json.loads(report)["trainer"] == "dummy"
     assert load_net(out).metadata["spread"] == 0.25  # the option reached the loop
+
+
+def test_train_warns_on_a_gain_at_rest_of_one_or_more():
+    # issue 25: g >= 1 cannot hold the joint at rest (no fixed point of Tm = Tc + s*g*Tm)
+    from fricctl.cli.train import _gain_warnings
+    from fricctl.nn import FrictionNet
+
+    def net(scale):
+        return FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                           input_scale=[1, 1], output_offset=0.0, output_scale=scale,
+                           envelope_low=[-1, -1], envelope_high=[1, 1])
+
+    assert _gain_warnings(net(0.98)) == []
+    (w,) = _gain_warnings(net(1.3))
+    assert "1.3 >= 1" in w and "winds its torque up" in w

@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 import jupytext
+from fricctl_tables import COEFFICIENTS_PLACEHOLDER, coefficients_table
 from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
@@ -181,9 +182,12 @@ def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
 # -- source-read and autodoc hooks -----------------------------------------------------------
 
 def on_source_read(app, docname, source) -> None:
-    """The placeholder becomes the claims and figures (top level, so that their headings are
-    sections of the page); a page that starts at ``##`` is read one level up."""
+    """The placeholders become the claims and figures (top level, so that their headings are
+    sections of the page) and the friction coefficients' table; a page that starts at ``##``
+    is read one level up."""
     text = source[0]
+    if COEFFICIENTS_PLACEHOLDER in text:
+        text = text.replace(COEFFICIENTS_PLACEHOLDER, coefficients_table())
     if PLACEHOLDER in text:
         here = Path(app.env.doc2path(docname)).parent
         text = text.replace(PLACEHOLDER, reproduce_markdown(reproduce_dir(app), Path(app.srcdir), here))

@@ -17,7 +17,8 @@ import sys
 import warnings
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
-SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce", "diagnose")
+SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce", "diagnose",
+               "model")
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -69,7 +70,11 @@ def register(sub):
     p.add_argument("--plant", choices=("rigid", "flexible"), default=None,
                    help="paper actuator: rigid (default) or flexible joint")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
-    p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none")
+    p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none",
+                   help="none; coulomb: s*Fc*sign(omega_hat) at the model's sliding (Coulomb) "
+                        "level per direction, scaled with the friction (not the breakaway "
+                        "level; a model without Coulomb friction is refused); nn: the network "
+                        "of --net.  A compensated run is checked for wind-up (warning)"),
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--clip", action="store_true",
@@ -153,6 +158,10 @@ def _compensator(args, scale, coulomb_pos, coulomb_neg):
     if args.compensation == "none":
         return NoCompensation()
     if args.compensation == "coulomb":
+        if coulomb_pos <= 0.0 and coulomb_neg <= 0.0:
+            raise ValueError("--compensation coulomb: the model has no Coulomb friction "
+                             "(coulomb_pos = coulomb_neg = 0), so the compensation would add "
+                             "nothing; use --compensation none or a model with its Coulomb level")
         return CoulombCompensator(coulomb_pos=coulomb_pos, coulomb_neg=coulomb_neg, scale=scale)
     from ..nn import load_net
 
@@ -244,6 +253,8 @@ def run(args) -> int:
                        plant=args.plant or "rigid",
                        friction=params.friction_model().scaled(args.friction_scale))
         summary, units = _paper_summary(res, args.duration), None
+    warns = _runaway_warnings(res)
+    summary.update(_compensation_level(comp))
     if args.csv:
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
             source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
@@ -258,17 +269,42 @@ def run(args) -> int:
         c.write_text(c_source(net, name=c.stem, units=units or "rotary"), encoding="utf-8")
         c.with_suffix(".h").write_text(c_header(net, name=c.stem, units=units or "rotary"),
                                        encoding="utf-8")
+    for text in warns:
+        warnings.warn(text, stacklevel=1)
     if args.json:
+        summary["warnings"] = warns
         print(json_text(summary, reasons={k: NO_REFERENCE for k, x in summary.items() if x is None}))
     else:
         labels = {} if units is None else _unit_labels(units)
         for k, v in summary.items():
+            if k == "warnings":
+                continue
             if v is None:
                 print(f"{k:26s} - ({NO_REFERENCE})")
                 continue
             text = f"{v:.6g}" if isinstance(v, float) else f"{v}"
             print(f"{k:26s} {text} {labels.get(k, '')}".rstrip())
     return 0
+
+
+def _runaway_warnings(res) -> list[str]:
+    """The wind-up check (:func:`fricctl.paper.runaway.wind_up`) of a compensated run, as warnings."""
+    if res.info.compensator == "none":
+        return []
+    from ..paper.runaway import wind_up
+
+    check = wind_up(res)
+    return [] if check.passed else [f"the compensated joint winds its torque up: {check.reason}"]
+
+
+def _compensation_level(comp) -> dict:
+    """The Coulomb compensation's levels (what it adds per direction, before its scale) [N*m]."""
+    from ..compensators import CoulombCompensator
+
+    if not isinstance(comp, CoulombCompensator):
+        return {}
+    return {"coulomb_compensation_pos": float(comp.coulomb_pos),
+            "coulomb_compensation_neg": float(comp.coulomb_neg)}
 
 
 def _unit_labels(units) -> dict:

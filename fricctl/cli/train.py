@@ -32,6 +32,7 @@ import contextlib
 import inspect
 import sys
 import textwrap
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -295,6 +296,9 @@ def run(args) -> int:
         args.c_source.write_text(nn.c_source(net, units=units), encoding="utf-8")
         header.write_text(c_header(net, units=units), encoding="utf-8")
     rep = nn.fit_report(friction, estimate)
+    warns = _gain_warnings(net)
+    for text in warns:
+        warnings.warn(text, stacklevel=1)
     if args.json:
         out = {"out": str(args.out), "trainer": trainer, "pipeline": args.pipeline, "units": units,
                "hidden": net.hidden, "seed": args.seed, "n_patterns": int(tm.size),
@@ -303,7 +307,8 @@ def run(args) -> int:
                "certificate": None if cert is None else cert.as_dict(),
                "envelope": {"tm": [float(net.envelope_low[0]), float(net.envelope_high[0])],
                             "omega": [float(net.envelope_low[1]), float(net.envelope_high[1])]},
-               "c_source": None if args.c_source is None else str(args.c_source)}
+               "c_source": None if args.c_source is None else str(args.c_source),
+               "warnings": warns}
         print(json_text(out))
     else:
         how = f"the {args.pipeline} pipeline ({trainer})" if args.pipeline else trainer
@@ -321,3 +326,13 @@ def run(args) -> int:
                   f"(band {cert.gain_band[0]}..{cert.gain_band[1]}), |dTat/dTm| <= "
                   f"{cert.sliding_slope_max:.3f} while sliding")
     return 0
+
+
+def _gain_warnings(net) -> list[str]:
+    """A gain at rest dTat/dTm >= 1 cannot hold the joint: say so (the fixed point of Eq. 3)."""
+    g = net.gain_at_rest()
+    if g < 1.0:
+        return []
+    return [f"gain at rest dTat/dTm = {g:.4g} >= 1: with s = 1 the compensated joint at rest has "
+            "no fixed point Tm = Tc/(1 - s*g) and winds its torque up; train with --pipeline "
+            "fricctl (certified g < 1) or compensate with s < 1/g"]

@@ -1,0 +1,80 @@
+"""``fricctl model new/show`` (issue 25: your motor by its numbers) and the model file's page."""
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from fricctl.cli import main
+from fricctl.plant import JointModel
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+
+def test_model_new_writes_what_the_numbers_say(tmp_path, capsys):
+    out = tmp_path / "my.json"
+    assert main(["model", "new", "--inertia", "0.01", "--viscous", "0.05", "--coulomb", "0.1",
+                 "--coulomb-neg", "0.12", "--static", "0.15", "--stribeck-velocity", "0.05",
+                 "--sample-time", "0.002", "--encoder-counts", "4096", "--max-torque", "2",
+                 "--friction", "load_coefficient=0.01", "--out", str(out)]) == 0
+    m = JointModel.load(out)
+    fr = m.friction
+    assert (m.inertia, m.sample_time, m.max_torque) == (0.01, 0.002, 2.0)
+    assert m.encoder_resolution == pytest.approx(2 * 3.141592653589793 / 4096, rel=1e-15)
+    assert (fr.viscous_pos, fr.viscous_neg, fr.coulomb_pos, fr.coulomb_neg) == (0.05, 0.05, 0.1, 0.12)
+    # the breakaway level is what --static says, in both directions (Fs = Fc + excess)
+    assert fr.breakaway(1) == pytest.approx(0.15) and fr.breakaway(-1) == pytest.approx(0.15)
+    assert fr.load_coefficient == 0.01
+    assert m.provenance["inertia"].source == "datasheet"
+    assert m.provenance["friction.stribeck_pos"].source == "derived"
+    capsys.readouterr()
+    assert main(["model", "show", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "friction.coulomb_neg         0.12 N*m  [datasheet]" in text
+    assert "breakaway level              +0.15 / -0.15 N*m" in text
+    assert main(["model", "show", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["friction"]["coulomb_neg"] == 0.12
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--inertia", "0.01", "--friction", "coulmb_pos=1"], "did you mean 'coulomb_pos'"),
+    (["--inertia", "0.01", "--coulomb", "0.2", "--static", "0.1", "--stribeck-velocity", "0.1"],
+     "below the Coulomb level"),
+    (["--inertia", "0.01", "--static", "0.1"], "go together"),
+    (["--inertia", "-1"], "inertia"),
+    (["--inertia", "0.01", "--viscous", "nan"], "--viscous"),
+    (["--inertia", "0.01", "--units", "linear", "--encoder-counts", "100"], "linear axis"),
+])
+def test_model_new_refuses_in_one_line(tmp_path, args, message):
+    proc = subprocess.run([sys.executable, "-m", "fricctl", "model", "new", *args, "--out",
+                           str(tmp_path / "m.json")], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and message in proc.stderr
+    assert not (tmp_path / "m.json").exists()
+
+
+def test_model_without_action_and_existing_output(tmp_path, capsys):
+    assert main(["model"]) == 2
+    out = tmp_path / "m.json"
+    out.write_text("keep")
+    assert main(["model", "new", "--inertia", "1", "--out", str(out)]) == 2
+    assert out.read_text() == "keep"
+
+
+def test_the_model_file_page_example_loads_and_lists_every_coefficient():
+    text = (DOCS / "model_file.md").read_text(encoding="utf-8")
+    example = re.search(r"```json\n(.*?)```", text, re.S).group(1)
+    m = JointModel.from_dict(json.loads(example))
+    assert m.friction.breakaway(1) == pytest.approx(0.13)
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        from fricctl_tables import COEFFICIENTS_PLACEHOLDER, coefficients_table
+    finally:
+        sys.path.pop(0)
+    from fricctl.friction import FIELDS
+
+    assert COEFFICIENTS_PLACEHOLDER in text
+    table = coefficients_table()
+    assert all(f"`{name}`" in table for name in FIELDS)  # read from the law registry
