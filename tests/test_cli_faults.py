@@ -430,3 +430,12 @@ def test_a_utf8_byte_order_mark_is_accepted(work, tmp_path, capsys):
     text = (work / "record.csv").read_text().splitlines()
     plain.write_bytes(b"\xef\xbb\xbf" + "\n".join(x for x in text if not x.startswith("#")).encode())
     assert Run.from_csv(plain).n_samples == Run.from_csv(work / "record.csv").n_samples
+
+
+def test_a_dangling_output_link_names_its_target_folder(work, tmp_path, capsys):
+    link = tmp_path / "model.json"
+    link.symlink_to(tmp_path / "missing" / "model.json")
+    assert main(["identify", str(work / "record.csv"), "--out", str(link)]) == 2
+    err = capsys.readouterr().err
+    _one_line(err, "fricctl identify: error: --out:")
+    assert str(tmp_path / "missing") in err

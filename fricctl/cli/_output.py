@@ -77,6 +77,9 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
             raise ValueError(f"{option}: {p} is a folder, not a file")
         folder = key.parent
         if not folder.is_dir():
+            if p.is_symlink():  # a dangling link: the missing folder is its target's, not p's
+                raise ValueError(f"{option}: {p} is a symbolic link into the folder {folder}, "
+                                 "which does not exist")
             raise ValueError(f"{option}: the folder {p.parent} does not exist")
         if not os.access(folder, os.W_OK | os.X_OK):
             raise ValueError(f"{option}: the folder {p.parent} is not writable")
