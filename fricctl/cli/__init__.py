@@ -7,13 +7,23 @@ Each sub-command lives in its own module of this package and exposes
 print one line on stderr and exit with code 2; warnings print one line each, after
 the command's output (a call that fails prints its error line only: the warnings that
 led to it, e.g. a numpy overflow, add nothing to it).
+
+An interrupt is one line on stderr, never a traceback: Ctrl-C (SIGINT) exits with code
+130 and SIGTERM with 143 (128 + the signal's number, what a shell reports for a process
+the signal ended, so a script or a scheduler can tell the two apart).  Every output is
+written atomically (:mod:`fricctl._atomic`), so an interrupted command leaves each of its
+outputs complete or absent (as it was before), and no temporary file.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import os
+import signal
 import sys
+import threading
 import warnings
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
@@ -34,6 +44,53 @@ class OneLineParser(argparse.ArgumentParser):
                      f" (see {self.prog} --help)\n")
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C's KeyboardInterrupt, so that the same
+    clean-up runs (temporary files removed, worker processes stopped)."""
+
+
+#: Exit code and message of each interrupt.
+INTERRUPTS = {Terminated: (143, "terminated (SIGTERM)"),
+              KeyboardInterrupt: (130, "interrupted (Ctrl-C)")}
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+@contextlib.contextmanager
+def _sigterm_raises():
+    """SIGTERM raises :class:`Terminated` while the command runs (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def interrupt_of(exc: BaseException) -> KeyboardInterrupt | None:
+    """The Ctrl-C or SIGTERM behind ``exc``, if any: an interrupt that lands in a compiled
+    module's initialisation comes out as that module's error (pybind11's ``ImportError:
+    initialization failed``), with the interrupt as its cause."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
+def _interrupted(exc: KeyboardInterrupt, command: str | None) -> int:
+    code, what = next(v for k, v in INTERRUPTS.items() if isinstance(exc, k))
+    print(f"fricctl{' ' + command if command else ''}: {what}; outputs not yet complete were "
+          "not written", file=sys.stderr)
+    return code
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
@@ -49,6 +106,29 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    command = None
+    try:
+        with _sigterm_raises():
+            return _main(argv)
+    except BaseException as error:  # Ctrl-C, or SIGTERM (Terminated), maybe wrapped
+        exc = interrupt_of(error)
+        if exc is None:
+            raise
+        words = sys.argv[1:] if argv is None else argv
+        if words and words[0] in SUBCOMMANDS:
+            command = words[0]
+        code = _interrupted(exc, command)
+        if argv is None:  # the command itself: exit now, with the code
+            # CPython exits by re-raising SIGINT (status -2, not 130) when a KeyboardInterrupt
+            # went through an extension's embedded code (an interrupt inside scipy's import
+            # does), even when it was handled here; the outputs are settled, so end now.
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(code)
+        return code
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -73,10 +153,14 @@ def main(argv: list[str] | None = None) -> int:
             print(f"fricctl {args.command}: warning: {text}", file=sys.stderr)
         return code
     except ValueError as exc:
+        if interrupt_of(exc) is not None:
+            raise
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"fricctl {args.command}: error: {msg}", file=sys.stderr)
         return 2
     except OSError as exc:  # missing input, output path that is a directory, no permission, ...
+        if interrupt_of(exc) is not None:
+            raise
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"fricctl {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2

@@ -1,10 +1,12 @@
 """What every sub-command checks before it writes, and how it prints JSON (issue 15).
 
 :func:`check_outputs`: an output that is one of the call's inputs, or the same file
-as another output of the call, is refused; an existing output is refused unless
-``--force``; a folder is never an output file; the folder an output goes into must
-exist and be writable.  Checked before any work is done, so a refused call writes
-nothing.
+as another output of the call (by name, through a symbolic link, or by inode: a hard
+link), is refused; an existing output is refused unless ``--force``; a folder is never
+an output file; the folder an output goes into must exist and be writable.  Checked
+before any work is done, so a refused call writes nothing.  The outputs themselves are
+written atomically (:mod:`fricctl._atomic`): complete or not at all, and without
+``--force`` a file another run created meanwhile is refused, not replaced.
 
 :func:`json_text`: the one way a sub-command prints or writes JSON.  Standard JSON
 only (``allow_nan=False``): a value that is not a finite number is written as
@@ -20,7 +22,8 @@ from pathlib import Path
 
 from .._json import json_safe
 
-__all__ = ["check_outputs", "check_figure", "json_text", "about", "FIGURE_FORMATS"]
+__all__ = ["check_outputs", "check_figure", "json_text", "about", "save_figure", "check_new_folder",
+           "FIGURE_FORMATS"]
 
 #: File name endings ``--figure`` accepts (matplotlib picks the format from it).
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
@@ -45,7 +48,10 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
         One line naming the option and the file.
     """
     ins = {Path(p).resolve(): Path(p) for p in inputs if p is not None}
+    in_ids = {_file_id(p): Path(p) for p in inputs if p is not None}
+    in_ids.pop(None, None)
     seen: dict[Path, str] = {}
+    seen_ids: dict[tuple, str] = {}
     for option, path in outputs.items():
         if path is None:
             continue
@@ -58,10 +64,22 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
         if key in seen:
             raise ValueError(f"{option} and {seen[key]} name the same file {p}")
         seen[key] = option
+        fid = _file_id(p)
+        if fid is not None:  # the same file under another name: a hard link
+            if fid in in_ids:
+                raise ValueError(f"{option}: {p} is the same file as the input {in_ids[fid]} "
+                                 "(a hard link); refusing to overwrite it")
+            if fid in seen_ids:
+                raise ValueError(f"{option} and {seen_ids[fid]} name the same file {p} "
+                                 "(a hard link)")
+            seen_ids[fid] = option
         if p.is_dir():
             raise ValueError(f"{option}: {p} is a folder, not a file")
         folder = key.parent
         if not folder.is_dir():
+            if p.is_symlink():  # a dangling link: the missing folder is its target's, not p's
+                raise ValueError(f"{option}: {p} is a symbolic link into the folder {folder}, "
+                                 "which does not exist")
             raise ValueError(f"{option}: the folder {p.parent} does not exist")
         if not os.access(folder, os.W_OK | os.X_OK):
             raise ValueError(f"{option}: the folder {p.parent} is not writable")
@@ -70,6 +88,40 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
                 raise ValueError(f"{option}: {p} exists (use --force to overwrite)")
             if not os.access(p, os.W_OK):
                 raise ValueError(f"{option}: {p} exists and is not writable")
+
+
+def save_figure(fig, path, *, overwrite: bool, dpi: int = 110) -> None:
+    """``fig.savefig`` to ``path`` atomically (:mod:`fricctl._atomic`), then close it."""
+    import matplotlib.pyplot as plt
+
+    from .._atomic import atomic_path
+
+    try:
+        with atomic_path(path, overwrite=overwrite) as tmp:
+            fig.savefig(tmp, dpi=dpi)
+    finally:
+        plt.close(fig)
+
+
+def check_new_folder(option: str, path) -> None:
+    """Refuse a folder to be made at ``path`` when the first existing folder above it is not
+    writable (checked before any work: the command would fail only when it writes)."""
+    above = Path(os.path.abspath(path)).parent
+    while not above.exists() and above != above.parent:
+        above = above.parent
+    if not above.is_dir():
+        raise ValueError(f"{option}: {above} is not a folder; cannot make {path} inside it")
+    if not os.access(above, os.W_OK | os.X_OK):
+        raise ValueError(f"{option}: the folder {above} is not writable; cannot make {path}")
+
+
+def _file_id(path) -> tuple | None:
+    """(device, inode) of an existing file, or None."""
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return (st.st_dev, st.st_ino)
 
 
 def check_figure(option: str, path) -> None:

@@ -22,7 +22,9 @@ cannot be told on this record), ``evidence``, ``baseline`` and ``extended``
 ``report.md`` and ``extended_model.json`` (a model file, version 2: provenance
 "diagnosed" on every value the diagnosis added or changed; ``fricctl design
 --model`` and ``fricctl simulate --model`` read it); existing files are not
-overwritten without ``--force``.  A record longer than 615 384 samples is refused
+overwritten without ``--force``.  A new DIR is built beside and renamed into place when
+complete (an interrupted run leaves no DIR); into an existing DIR each file is written
+atomically.  A record longer than 615 384 samples is refused
 (about 6.5 kB per sample, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
@@ -65,7 +67,7 @@ def run(args) -> int:
     from ..datasets import load_record
     from ..diagnose import diagnose
     from ..plant import JointModel
-    from ._output import check_outputs
+    from ._output import check_new_folder, check_outputs
 
     if args.report is not None:
         out = Path(args.report)
@@ -74,13 +76,15 @@ def run(args) -> int:
         if out.is_dir():  # a new folder is made by write_report: nothing in it to clobber
             check_outputs({f"--report ({name})": out / name for name in REPORT_FILES},
                           [args.run, args.model], force=args.force)
+        else:  # built beside, then renamed into place: the first existing ancestor must be writable
+            check_new_folder("--report", out)
     record = load_record(args.run, units=args.units)
     model = JointModel.load(args.model) if args.model else None
     if model is not None:
         check_model(model, record, Path(args.model).name, units_given=args.units is not None)
     result = diagnose(record, model, window=args.window)
     if args.report:
-        write_report(result, args.report)
+        write_report(result, args.report, overwrite=args.force)
     if args.json:
         print(json.dumps(result.as_dict(), indent=2, allow_nan=False))
     else:
@@ -100,20 +104,27 @@ def check_model(model, record, name: str, *, units_given: bool = False) -> None:
     check_model_agrees(model, record, name)
 
 
-def write_report(result, folder) -> Path:
-    """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``."""
+def write_report(result, folder, *, overwrite: bool = True) -> Path:
+    """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``.
+
+    A new folder is built beside and renamed into place when complete; into an existing
+    folder each file is written atomically (``overwrite=False``: an existing file is refused,
+    also one another run writes meanwhile).  See :mod:`fricctl._atomic`.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .._atomic import atomic_folder, write_text
     from ..figures.diagnosis import (plot_diagnosis, plot_residual_spectrum, plot_simulation,
                                      plot_steps)
+    from ._output import save_figure
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--report: {out} exists and is not a folder")
-    out.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
+    out.parent.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
     figs = {}
     fig = plot_diagnosis(result)
     figs["residuals.png"] = fig
@@ -127,11 +138,11 @@ def write_report(result, folder) -> Path:
     fig4, ax4 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
     plot_steps(result, ax=ax4)
     figs["steps.png"] = fig4
-    for name, f in figs.items():
-        f.savefig(out / name, dpi=110)
-        plt.close(f)
     text = result.report() + "\n## Figures\n\n" + "\n".join(
         f"![{n[:-4]}]({n})" for n in figs) + "\n"
-    (out / "report.md").write_text(text)
-    result.extended.save(out / "extended_model.json")
+    with atomic_folder(out) as where:
+        for name, f in figs.items():
+            save_figure(f, where / name, overwrite=overwrite)
+        write_text(where / "report.md", text, overwrite=overwrite)
+        result.extended.save(where / "extended_model.json", overwrite=overwrite)
     return out

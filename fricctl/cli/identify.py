@@ -145,7 +145,7 @@ def run(args) -> int:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
-                         max_torque=args.max_torque).save(args.out, overwrite=args.force)
+                         max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
     if args.json:
         out = result.as_dict()
         out.update(estimator=estimator, recipe=args.recipe,

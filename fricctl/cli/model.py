@@ -139,7 +139,7 @@ def run_new(args) -> int:
                        units=args.units, source=args.source or "fricctl model new",
                        sample_time=args.sample_time, encoder_resolution=res,
                        max_torque=args.max_torque, provenance=prov)
-    model.save(args.out)
+    model.save(args.out, overwrite=args.force)
     print(f"wrote {args.out}: {_one_line(model)}")
     return 0
 

@@ -32,6 +32,7 @@ import multiprocessing
 import os
 import re
 import shutil
+import signal
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -137,6 +138,67 @@ def _prepare_out(out: Path, force: bool) -> None:
                 shutil.rmtree(d)
 
 
+def _worker_init(parent: int) -> None:
+    """In each worker: leave Ctrl-C to the parent (a terminal sends SIGINT to the whole
+    process group; the parent stops the workers), and exit when the parent is gone (even
+    after ``kill -9`` of it, which would leave a worker blocked on its queue forever)."""
+    import threading
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):  # started with SIGINT held (_Workers.submit)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.2)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="fricctl-parent-watch", daemon=True).start()
+
+
+class _Workers(ProcessPoolExecutor):
+    """The worker processes of ``reproduce``: they ignore Ctrl-C (the parent stops them), die
+    with the parent (:func:`_worker_init`) and are stopped at once by :meth:`stop`."""
+
+    def __init__(self, workers: int):
+        # 'spawn': forking a process whose numba/OpenMP threads have started aborts the workers
+        super().__init__(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                         initializer=_worker_init, initargs=(os.getpid(),))
+
+    def submit(self, *args, **kwargs):
+        # a worker is started inside submit: it inherits SIGINT held, so a Ctrl-C while it
+        # starts (before _worker_init ignores it) prints no traceback from it
+        if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - Windows
+            return super().submit(*args, **kwargs)
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            return super().submit(*args, **kwargs)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+    def stop(self) -> None:
+        """Cancel the queued jobs and end the running ones now (no waiting for them)."""
+        # Python 3.11 has no Executor.terminate_workers (3.14): its process table is private
+        procs = list((getattr(self, "_processes", None) or {}).values())
+        self.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            proc.terminate()
+        for proc in procs:
+            proc.join(timeout=10)
+
+
+@contextlib.contextmanager
+def _worker_pool(workers: int):
+    """:class:`_Workers`, stopped at once when the block ends by an exception (Ctrl-C, SIGTERM)."""
+    ex = _Workers(workers)
+    try:
+        yield ex
+    except BaseException:
+        ex.stop()
+        raise
+    ex.shutdown(wait=True)
+
+
 def _label(fig, text: str) -> None:
     """Add ``text`` to the figure's title (the pipeline and seed it shows)."""
     sup = fig.get_suptitle()
@@ -153,10 +215,10 @@ def _render(params, fast: bool, pipeline: str, seed: int, net_json: str, sweep, 
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     from ..figures.paper import PAPER_PLOTS, plot_coast, plot_sweep
     from ..paper.reproduce import representative_figures
+    from ._output import save_figure
 
     _, figures = representative_figures(params, fast, pipeline, seed, net_json)
     folder = Path(folder)
@@ -174,8 +236,7 @@ def _render(params, fast: bool, pipeline: str, seed: int, net_json: str, sweep, 
     for fname, obj in plots:
         fig = getattr(obj, "figure", obj)
         _label(fig, f"{pipeline} pipeline, seed {seed}")
-        fig.savefig(folder / fname, dpi=110)
-        plt.close(fig)
+        save_figure(fig, folder / fname, overwrite=True)  # atomic; --force governs the folder
         written.append(str(folder / fname))
     return written
 
@@ -203,6 +264,7 @@ def run(args) -> int:
 
     matplotlib.use("Agg")  # files only: never open windows from the command line
 
+    from .._atomic import write_text
     from ..nn import save_net
     from ..paper import reproduce_paper
 
@@ -210,11 +272,7 @@ def run(args) -> int:
     progress = _Progress()
     out.mkdir(parents=True, exist_ok=True)
     with contextlib.ExitStack() as stack:
-        ex = None
-        if workers > 1:
-            # 'spawn': forking a process whose numba/OpenMP threads have started aborts the workers
-            ex = stack.enter_context(ProcessPoolExecutor(max_workers=workers,
-                                                         mp_context=multiprocessing.get_context("spawn")))
+        ex = None if workers == 1 else stack.enter_context(_worker_pool(workers))
         res = reproduce_paper(fast=args.fast, seeds=seeds, pipelines=pipelines, executor=ex,
                               progress=progress, figures=False)
         t0 = time.perf_counter()
@@ -222,10 +280,10 @@ def run(args) -> int:
         print(f"figures of the representative seeds drawn in {time.perf_counter() - t0:.1f} s",
               file=sys.stderr)
     (out / "nets").mkdir(exist_ok=True)
-    for (name, seed), r in res.runs.items():
+    for (name, seed), r in res.runs.items():  # each file atomic (fricctl._atomic)
         save_net(r.net, out / "nets" / f"{name}-seed{seed}.json")
-    (out / "claims.md").write_text(res.markdown(), encoding="utf-8")
-    (out / "claims.json").write_text(res.json() + "\n", encoding="utf-8")
+    write_text(out / "claims.md", res.markdown())
+    write_text(out / "claims.json", res.json() + "\n")
     ids = list(dict.fromkeys(s.id for s in res.stats))
     by = {(s.id, s.pipeline): s for s in res.stats}
     print(f"{'claim':<15s} " + " ".join(f"{p:>18s}" for p in pipelines))

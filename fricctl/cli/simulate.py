@@ -206,11 +206,12 @@ def _model_summary(res, model) -> dict:
             "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
 
 
-def _figure(res, path, units) -> None:
+def _figure(res, path, units, *, overwrite: bool) -> None:
     import matplotlib.pyplot as plt
 
     from .. import figures
     from ..units import units as units_of
+    from ._output import save_figure
 
     fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
     figures.plot_response(res, ax=a, unit="deg" if units is None else "rad")
@@ -220,8 +221,7 @@ def _figure(res, path, units) -> None:
         u = units_of(units)
         a.set_ylabel(f"position q [{u.position}]")
         b.set_ylabel(f"{'torque' if units == 'rotary' else 'force'} [{u.torque}]")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, overwrite=overwrite)
 
 
 def run(args) -> int:
@@ -258,17 +258,18 @@ def run(args) -> int:
     if args.csv:
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
             source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
-            units=units or "rotary").to_csv(args.csv)
+            units=units or "rotary").to_csv(args.csv, overwrite=args.force)
     if args.figure:
-        _figure(res, args.figure, units)
+        _figure(res, args.figure, units, overwrite=args.force)
     if args.c_source:
+        from .._atomic import write_text
         from ..nn.c_export import c_header, c_source
 
         c = Path(args.c_source)
         net = comp.estimator
-        c.write_text(c_source(net, name=c.stem, units=units or "rotary"), encoding="utf-8")
-        c.with_suffix(".h").write_text(c_header(net, name=c.stem, units=units or "rotary"),
-                                       encoding="utf-8")
+        write_text(c, c_source(net, name=c.stem, units=units or "rotary"), overwrite=args.force)
+        write_text(c.with_suffix(".h"), c_header(net, name=c.stem, units=units or "rotary"),
+                   overwrite=args.force)
     for text in warns:
         warnings.warn(text, stacklevel=1)
     if args.json:

@@ -253,6 +253,7 @@ def _trainer_options(args, trainers: dict, given: list) -> dict:
 
 def run(args) -> int:
     from .. import nn
+    from .._atomic import write_text
     from ..nn.c_export import c_header
     from ..nn.train import DEFAULT_TRAINER
     from ._output import check_outputs, json_text
@@ -289,12 +290,12 @@ def run(args) -> int:
                                           **options)
         net, hist = res.net, res.history
         estimate, viscous, cert = net(tm, omega), 0.0, None
-    nn.save_net(net, args.out)
+    nn.save_net(net, args.out, overwrite=args.force)  # atomic: complete or absent
     if args.c_source is not None:
         # the functions keep one name (fricctl_friction_net...) whatever the file is called, so
         # a controller's code does not change when a new net is exported
-        args.c_source.write_text(nn.c_source(net, units=units), encoding="utf-8")
-        header.write_text(c_header(net, units=units), encoding="utf-8")
+        write_text(args.c_source, nn.c_source(net, units=units), overwrite=args.force)
+        write_text(header, c_header(net, units=units), overwrite=args.force)
     rep = nn.fit_report(friction, estimate)
     warns = _gain_warnings(net)
     for text in warns:

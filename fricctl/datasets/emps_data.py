@@ -9,6 +9,7 @@ layout, and :func:`load_record` a record from a CSV file or such a ``.mat`` file
 from __future__ import annotations
 
 import os
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -147,8 +148,15 @@ def emps_file(path) -> EmpsData:
 
     try:
         raw = loadmat(path)
-    except (MatReadError, ValueError, TypeError, OSError) as exc:  # what scipy raises on junk
-        raise ValueError(f"{path}: not a MATLAB .mat file ({str(exc).splitlines()[0][:80]})") from None
+    except NotImplementedError:  # scipy's answer to a v7.3 file (HDF5 inside)
+        raise ValueError(f"{path}: a MATLAB v7.3 (HDF5) file, which fricctl cannot read: save it "
+                         "with -v7 (save(name, ..., '-v7')) or convert it") from None
+    except zlib.error:
+        raise ValueError(f"{path}: a corrupt MATLAB file (a compressed variable does not "
+                         "decompress)") from None
+    except (MatReadError, ValueError, TypeError, OSError, EOFError) as exc:  # scipy on junk
+        first = str(exc).splitlines()[0][:80] if str(exc) else type(exc).__name__
+        raise ValueError(f"{path}: not a MATLAB .mat file ({first.replace(str(path), path.name)})") from None
     missing = [n for n in EMPS_VARIABLES if n not in raw]
     if missing:
         raise ValueError(f"{path}: missing variable(s) {', '.join(missing)} (the EMPS layout has "

@@ -32,6 +32,7 @@ from typing import Mapping
 import numpy as np
 
 from .. import _validate as v
+from .._atomic import atomic_write
 from ..estimation import at_rest, estimate
 from ..units import KINDS, units as units_of
 from .run import Run
@@ -189,7 +190,9 @@ def write_patterns(path, patterns: FrictionPatterns, *, overwrite: bool = True) 
         Destination.
     patterns : FrictionPatterns
     overwrite : bool
-        False: refuse (:class:`FileExistsError`) when ``path`` exists.
+        False: refuse (:class:`FileExistsError`) when ``path`` exists, also when another
+        process creates it while this one writes (the file is written atomically:
+        :mod:`fricctl._atomic`).
     """
     v.instance("patterns", patterns, FrictionPatterns)
     path = Path(path)
@@ -203,7 +206,7 @@ def write_patterns(path, patterns: FrictionPatterns, *, overwrite: bool = True) 
         lines.append(f"# velocity_quantum: {patterns.velocity_quantum!r}")
     lines += [f"# {k}: {x}" for k, x in patterns.meta.items() if k != "columns"]
     data = np.column_stack([patterns.tm, patterns.omega, patterns.friction])
-    with path.open("w", newline="", encoding="utf-8") as fh:
+    with atomic_write(path, overwrite=overwrite, newline="") as fh:
         fh.write("\n".join(lines) + "\ntm,omega,friction,at_rest\n")
         for row, rest in zip(data, patterns.at_rest):
             fh.write(",".join(format(x, ".17g") for x in row) + (",1\n" if rest else ",0\n"))

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import _validate as v
+from .._atomic import atomic_write
 from ..units import KINDS, units as units_of
 from .table import read_columns
 
@@ -155,13 +156,17 @@ class Run:
         return "torque" if self.units == "rotary" else "force"
 
     # ------------------------------------------------------------------ CSV
-    def to_csv(self, path) -> Path:
+    def to_csv(self, path, *, overwrite: bool = True) -> Path:
         """Write the record as CSV with metadata comment lines; returns the path.
+
+        The file is written atomically (:mod:`fricctl._atomic`): complete, or not at all.
 
         Parameters
         ----------
         path : str or os.PathLike
-            Destination file (overwritten).
+            Destination file.
+        overwrite : bool
+            False: refuse (:class:`FileExistsError`) when ``path`` exists.
         """
         path = Path(path)
         cols = [self.t, self.torque, self.position]
@@ -170,7 +175,7 @@ class Run:
             cols.append(self.reference)
             header.append("reference")
         data = np.column_stack(cols)
-        with path.open("w", newline="") as fh:
+        with atomic_write(path, overwrite=v.flag("overwrite", overwrite), newline="") as fh:
             fh.write(f"# source: {self.source.replace(chr(10), ' ')}\n")
             fh.write(f"# units: {self.units}\n")
             fh.write(",".join(header) + "\n")

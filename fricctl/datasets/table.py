@@ -18,7 +18,11 @@ import numpy as np
 
 from .. import _validate as v
 
-__all__ = ["Table", "read_columns"]
+__all__ = ["Table", "read_columns", "MAX_LINE"]
+
+#: Longest line read [characters]: a record's row is about 100, a patterns file's ``# source:``
+#: line of many records a few thousand; a longer line is not a CSV fricctl wrote or reads.
+MAX_LINE = 100_000
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -62,6 +66,18 @@ def _header(path, cells, required, optional) -> list[str]:
     return header
 
 
+def _check_lines(path, lines: list[str], want: str) -> None:
+    """Refuse a binary file (a NUL byte) or an overlong line, naming the file and the line."""
+    for line_no, line in enumerate(lines, start=1):
+        if "\x00" in line:
+            raise ValueError(f"{path}, line {line_no}: a NUL byte: a binary file, not a CSV "
+                             f"text file (expected a header {want})")
+        if len(line) > MAX_LINE:
+            raise ValueError(f"{path}, line {line_no}: {len(line)} characters, more than the "
+                             f"{MAX_LINE} a line may hold: not a CSV record (expected a header "
+                             f"{want})")
+
+
 def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
                  min_rows: int = 0) -> Table:
     r"""Read a CSV file whose header names its columns (in any order).
@@ -90,7 +106,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     FileNotFoundError
         The file does not exist.
     ValueError
-        Not UTF-8 text, no header, an unknown, missing or duplicate column, a row
+        Not UTF-8 text (a UTF-8 byte-order mark, as Excel writes, is accepted), a NUL
+        byte (a binary file), a line longer than :data:`MAX_LINE` characters, no header, an unknown, missing or duplicate column, a row
         with another number of fields, a cell that is not a finite decimal number
         (``0.00_2``, ``0x10``, ``1,5``, NaN, inf; the message names the file, the line
         and the column), or fewer than
@@ -113,11 +130,12 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
     try:
-        with path.open(newline="", encoding="utf-8") as fh:
+        with path.open(newline="", encoding="utf-8-sig") as fh:  # -sig: Excel's "CSV UTF-8"
             lines = fh.read().splitlines()
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a UTF-8 text file (expected a CSV with a header "
                          f"{want})") from None
+    _check_lines(path, lines, want)
     meta: dict[str, str] = {}
     header = None
     rows = []
@@ -127,7 +145,10 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             if sep:
                 meta[key.strip()] = value.strip()
             continue
-        cells = next(csv.reader([line]), [])
+        try:
+            cells = next(csv.reader([line]), [])
+        except csv.Error as exc:
+            raise ValueError(f"{path}, line {line_no}: not a CSV line ({exc})") from None
         if not cells or all(not c.strip() for c in cells):
             continue
         if header is None:

@@ -16,10 +16,9 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import os
-import tempfile
 from typing import Callable
 
+from .._atomic import write_text
 from .._cache import PACKAGE_ROOT, cache_dir, source_digest
 from .pipelines import PipelineNet
 
@@ -49,10 +48,7 @@ def cached_pipeline_net(key: dict, make: Callable[[], PipelineNet]) -> PipelineN
     net = make()
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("w", dir=path.parent, suffix=".tmp", delete=False,
-                                         encoding="utf-8") as fh:
-            json.dump(net.as_dict(), fh, allow_nan=False)
-        os.replace(fh.name, path)
+        write_text(path, json.dumps(net.as_dict(), allow_nan=False))  # no temporary file left
     except OSError:  # a read-only home or a full disk: the cache is an optimisation, never a need
         pass
     return net

@@ -26,6 +26,7 @@ import json
 from pathlib import Path
 
 from .. import _validate as v
+from .._atomic import write_text
 from .net import FrictionNet
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "MAX_DEPTH", "UNITS", "save_net", "load_net",
@@ -134,8 +135,12 @@ def net_from_json(text: str) -> FrictionNet:
     return net_from_dict(data)
 
 
-def save_net(net: FrictionNet, path) -> Path:
+def save_net(net: FrictionNet, path, *, overwrite: bool = True) -> Path:
     """Write ``net`` as JSON to ``path`` (see :func:`net_to_json`); returns the path.
+
+    The file is written atomically (:mod:`fricctl._atomic`): complete, or not at all.
+    ``overwrite=False`` refuses (:class:`FileExistsError`) a ``path`` that exists, also one
+    another process creates while this one writes.
 
     Examples
     --------
@@ -150,8 +155,7 @@ def save_net(net: FrictionNet, path) -> Path:
     """
     v.instance("net", net, FrictionNet)
     path = Path(path)
-    path.write_text(net_to_json(net) + "\n", encoding="utf-8")
-    return path
+    return write_text(path, net_to_json(net) + "\n", overwrite=v.flag("overwrite", overwrite))
 
 
 def load_net(path) -> FrictionNet:

@@ -52,6 +52,7 @@ from pathlib import Path
 from typing import Mapping
 
 from .. import _validate as v
+from .._atomic import write_text
 from ..friction import FIELDS as FRICTION_FIELDS
 from ..friction import FrictionModel
 from ..units import KINDS
@@ -411,13 +412,14 @@ class JointModel:
         path : str or os.PathLike
             Destination.
         overwrite : bool
-            False: refuse (:class:`FileExistsError`) when ``path`` exists.
+            False: refuse (:class:`FileExistsError`) when ``path`` exists, also when another
+            process creates it while this one writes (the file is written atomically:
+            :mod:`fricctl._atomic`).
         """
         path = Path(path)
         if not v.flag("overwrite", overwrite) and path.exists():
             raise FileExistsError(17, "already exists (not overwritten)", str(path))
-        path.write_text(self.to_json() + "\n", encoding="utf-8")
-        return path
+        return write_text(path, self.to_json() + "\n", overwrite=overwrite)
 
     @classmethod
     def from_dict(cls, d: dict) -> "JointModel":

@@ -1,0 +1,240 @@
+"""Every file fricctl writes, written atomically: complete, or not there at all (issue 26).
+
+Package-private and at the bottom of the layers.  A writer writes into a temporary file in
+the destination's own folder (``.NAME.XXXXXXXX.fricctl-tmp.EXT``: hidden, and keeping the
+ending, so matplotlib picks the format from it), flushes and fsyncs it, then moves it into
+place in one step:
+
+* ``overwrite=True``: :func:`os.replace` -- a reader sees the old file or the new one, never a
+  mix; two writers that both overwrite never interleave (the last one wins, whole);
+* ``overwrite=False``: :func:`os.link` of the temporary file to the destination, which fails
+  when the destination exists -- so of two runs racing to create the same file, the second is
+  refused (:class:`FileExistsError`) instead of silently replacing the first one's file.
+
+A write that fails or is interrupted (an exception, Ctrl-C, SIGTERM turned into an exception
+by the command line, a full disk, ``ulimit -f``) leaves the destination as it was and removes
+its temporary file.  SIGINT, SIGTERM and SIGHUP are held while a temporary file is created,
+moved into place or removed, so an interrupt cannot fall between the move and the clean-up.
+Only ``kill -9`` (or a power cut) can leave a temporary file behind: never a partial
+destination.  A folder (``fricctl diagnose --report DIR``) is built beside its destination and
+renamed into place (:func:`atomic_folder`).
+
+Notes
+-----
+A destination that is a symbolic link is followed: the file it points to is replaced, the link
+kept (what writing through the link did before).  An existing file's permission bits are kept;
+a new file gets ``0o666`` less the umask, as :func:`open` would give it.  On a file system
+without hard links the exclusive move falls back to a check then :func:`os.replace` (a race of
+microseconds, not of a whole run).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import secrets
+import shutil
+import signal
+import stat
+from pathlib import Path
+from typing import Iterator
+
+__all__ = ["TEMP_MARK", "atomic_path", "atomic_write", "atomic_folder", "write_text"]
+
+#: What every temporary file or folder name holds (tests look for leftovers by it).
+TEMP_MARK = ".fricctl-tmp"
+
+_HELD = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Delay SIGINT/SIGTERM/SIGHUP for the duration (their handlers run right after)."""
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - Windows
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _destination(path) -> Path:
+    """The file a write to ``path`` lands in (a symbolic link followed)."""
+    return Path(os.path.realpath(os.fspath(path)))
+
+
+def _temp_name(dest: Path, suffix: str) -> Path:
+    return dest.parent / f".{dest.stem[:100]}.{secrets.token_hex(4)}{TEMP_MARK}{suffix}"
+
+
+def _reserve(dest: Path) -> Path:
+    """Create an empty temporary file beside ``dest`` (mode 0o666 less the umask)."""
+    for _ in range(100):
+        tmp = _temp_name(dest, dest.suffix)
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            return tmp
+        except FileExistsError:  # pragma: no cover - 32 random bits collided
+            continue
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(dest))  # pragma: no cover
+
+
+def _fsync(path: Path, *, folder: bool = False) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY | (getattr(os, "O_DIRECTORY", 0) if folder else 0))
+    except OSError:  # pragma: no cover - a folder that cannot be opened: durability only
+        if folder:
+            return
+        raise
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover - some file systems cannot fsync a folder
+        if not folder:
+            raise
+    finally:
+        os.close(fd)
+
+
+def _exists_error(dest: Path) -> FileExistsError:
+    return FileExistsError(errno.EEXIST, "exists (another process wrote it meanwhile); not "
+                                         "overwritten", str(dest))
+
+
+def _commit(tmp: Path, dest: Path, overwrite: bool) -> None:
+    """Move the complete ``tmp`` to ``dest`` (signals held by the caller)."""
+    if overwrite:
+        with contextlib.suppress(FileNotFoundError):
+            os.chmod(tmp, stat.S_IMODE(os.stat(dest).st_mode))
+        os.replace(tmp, dest)
+    else:
+        try:
+            os.link(tmp, dest)
+        except FileExistsError:
+            raise _exists_error(dest) from None
+        except OSError as exc:  # no hard links here (EPERM, ENOTSUP, ...): check, then replace
+            if exc.errno not in (errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EMLINK,
+                                 errno.EACCES):
+                raise
+            if os.path.lexists(dest):
+                raise _exists_error(dest) from None
+            os.replace(tmp, dest)
+        else:
+            os.unlink(tmp)
+    _fsync(dest.parent, folder=True)
+
+
+def _named(exc: OSError, tmp: Path | None, dest: Path) -> OSError:
+    """``exc`` naming ``dest`` (a full disk's error names no file; never name a temporary file)."""
+    if exc.filename is not None and (tmp is None or os.fspath(exc.filename) != os.fspath(tmp)):
+        return exc
+    return OSError(exc.errno, exc.strerror or str(exc), str(dest))
+
+
+@contextlib.contextmanager
+def atomic_path(path, *, overwrite: bool = True) -> Iterator[Path]:
+    """A temporary path to write ``path``'s content to; moved into place when the block ends.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The destination.  Its folder must exist.
+    overwrite : bool
+        True: replace an existing file.  False: refuse (:class:`FileExistsError`) when the
+        destination exists when the write completes.
+
+    Yields
+    ------
+    pathlib.Path
+        An empty file beside the destination, with the same ending; write it by name
+        (``savefig``, ``np.save``, another writer).
+
+    Raises
+    ------
+    OSError
+        Writing failed (naming the destination, never the temporary file); the destination
+        is as it was and the temporary file is gone.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     with atomic_path(pathlib.Path(d) / "a.txt") as tmp:
+    ...         _ = tmp.write_text("complete")
+    ...     sorted(p.name for p in pathlib.Path(d).iterdir())
+    ['a.txt']
+    """
+    dest = _destination(path)
+    tmp = None
+    try:
+        with _signals_held():
+            tmp = _reserve(dest)
+        yield tmp
+        _fsync(tmp)
+        with _signals_held():
+            _commit(tmp, dest, overwrite)
+            tmp = None
+    except OSError as exc:
+        named = _named(exc, tmp, dest)
+        if named is exc:
+            raise
+        raise named from None
+    finally:
+        if tmp is not None:
+            with _signals_held(), contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_write(path, *, overwrite: bool = True, encoding: str = "utf-8",
+                 newline: str | None = None):
+    """A text file object whose content replaces ``path`` when the block ends without error.
+
+    See :func:`atomic_path` for the parameters and guarantees.
+    """
+    with atomic_path(path, overwrite=overwrite) as tmp:
+        with open(tmp, "w", encoding=encoding, newline=newline) as fh:
+            yield fh
+
+
+def write_text(path, text: str, *, overwrite: bool = True, encoding: str = "utf-8") -> Path:
+    """Write ``text`` to ``path`` atomically (:func:`atomic_path`); returns ``Path(path)``."""
+    with atomic_write(path, overwrite=overwrite, encoding=encoding) as fh:
+        fh.write(text)
+    return Path(path)
+
+
+@contextlib.contextmanager
+def atomic_folder(path) -> Iterator[Path]:
+    """A folder to fill; ``path`` appears with all of it when the block ends without error.
+
+    A folder that does not exist is built beside its destination and renamed into place (a
+    reader sees no folder or the whole of it).  An existing folder (the user's, maybe with
+    other files) is yielded as it is: write each file into it with :func:`atomic_path`.
+    """
+    dest = _destination(path)
+    if dest.is_dir():
+        yield dest
+        return
+    tmp = None
+    try:
+        with _signals_held():
+            tmp = _temp_name(dest, "")
+            tmp.mkdir()
+        yield tmp
+        with _signals_held():
+            try:
+                os.rename(tmp, dest)  # onto an existing non-empty folder: refused by the OS
+            except OSError as exc:
+                if exc.errno in (errno.EEXIST, errno.ENOTEMPTY, errno.EISDIR, errno.ENOTDIR):
+                    raise _exists_error(dest) from None
+                raise
+            tmp = None
+            _fsync(dest.parent, folder=True)
+    finally:
+        if tmp is not None:
+            with _signals_held():
+                shutil.rmtree(tmp, ignore_errors=True)
+

@@ -1,0 +1,441 @@
+"""Fault injection on the command line (issue 26): what a lab does to a tool.
+
+Each writing command is interrupted (SIGINT, SIGTERM) at a seeded random moment, cut by a
+file-size limit (``RLIMIT_FSIZE``, what ``ulimit -f`` or a full quota does), raced by a
+second run writing the same file, and handed an output that is a hard link to its input.
+After each: the exit code is the documented one (0, 2 for an error, 130 for Ctrl-C, 143 for
+SIGTERM), stderr is one line without a traceback, the destination is absent or equals a
+complete version (the previous one, or the one this command writes: compared byte for byte
+with a reference run, then parsed by fricctl's reader), and no temporary file is left.
+
+The reference is fricctl's own output of the same call made in this process: the outputs are
+deterministic (seeded training, no time stamps).  A signal that lands while Python is still
+loading fricctl (the first few tenths of a second) ends the process as Python does
+(status -signal); the files are untouched then too, which is asserted.
+"""
+
+import os
+import resource
+import signal
+import subprocess
+import sys
+import time
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fricctl._atomic import TEMP_MARK, atomic_folder, atomic_path, write_text
+from fricctl.cli import Terminated, main
+from fricctl.controllers import pd_control, sinusoid
+from fricctl.datasets import Run, read_patterns
+from fricctl.nn import load_net
+from fricctl.params import paper_actuator
+from fricctl.plant import JointModel
+from fricctl.simulate import simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Each writing command: argv writing ``out`` (``variant`` 0: the call under test, 1: another
+#: call, whose output is the "previous version"), the reader that parses its output, and a
+#: file size limit [bytes] below the size of its output.
+COMMANDS = {
+    "simulate": (lambda out, variant: ["simulate", "--controller", "pd", "--rise-time", "0.3",
+                                       "--damping", "0.9", "--reference", "sinusoid:0.5,1",
+                                       "--duration", ("16", "8")[variant], "--csv", out],
+                 Run.from_csv, 64_000),
+    "identify": (lambda out, variant: ["identify", "record.csv", "--model",
+                                       ("coulomb_viscous", "asymmetric")[variant], "--out", out],
+                 JointModel.load, 1_000),
+    "patterns": (lambda out, variant: ["patterns", "record.csv", "--model", "model.json",
+                                       "--border", ("5", "9")[variant], "--out", out],
+                 read_patterns, 64_000),
+    "train": (lambda out, variant: ["train", "patterns.csv", "--trainer", "backprop", "--epochs",
+                                    "100", "--restarts", "1", "--seed", ("0", "1")[variant],
+                                    "--out", out],
+              load_net, 1_000),
+}
+SUFFIX = {"simulate": ".csv", "identify": ".json", "patterns": ".csv", "train": ".json"}
+#: Exit code and stderr of an interrupted command (docs/limits.md, fricctl.cli).
+INTERRUPTED = {signal.SIGINT: (130, "interrupted (Ctrl-C)"),
+               signal.SIGTERM: (143, "terminated (SIGTERM)")}
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    """A folder with a record, its model, its patterns, and each command's two reference
+    outputs (``ref/<command>-<variant>``)."""
+    d = tmp_path_factory.mktemp("faults")
+    p = paper_actuator()
+    run = simulate(p, pd_control(2.0, 0.1, sinusoid(0.5, 1.0)), duration=8.0).to_run(source="bench")
+    run.to_csv(d / "record.csv")
+    cwd = os.getcwd()
+    os.chdir(d)  # the commands are given names relative to the folder, as in the subprocesses
+    try:
+        assert main(["identify", "record.csv", "--out", "model.json"]) == 0
+        assert main(["patterns", "record.csv", "--model", "model.json", "--out", "patterns.csv"]) == 0
+        (d / "ref").mkdir()
+        for name, (argv, _, _) in COMMANDS.items():
+            for variant in (0, 1):
+                # same base name as the runs under test (train writes the patterns' name only)
+                assert main(argv(f"ref/{name}-{variant}{SUFFIX[name]}", variant)) == 0
+    finally:
+        os.chdir(cwd)
+    return d
+
+
+def _reference(work, name, variant) -> bytes:
+    return (work / "ref" / f"{name}-{variant}{SUFFIX[name]}").read_bytes()
+
+
+def _start(work, argv, *, fsize=None, new_session=False):
+    env = dict(os.environ, MPLBACKEND="Agg",
+               PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
+
+    def limit():  # in the child, before exec: ulimit -f
+        resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+
+    return subprocess.Popen([sys.executable, "-m", "fricctl", *argv], cwd=work, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=None if fsize is None else limit,
+                            start_new_session=new_session)
+
+
+def _leftovers(folder: Path) -> list:
+    return sorted(p.name for p in folder.rglob(f"*{TEMP_MARK}*"))
+
+
+def _out(work, name, tag) -> Path:
+    """A fresh destination in a folder of its own (temporary files are looked for there)."""
+    folder = work / f"{name}-{tag}"
+    folder.mkdir()
+    return folder / f"{name}-0{SUFFIX[name]}"
+
+
+def _assert_complete_or_as_before(work, name, dest: Path, before: bytes | None) -> None:
+    """``dest`` is what it was (absent when ``before`` is None) or this call's complete output."""
+    if not dest.exists():
+        assert before is None, f"{dest.name}: the previous version was removed"
+    else:
+        got = dest.read_bytes()
+        assert got in (before, _reference(work, name, 0)), f"{dest.name}: a partial or mixed file"
+        COMMANDS[name][1](dest)  # and fricctl reads it
+    assert _leftovers(dest.parent) == []
+
+
+def _one_line(err: str, start: str) -> None:
+    assert err.count("\n") == 1 and err.startswith(start) and "Traceback" not in err, err
+
+
+# -- the helper itself ----------------------------------------------------------------------
+@pytest.mark.parametrize("exc", [OSError(27, "File too large"), KeyboardInterrupt(), Terminated(),
+                                 RuntimeError("a bug")])
+def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, exc):
+    dest = tmp_path / "out.json"
+    dest.write_text("old")
+    with pytest.raises(type(exc)) as info:
+        with atomic_path(dest) as tmp:
+            tmp.write_text("half of the n")
+            raise exc
+    assert dest.read_text() == "old" and _leftovers(tmp_path) == []
+    if isinstance(exc, OSError):  # a full disk's error names the user's file, not the temporary
+        assert info.value.filename == str(dest)
+
+
+def test_without_overwrite_a_file_created_meanwhile_is_kept(tmp_path):
+    dest = tmp_path / "net.json"
+    with pytest.raises(FileExistsError, match="meanwhile"):
+        with atomic_path(dest, overwrite=False) as tmp:
+            tmp.write_text("mine")
+            dest.write_text("the other run's")  # a second run finished first
+    assert dest.read_text() == "the other run's" and _leftovers(tmp_path) == []
+    write_text(dest, "replaced whole")  # overwrite=True: os.replace
+    assert dest.read_text() == "replaced whole"
+
+
+def test_a_new_folder_appears_whole_or_not_at_all(tmp_path):
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_folder(tmp_path / "report") as where:
+            write_text(where / "a.md", "a")
+            raise KeyboardInterrupt
+    assert list(tmp_path.iterdir()) == []
+    with atomic_folder(tmp_path / "report") as where:
+        write_text(where / "a.md", "a")
+    assert [p.name for p in tmp_path.iterdir()] == ["report"]
+    assert (tmp_path / "report" / "a.md").read_text() == "a"
+
+
+def test_a_symlinked_output_is_written_through_and_new_files_get_the_umask(tmp_path):
+    target = tmp_path / "target.json"
+    target.write_text("old")
+    os.chmod(target, 0o640)
+    (tmp_path / "link.json").symlink_to(target)
+    write_text(tmp_path / "link.json", "new")
+    assert (tmp_path / "link.json").is_symlink() and target.read_text() == "new"
+    assert target.stat().st_mode & 0o777 == 0o640  # an existing file keeps its mode
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert write_text(tmp_path / "fresh.txt", "x").stat().st_mode & 0o777 == 0o666 & ~umask
+
+
+# -- hard links: the same file under two names -----------------------------------------------
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_an_output_hard_linked_to_an_input_is_refused(work, tmp_path, capsys, name):
+    inputs = {"simulate": "model.json", "identify": "record.csv", "patterns": "record.csv",
+              "train": "patterns.csv"}
+    src = work / inputs[name]
+    before = src.read_bytes()
+    link = tmp_path / f"link{SUFFIX[name]}"
+    os.link(src, link)
+    argv = COMMANDS[name][0](str(link), 0)
+    if name == "simulate":  # the model file is simulate's input
+        argv = ["simulate", "--model", str(src), "--controller", "p", "--kp", "1",
+                "--reference", "step:0.1", "--csv", str(link)]
+    cwd = os.getcwd()
+    os.chdir(work)
+    try:
+        assert main([*argv, "--force"]) == 2
+    finally:
+        os.chdir(cwd)
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl {name}: error:")
+    assert "hard link" in err and src.name in err and link.name in err
+    assert src.read_bytes() == before
+
+
+def test_a_report_file_hard_linked_to_the_record_is_refused(work, tmp_path, capsys):
+    report = tmp_path / "report"
+    report.mkdir()
+    os.link(work / "record.csv", report / "report.md")
+    assert main(["diagnose", str(work / "record.csv"), "--report", str(report), "--force"]) == 2
+    _one_line(capsys.readouterr().err, "fricctl diagnose: error: --report (report.md)")
+
+
+# -- a file size limit (ulimit -f, a full quota) ----------------------------------------------
+def _cut_by_a_file_size_limit(work, name):
+    argv, _, limit = COMMANDS[name]
+    dest = _out(work, name, "fsize")
+    old = _reference(work, name, 1)
+    dest.write_bytes(old)
+    proc = _start(work, [*argv(str(dest), 0), "--force"], fsize=limit)
+    err = proc.communicate()[1]
+    assert proc.returncode == 2, err
+    _one_line(err, f"fricctl {name}: error: {dest}")  # the message names the user's file
+    assert dest.read_bytes() == old and _leftovers(dest.parent) == []
+
+
+@pytest.mark.parametrize("name", ["simulate", "patterns"])
+def test_a_file_size_limit_leaves_the_previous_version(work, name):
+    _cut_by_a_file_size_limit(work, name)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["identify", "train"])
+def test_a_file_size_limit_leaves_the_previous_version_slow(work, name):
+    _cut_by_a_file_size_limit(work, name)
+
+
+# -- interrupts at a random moment ------------------------------------------------------------
+def _interrupt(work, name, sig, seed):
+    rng = np.random.default_rng([seed, zlib.crc32(name.encode()), int(sig)])
+    previous = bool(rng.integers(2))  # over an older version (--force), or into nothing
+    dest = _out(work, name, f"{sig.name}-{seed}")
+    before = _reference(work, name, 1) if previous else None
+    if previous:
+        dest.write_bytes(before)
+    argv = COMMANDS[name][0](str(dest), 0) + (["--force"] if previous else [])
+    proc = _start(work, argv)
+    time.sleep(rng.uniform(0.5, 6.0))  # a command here takes 3 to 8 s
+    proc.send_signal(sig)
+    err = proc.communicate()[1]
+    code, what = INTERRUPTED[sig]
+    if proc.returncode == 0:  # it finished first
+        assert dest.read_bytes() == _reference(work, name, 0)
+    elif proc.returncode == code:
+        _one_line(err, f"fricctl {name}: {what}")
+    else:  # still loading the fricctl package, before its main: Python's own ending (docs/
+        # limits.md), a Ctrl-C possibly wrapped by a compiled module's import; nothing touched
+        assert proc.returncode == -sig or (sig == signal.SIGINT and proc.returncode == 1
+                                           and "KeyboardInterrupt" in err), err
+    _assert_complete_or_as_before(work, name, dest, before)
+
+
+@pytest.mark.parametrize("name, sig", [("patterns", signal.SIGINT), ("train", signal.SIGTERM)])
+def test_an_interrupt_leaves_no_partial_output(work, name, sig):
+    _interrupt(work, name, sig, seed=0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_an_interrupt_leaves_no_partial_output_slow(work, name, sig, seed):
+    _interrupt(work, name, sig, seed=seed + 1)
+
+
+# -- two runs writing the same file -----------------------------------------------------------
+def test_two_runs_to_the_same_out_without_force_one_is_refused(work):
+    argv = COMMANDS["train"][0]
+    dest = _out(work, "train", "race")
+    procs = [_start(work, argv(str(dest), variant)) for variant in (0, 1)]
+    errs = [p.communicate()[1] for p in procs]
+    codes = [p.returncode for p in procs]
+    assert sorted(codes) == [0, 2], errs
+    winner = codes.index(0)
+    _one_line(errs[1 - winner], "fricctl train: error:")
+    assert "exists" in errs[1 - winner]
+    assert dest.read_bytes() == _reference(work, "train", winner)  # the winner's, whole
+    assert _leftovers(dest.parent) == []
+
+
+@pytest.mark.slow
+def test_two_runs_to_the_same_out_with_force_never_interleave(work):
+    argv = COMMANDS["patterns"][0]
+    dest = _out(work, "patterns", "race-force")
+    procs = [_start(work, [*argv(str(dest), variant), "--force"]) for variant in (0, 1)]
+    errs = [p.communicate()[1] for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], errs
+    assert dest.read_bytes() in (_reference(work, "patterns", 0), _reference(work, "patterns", 1))
+    assert _leftovers(dest.parent) == []
+
+
+# -- diagnose --report and reproduce ----------------------------------------------------------
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(3))
+def test_an_interrupted_report_leaves_no_folder(work, seed):
+    rng = np.random.default_rng(seed)
+    report = work / f"report-{seed}"
+    proc = _start(work, ["diagnose", "record.csv", "--report", str(report)])
+    time.sleep(rng.uniform(2.0, 12.0))
+    proc.send_signal(signal.SIGINT)
+    err = proc.communicate()[1]
+    if proc.returncode == 0:
+        assert sorted(p.name for p in report.iterdir()) == sorted(
+            ["residuals.png", "simulation.png", "spectrum.png", "steps.png", "report.md",
+             "extended_model.json"])
+    else:
+        assert proc.returncode in (130, -signal.SIGINT), err
+        assert not report.exists()
+    assert _leftovers(work) == []
+
+
+@pytest.mark.slow
+def test_a_report_cut_by_a_file_size_limit_leaves_no_folder(work):
+    report = work / "report-fsize"
+    proc = _start(work, ["diagnose", "record.csv", "--report", str(report)], fsize=20_000)
+    err = proc.communicate()[1]
+    assert proc.returncode == 2, err
+    _one_line(err, "fricctl diagnose: error:")
+    assert not report.exists() and _leftovers(work) == []
+
+
+def _alive(pids) -> list:
+    out = []
+    for pid in pids:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            continue
+        if state != "Z":
+            out.append(pid)
+    return out
+
+
+def _children(pid) -> list:
+    return subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True).stdout.split()
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
+@pytest.mark.parametrize("how", ["ctrl-c", "kill-9"])
+def test_reproduce_workers_die_with_their_parent(work, how):
+    out = work / f"reproduce-{how}"
+    proc = _start(work, ["reproduce", "--out", str(out), "--fast", "--seeds", "2", "--workers",
+                         "2", "--pipelines", "fricctl"], new_session=True)
+    while len(_children(proc.pid)) < 2 and proc.poll() is None:  # the workers have started
+        time.sleep(0.2)
+    time.sleep(2.0)
+    kids = _children(proc.pid)
+    assert proc.poll() is None and kids
+    if how == "ctrl-c":  # a terminal sends SIGINT to the whole foreground process group
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.kill()
+    err = proc.communicate()[1]
+    if how == "ctrl-c":
+        assert proc.returncode == 130, err
+        assert "Traceback" not in err and err.rstrip().endswith(
+            "fricctl reproduce: interrupted (Ctrl-C); outputs not yet complete were not written")
+    for _ in range(600):  # the workers notice within 0.2 s; a loaded machine may take longer
+        if not _alive(kids):
+            break
+        time.sleep(0.1)
+    assert _alive(kids) == []
+    assert _leftovers(work) == []
+
+
+# -- files from elsewhere ---------------------------------------------------------------------
+def _bad_file(tmp_path, name, content: bytes) -> Path:
+    path = tmp_path / name
+    path.write_bytes(content)
+    return path
+
+
+def _mat_v73(tmp_path) -> Path:
+    """The 128-byte header of a MATLAB v7.3 file (HDF5 inside): version 0x0200."""
+    text = b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Mon Jan  1 00:00:00 2024 HDF5"
+    return _bad_file(tmp_path, "v73.mat", text.ljust(116) + bytes(8) + b"\x00\x02IM" + bytes(512))
+
+
+def _mat_corrupt(tmp_path) -> Path:
+    from scipy.io import savemat
+
+    n = 500
+    t = np.arange(n) * 1e-3
+    path = tmp_path / "corrupt.mat"
+    savemat(path, {"t": t, "qm": np.sin(t), "qg": np.sin(t), "vir": np.cos(t), "gtau": 1.0,
+                   "kp": 1.0, "kv": 1.0}, do_compression=True)
+    raw = bytearray(path.read_bytes())
+    raw[1000:1040] = b"\x13" * 40  # inside the compressed data of a variable
+    path.write_bytes(bytes(raw))
+    return path
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda d: _bad_file(d, "nul.csv", bytes(3000)), "NUL byte"),
+    (lambda d: _bad_file(d, "long.csv", b"t,torque,position\n" + b"1" * 200_000 + b"\n"),
+     "200000 characters"),
+    (_mat_v73, "save it with -v7"),
+    (_mat_corrupt, "corrupt MATLAB file"),
+])
+@pytest.mark.parametrize("command", ["identify", "diagnose"])
+def test_a_foreign_file_is_refused_in_one_line_naming_it_once(tmp_path, capsys, make, words,
+                                                              command):
+    path = make(tmp_path)
+    assert main([command, str(path)]) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl {command}: error:")
+    assert words in err and err.count(path.name) == 1, err
+
+
+def test_a_utf8_byte_order_mark_is_accepted(work, tmp_path, capsys):
+    bom = tmp_path / "excel.csv"
+    bom.write_bytes(b"\xef\xbb\xbf" + (work / "record.csv").read_bytes())
+    assert main(["identify", str(bom), "--json"]) == 0
+    with_bom = capsys.readouterr().out
+    assert main(["identify", str(work / "record.csv"), "--json"]) == 0
+    assert capsys.readouterr().out == with_bom
+    plain = tmp_path / "excel-header.csv"  # a BOM before the header itself (no '#' lines)
+    text = (work / "record.csv").read_text().splitlines()
+    plain.write_bytes(b"\xef\xbb\xbf" + "\n".join(x for x in text if not x.startswith("#")).encode())
+    assert Run.from_csv(plain).n_samples == Run.from_csv(work / "record.csv").n_samples
+
+
+def test_a_dangling_output_link_names_its_target_folder(work, tmp_path, capsys):
+    link = tmp_path / "model.json"
+    link.symlink_to(tmp_path / "missing" / "model.json")
+    assert main(["identify", str(work / "record.csv"), "--out", str(link)]) == 2
+    err = capsys.readouterr().err
+    _one_line(err, "fricctl identify: error: --out:")
+    assert str(tmp_path / "missing") in err
