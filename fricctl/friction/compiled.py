@@ -37,14 +37,17 @@ from .layout import IDX
 __all__ = ["scale_at", "ripple", "rate", "level", "sliding", "breakaway", "state", "SOURCE"]
 
 
-def _call(prefix: str, law, func, signals: dict) -> str:
-    """``prefix_law(arg, ...)``: signals by their local names, coefficients as ``fp[i]``."""
+def _call(prefix: str, law, func, signals: dict, scale: str | None = None) -> str:
+    """``prefix_law(arg, ...)``: signals by their local names, coefficients as ``fp[i]``; with
+    ``scale``, the law's magnitudes (coefficients that add) multiplied by it first."""
+    magnitudes = {c.name for c in law.coefficients if c.combine == "add"}
     args = []
     for name in inspect.signature(func).parameters:
         if name in SIGNALS:
             args.append(signals[name])
         elif name in law.field_names:
-            args.append(f"fp[{IDX[name]}]")
+            args.append(f"{scale} * fp[{IDX[name]}]" if scale and name in magnitudes
+                        else f"fp[{IDX[name]}]")
         else:
             raise ValueError(f"law {law.name}: compiled term argument {name!r} is neither a signal "
                              f"{SIGNALS} nor one of its coefficients {law.field_names}")
@@ -84,7 +87,10 @@ def _generate() -> tuple[str, dict]:
         "",
         "def rate(fp, w, s, t):",
         '    """The rate terms (viscous, drag), scaled, in direction s [N*m]."""',
-        f"    return scale_at(fp, t) * ({_sum([_call('t', law, law.compiled, sig) for law in laws_with_role('rate')])})",
+        # the scale multiplies each rate law's magnitudes, (k*b)*w: the arithmetic of the
+        # hand-written kernels before the laws were plug-ins, kept to the last bit
+        "    k = scale_at(fp, t)",
+        f"    return {_sum([_call('t', law, law.compiled, sig, 'k') for law in laws_with_role('rate')])}",
         "",
         "def level(fp, w, s, tm, t):",
         '    """The level (Coulomb, Stribeck, load), scaled, in direction s at speed |w| [N*m]."""',
