@@ -38,7 +38,7 @@ from ._cache import PACKAGE_ROOT, cache_dir, source_digest
 __all__ = ["jit", "compiled_digest", "compiled_sources"]
 
 #: A module compiles through this one when it imports it (``from .._jit import jit``).
-_USES_JIT = re.compile(r"^\s*from\s+\.+_jit\s+import\s", re.M)
+_USES_JIT = re.compile(r"^\s*from\s+(\.+|fricctl\.)_jit\s+import\s", re.M)
 
 
 def _package_imports(f: Path) -> set[Path]:

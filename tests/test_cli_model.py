@@ -78,3 +78,12 @@ def test_the_model_file_page_example_loads_and_lists_every_coefficient():
     assert COEFFICIENTS_PLACEHOLDER in text
     table = coefficients_table()
     assert all(f"`{name}`" in table for name in FIELDS)  # read from the law registry
+
+
+def test_model_new_keeps_the_breakaway_it_was_given(tmp_path):
+    # --friction cannot change what --static was computed from (Fs - Fc per direction)
+    proc = subprocess.run([sys.executable, "-m", "fricctl", "model", "new", "--inertia", "1",
+                           "--coulomb", "1", "--static", "2", "--stribeck-velocity", "0.1",
+                           "--friction", "coulomb_neg=1.5", "--out", str(tmp_path / "m.json")],
+                          capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 2 and "own option" in proc.stderr

@@ -57,3 +57,13 @@ def test_drag_sub_steps_follow_the_speed_the_run_can_reach():
     out = replay(RigidJoint(inertia=1e-5, friction=m), np.full(200, 2.0), 0.002, omega0=-30.0)
     assert np.all(np.isfinite(out.omega)) and np.all(out.omega * out.friction >= 0)
     assert out.omega[-1] == pytest.approx(np.sqrt((2.0 - 0.01) / 0.5), rel=1e-6)
+
+
+def test_speed_bound_past_a_falling_stribeck_level():
+    # Stribeck friction first falls with speed: the top speed is where viscous friction makes
+    # up the rest (closed form (T - Fc)/b = 500 rad/s), not the first crossing near rest
+    from fricctl.friction import Stribeck
+    from fricctl.plant.stability import speed_bound
+
+    m = (Coulomb(1.0) + Stribeck(1.0, velocity=2.0) + Viscous(0.001)).model()
+    assert speed_bound(m, 1.5, omega0=5.0) == pytest.approx(500.0, rel=1e-9)

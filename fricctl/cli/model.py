@@ -92,10 +92,15 @@ def _friction(args) -> dict:
         fr["stribeck_pos"] = fs - fr["coulomb_pos"]
         fr["stribeck_neg"] = fs - fr["coulomb_neg"]
         fr["stribeck_velocity"] = _number("--stribeck-velocity", args.stribeck_velocity, positive=True)
+    own = {"viscous_pos", "viscous_neg", "coulomb_pos", "coulomb_neg", "stribeck_pos",
+           "stribeck_neg", "stribeck_velocity"}  # set by their own options (Fs - Fc stays true)
     for item in args.friction:
         name, sep, value = item.partition("=")
         if not sep:
             raise ValueError(f"--friction {item!r}: expected NAME=VALUE")
+        if name.strip() in own:
+            raise ValueError(f"--friction {name.strip()}: set it with its own option (--viscous, "
+                             "--coulomb, their -neg forms, --static, --stribeck-velocity)")
         if name.strip() not in FIELDS:
             from difflib import get_close_matches
 
@@ -106,7 +111,9 @@ def _friction(args) -> dict:
             fr[name.strip()] = float(value)
         except ValueError:
             raise ValueError(f"--friction {name.strip()}: {value!r} is not a number") from None
-    return {k: x for k, x in fr.items() if x != 0.0 or k in ("stribeck_velocity",)}
+    from ..friction import DEFAULTS
+
+    return {k: x for k, x in fr.items() if x != DEFAULTS[k] or k == "stribeck_velocity"}
 
 
 def run_new(args) -> int:
@@ -130,10 +137,9 @@ def run_new(args) -> int:
     note = "fricctl model new"
     prov = {k: Provenance(source=args.source_of, note=note) for k, x in values.items()
             if x is not None and (x != 0.0 or k == "inertia")}
-    prov.update({f"friction.{k}": Provenance(source=args.source_of if not k.startswith("stribeck_")
-                                             or k == "stribeck_velocity" else "derived",
-                                             note=note if not k.startswith("stribeck_")
-                                             or k == "stribeck_velocity" else "--static minus --coulomb")
+    derived = {"stribeck_pos", "stribeck_neg"}  # Fs - Fc
+    prov.update({f"friction.{k}": Provenance(source="derived" if k in derived else args.source_of,
+                                             note="--static minus --coulomb" if k in derived else note)
                  for k in fr})
     model = JointModel(inertia=args.inertia, friction=FrictionModel(**fr), offset=args.offset,
                        units=args.units, source=args.source or "fricctl model new",

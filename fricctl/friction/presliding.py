@@ -25,6 +25,8 @@ def bristle_state(q, xc, z0, exponent):
     sub-steps of each step [-].
     """
     z = np.empty(q.size)
+    if q.size == 0:  # nothing to integrate (and no z[0] to write)
+        return z
     zz = z0
     z[0] = zz
     for k in range(1, q.size):

@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .. import _validate as v
 from ..friction import LAWS, FrictionModel
 
@@ -105,12 +107,15 @@ def speed_bound(friction: FrictionModel, torque: float | None, omega0: float = 0
         return min(abs(friction.torque(w) - friction.ripple(0.0)),
                    abs(friction.torque(-w) - friction.ripple(0.0)))
 
-    hi = 1.0
-    while sliding(hi) < need:
-        hi *= 2.0
-        if hi > 1e12:
-            return None
-    lo = 0.0
+    # the last speed of a log grid where friction is still below the torque (a Stribeck level
+    # falls with speed first, so the first crossing is not the joint's top speed), then bisection
+    grid = np.logspace(-6, 12, 181)
+    below = np.flatnonzero([sliding(w) < need for w in grid])
+    if below.size == 0:
+        return w0
+    if below[-1] == grid.size - 1:
+        return None  # friction never reaches the torque: no finite top speed
+    lo, hi = float(grid[below[-1]]), float(grid[below[-1] + 1])
     for _ in range(60):  # bisection
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if sliding(mid) < need else (lo, mid)

@@ -32,7 +32,8 @@ class Dahl(FrictionLaw):
     sigma0 : float
         Bristle stiffness [N*m/rad].
     exponent : float
-        Shape exponent alpha in [0.5, 2] [-] (1: Dahl's usual choice).
+        Shape exponent alpha in [1, 2] [-] (1: Dahl's usual choice; below 1 the state equation
+        is not Lipschitz at the Coulomb level and the fixed-step integrator cannot follow it).
     """
 
     def __init__(self, sigma0, exponent=1.0):
@@ -40,8 +41,8 @@ class Dahl(FrictionLaw):
 
         self.sigma0 = v.real("Dahl sigma0", sigma0, positive=True)
         self.exponent = v.real("Dahl exponent", exponent, positive=True)
-        if not 0.5 <= self.exponent <= 2.0:
-            raise ValueError(f"Dahl exponent must be in [0.5, 2], got {self.exponent}")
+        if not 1.0 <= self.exponent <= 2.0:
+            raise ValueError(f"Dahl exponent must be in [1, 2], got {self.exponent}")
 
     def contribution(self):
         return {"dahl_sigma0": self.sigma0, "dahl_exponent": self.exponent}
@@ -71,8 +72,9 @@ LAW = Law(
     name="dahl", order=90, role="state", constructor=Dahl,
     description="Dahl presliding: an elastic bristle deflection carrying the friction",
     coefficients=(
-        Coefficient(name="dahl_sigma0", unit="N*m/rad", doc="bristle stiffness sigma0"),
-        Coefficient(name="dahl_exponent", unit="-", default=1.0, lower=0.5, upper=2.0,
+        Coefficient(name="dahl_sigma0", unit="N*m/rad", combine="replace",
+                    doc="bristle stiffness sigma0"),
+        Coefficient(name="dahl_exponent", unit="-", default=1.0, lower=1.0, upper=2.0,
                     combine="replace", doc="shape exponent alpha",
                     provenance="Dahl's usual choice")),
     state=StateEquation(
