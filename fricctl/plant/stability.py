@@ -103,14 +103,14 @@ def speed_bound(friction: FrictionModel, torque: float | None, omega0: float = 0
         return None
     need = abs(v.real("torque", torque)) + friction.ripple_amplitude
 
-    def sliding(w):  # the weaker direction's sliding friction at speed w, ripple left out
-        return min(abs(friction.torque(w) - friction.ripple(0.0)),
-                   abs(friction.torque(-w) - friction.ripple(0.0)))
+    def sliding(w):  # the weaker direction's sliding friction at speed(s) w, ripple left out
+        return np.minimum(np.abs(friction.torque(w) - friction.ripple(0.0)),
+                          np.abs(friction.torque(-np.asarray(w)) - friction.ripple(0.0)))
 
     # the last speed of a log grid where friction is still below the torque (a Stribeck level
     # falls with speed first, so the first crossing is not the joint's top speed), then bisection
     grid = np.logspace(-6, 12, 181)
-    below = np.flatnonzero([sliding(w) < need for w in grid])
+    below = np.flatnonzero(sliding(grid) < need)
     if below.size == 0:
         return w0
     if below[-1] == grid.size - 1:

@@ -17,7 +17,8 @@ from ..friction import FrictionLaw, FrictionModel
 from ..params import ActuatorParams
 from ..plant import FLEXIBLE, RIGID, STATE, FlexibleJoint, JointModel, KernelArgs, RigidJoint
 from ..plant.joints import checked_state, checked_substeps, plant_label
-from ..plant.stability import MAX_SUBSTEPS, fastest_rate, required_substeps, speed_bound
+from ..plant.stability import (MAX_SUBSTEPS, fastest_rate, friction_slope, required_substeps,
+                               speed_bound)
 from .loop import OUTPUTS, joint_interval, run_compiled, run_python
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
 from .spec import CompensatorSpec, ControlSpec, LoopSpec, PlantSpec
@@ -48,6 +49,11 @@ def _check_drift(friction: FrictionModel, t0: float, t1: float) -> None:
                              f"1 + drift*t <= 0 at t = {t:g} s: friction would drive the joint")
 
 
+def _speed_matters(friction: FrictionModel) -> bool:
+    """True when a law's slope grows with speed (drag): the run's top speed sizes the sub-steps."""
+    return friction_slope(friction, 1.0) != friction_slope(friction, 2.0)
+
+
 def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, t1: float, *,
               torque=None, omega0: float = 0.0) -> int:
     """RK4 sub-steps: the kind's default raised to what the plant's fastest rate needs
@@ -63,7 +69,7 @@ def _substeps(requested, kind: int, ts: float, args_list, frictions, t0: float, 
         r = fastest_rate(inertia=a.motor_inertia, friction=fr.scaled(peak) if peak != 1.0 else fr,
                          load_inertia=a.load_inertia if a.stiffness > 0 else 0.0,
                          stiffness=a.stiffness, damping=a.damping,
-                         speed=speed_bound(fr, tq, omega0))
+                         speed=speed_bound(fr, tq, omega0) if _speed_matters(fr) else None)
         rate = max(rate, r)
         need = max(need, required_substeps(sample_time=ts, rate=r))
     if requested is None:
