@@ -20,14 +20,17 @@ measured motion, so the errors-in-variables bias of IDIM-LS cannot arise.
 
 Solver: Levenberg-Marquardt on a forward-difference Jacobian of the simulation (each
 column one more simulation), each step the bounded linear least squares of the
-linearised error posed in CasADi (:func:`~fricctl.identify.fit_least_squares`, inertia
+linearised error a bounded quadratic posed once in CasADi (IPOPT; inertia
 and friction magnitudes kept non-negative).  Standard errors from the Jacobian at the
-optimum: ``sigma * sqrt(diag((J^T J)^-1))``.
+optimum, the residual summed over blocks longer than its correlation
+(:mod:`~fricctl.identify.uncertainty`; the white-noise formula is optimistic for an
+output error, 36 times on a seeded 1 kHz open-loop record).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -36,9 +39,10 @@ from ..controllers import Controller
 from ..datasets import Run
 from ..estimation import decimate
 from .idim import IdimRecipe, idim_ls
-from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
+from .least_squares import IdentificationResult
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names
 from .simulation import RecordLoop, initial_velocity, record_loop, simulate_record
+from .uncertainty import block_covariance
 
 __all__ = ["didim", "OUTPUTS"]
 
@@ -48,15 +52,22 @@ OUTPUTS = ("torque", "position")
 
 @dataclass(frozen=True, kw_only=True)
 class _Problem:
-    run: Run
+    runs: tuple
+    """The record's segments (one, or the pieces of a record with gaps: position output)."""
     loop: RecordLoop
     names: tuple
     output: str
-    initial_velocity: float
+    initial_velocities: tuple
     recipe: IdimRecipe
 
+    @cached_property
+    def _measured(self) -> np.ndarray:
+        if self.output == "torque":
+            return self.observed(self.runs[0].torque)
+        return np.concatenate([r.position - r.position.mean() for r in self.runs])
+
     def measured(self) -> np.ndarray:
-        return self.observed(self.run.torque if self.output == "torque" else self.run.position)
+        return self._measured
 
     def observed(self, x) -> np.ndarray:
         """The output as compared: a torque decimated by the recipe (the parallel filtering
@@ -67,14 +78,18 @@ class _Problem:
         return decimate(np.asarray(x, dtype=float)[self.recipe.border:], self.recipe.decimation)
 
     def residual(self, theta) -> np.ndarray:
-        sim = simulate_record(self.run, dict(zip(self.names, theta)), self.loop,
-                              initial_velocity=self.initial_velocity)
+        params = dict(zip(self.names, theta))
         if self.output == "torque":
-            return self.measured() - self.observed(sim.torque)
-        r = self.run.position - sim.position
-        # the encoder's first reading (the replay's start) is off by up to a count: a
-        # constant the parameters cannot explain, profiled out (the start fitted by LS)
-        return r - r.mean()
+            sim = simulate_record(self.runs[0], params, self.loop,
+                                  initial_velocity=self.initial_velocities[0])
+            return self._measured - self.observed(sim.torque)
+        out = []
+        for run, w0 in zip(self.runs, self.initial_velocities):
+            r = run.position - simulate_record(run, params, self.loop, initial_velocity=w0).position
+            # the encoder's first reading (the replay's start) is off by up to a count: a
+            # constant the parameters cannot explain, profiled out (the start fitted by LS)
+            out.append(r - r.mean())
+        return np.concatenate(out)
 
     def jacobian(self, theta, r0, step) -> np.ndarray:
         """d(simulated output)/d(theta) by forward differences (``-d r/d theta``)."""
@@ -89,7 +104,8 @@ class _Problem:
 def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
           output: str | None = None, controller: Controller | None = None,
           recipe: IdimRecipe | None = None, max_iterations: int = 30,
-          tolerance: float = 1e-6) -> IdentificationResult:
+          tolerance: float = 1e-6, start: IdentificationResult | None = None,
+          loop: RecordLoop | None = None, also: tuple = ()) -> IdentificationResult:
     """DIDIM of a record: the simulation (output) error minimised over the parameters.
 
     Parameters
@@ -114,6 +130,18 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     tolerance : float
         Stop when a step changes the parameters, each in units of its magnitude, by
         less than ``tolerance`` relative to their norm [-].
+    start : IdentificationResult, optional
+        The estimate to start from, over the same parameter names (default: the record's
+        IDIM-LS by ``recipe``); :func:`~fricctl.identify.identify_record` starts from its
+        equation error on the record's own signals.
+    loop : RecordLoop, optional
+        How the record is simulated, when already decided (:func:`record_loop`);
+        exclusive with ``controller``.
+    also : tuple of fricctl.datasets.Run
+        More segments of the same drive (a record with gaps: the blocks left in by a
+        delete-a-block jackknife), each replayed from its own start; the output errors of
+        all segments are minimised together.  Open loop (replay) and position output only;
+        ``start`` is then required.
 
     Returns
     -------
@@ -127,7 +155,8 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     The simulated joint is rigid, without encoder quantisation or noise; a closed loop
     runs the package's sampled loop (:mod:`fricctl.simulate`).  The output error of a
     simulation is coloured (a position integrates every torque error), so the standard
-    errors, which assume white errors, are optimistic.  Stick-slip makes the simulated
+    errors come from the residual summed over blocks longer than its correlation
+    (:func:`~fricctl.identify.uncertainty.block_covariance`).  Stick-slip makes the simulated
     output a non-smooth function of the parameters; the forward differences step by
     1e-4 of each magnitude, above that roughness on the records tested.
     """
@@ -137,7 +166,12 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
                          f"({', '.join(LINEAR_MODELS)}), not {model!r}")
     max_iterations = v.integer("max_iterations", max_iterations, low=1)
     tolerance = v.real("tolerance", tolerance, positive=True)
-    loop = record_loop(run, controller)
+    if loop is None:
+        loop = record_loop(run, controller)
+    elif controller is not None:
+        raise ValueError("controller: give the controller or the loop, not both")
+    else:
+        v.instance("loop", loop, RecordLoop)
     if output is None:
         output = "torque" if loop.closed else "position"
     v.choice("output", output, OUTPUTS)
@@ -145,11 +179,22 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
         raise ValueError("output: 'torque' needs a closed-loop simulation (an open-loop replay "
                          "applies the recorded torque); give the controller or use 'position'")
     recipe = IdimRecipe() if recipe is None else v.instance("recipe", recipe, IdimRecipe)
-    start = idim_ls(run, model=model, offset=offset, recipe=recipe)
     names = model_names(model, offset)
-    prob = _Problem(run=run, loop=loop, names=names, output=output, recipe=recipe,
-                    initial_velocity=initial_velocity(run, recipe.cutoff,
-                                                     recipe.filter_order))
+    if start is None:
+        start = idim_ls(run, model=model, offset=offset, recipe=recipe)
+    else:
+        v.instance("start", start, IdentificationResult)
+        if tuple(start.names) != names:
+            raise ValueError(f"start: its parameters {start.names} are not the model's {names}")
+    also = tuple(v.instance(f"also[{i}]", r, Run, "a fricctl.datasets.Run")
+                 for i, r in enumerate(also))
+    if also and (loop.closed or output != "position" or start is None):
+        raise ValueError("also: more segments are replayed (open loop, position output) from a "
+                         "given start")
+    runs = (run,) + also
+    prob = _Problem(runs=runs, loop=loop, names=names, output=output, recipe=recipe,
+                    initial_velocities=tuple(initial_velocity(r, recipe.cutoff,
+                                                              recipe.filter_order) for r in runs))
     theta = start.estimates.copy()
     # magnitude of each parameter: its start, or (offset near 0) a thousandth of the largest
     # torque it could explain alone
@@ -159,12 +204,13 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     r = prob.residual(theta)
     cost = float(r @ r)
     lam, converged, warnings = 1e-3, False, list(loop.warnings)
+    step_solver = _StepSolver(len(names))
     for iteration in range(1, max_iterations + 1):
         J = prob.jacobian(theta, r, 1e-4 * mag)
         D = np.sqrt(np.sum(J * J, axis=0))
         while True:
-            step = _lm_step(J, r, D, lam, names, lower - theta, mag)
-            trial = theta + step
+            step = step_solver(J, r, D, lam, lower - theta, mag)
+            trial = np.maximum(theta + step, lower)  # IPOPT honours bounds to its tolerance
             rt = prob.residual(trial)
             ct = float(rt @ rt)
             if ct <= cost:
@@ -182,19 +228,17 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     if not converged:
         warnings.append(f"DIDIM did not converge in {max_iterations} iterations (last relative "
                         f"step {change:.2g}): the estimate is the last iterate")
-    if output == "position":
-        warnings.append("standard errors assume a white output error; a replayed position "
-                        "integrates every torque error (coloured), so they are optimistic "
-                        "(36x on a seeded 1 kHz test record)")
     J = prob.jacobian(theta, r, 1e-4 * mag)
     measured = prob.measured()
-    measured = measured - measured.mean() if output == "position" else measured
     predicted = measured - r
-    sigma = float(np.std(r, ddof=1))
-    cov = np.linalg.inv(J.T @ J)
+    bc = block_covariance(J, r)
+    if bc.capped:
+        warnings.append(f"the {output} error is correlated over {bc.correlation:.3g} samples, "
+                        f"more than a twentieth of the record: the standard errors are lower "
+                        f"bounds")
     at_bound = np.isfinite(lower) & (theta <= lower + 1e-9 * mag)
     return IdentificationResult(
-        names=names, estimates=theta, std=sigma * np.sqrt(np.diag(cov)),
+        names=names, estimates=theta, std=bc.std,
         condition_number=float(np.linalg.cond(J)),
         abs_diag_r=np.abs(np.diag(np.linalg.qr(J, mode="r"))), measured=measured,
         predicted=predicted, model=model, units=run.units, recipe=recipe,
@@ -203,10 +247,35 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
         iterations=iteration, at_bound=at_bound, method="DIDIM", warnings=tuple(warnings))
 
 
-def _lm_step(J, r, D, lam, names, lower, mag) -> np.ndarray:
-    """``argmin ||r - J d||^2 + lam ||D d||^2`` subject to ``d >= lower``, in CasADi/IPOPT."""
-    A = np.vstack([J, np.sqrt(lam) * np.diag(D)])
-    b = np.concatenate([r, np.zeros(len(names))])
-    res = fit_least_squares(linear_prediction, A, b, names=names, initial=np.zeros(len(names)),
-                            lower=np.minimum(lower, 0.0), scale=1e-2 * mag)
-    return res.estimates
+class _StepSolver:
+    """The Levenberg-Marquardt step ``argmin ||r - J d||^2 + lam ||D d||^2`` subject to
+    ``d >= lower``: a p-variable bounded quadratic posed once in CasADi (IPOPT), its
+    matrices NLP parameters, so each step costs a solve and not a graph over the record's
+    samples (which took four fifths of a DIDIM's time)."""
+
+    def __init__(self, p: int):
+        import casadi as ca
+
+        z = ca.MX.sym("z", p)
+        H = ca.MX.sym("H", p, p)
+        c = ca.MX.sym("c", p)
+        f = 0.5 * ca.dot(z, ca.mtimes(H, z)) - ca.dot(c, z)
+        self.p = p
+        self.solver = ca.nlpsol("lm_step", "ipopt",
+                                {"x": z, "p": ca.vertcat(ca.vec(H), c), "f": f},
+                                {"ipopt.print_level": 0, "print_time": False,
+                                 "ipopt.sb": "yes", "ipopt.tol": 1e-12})
+
+    def __call__(self, J, r, D, lam, lower, mag) -> np.ndarray:
+        S = 1e-2 * mag  # the step in units of a hundredth of each parameter's magnitude
+        Js = J * S
+        H = Js.T @ Js + lam * np.diag((D * S) ** 2)
+        c = Js.T @ r
+        nrm = float(np.max(np.abs(np.diag(H)))) or 1.0
+        sol = self.solver(x0=np.zeros(self.p), p=np.concatenate([(H / nrm).ravel(order="F"),
+                                                                  c / nrm]),
+                          lbx=np.minimum(lower, 0.0) / S, ubx=np.inf)
+        if not self.solver.stats()["success"]:
+            raise ValueError(f"the Levenberg-Marquardt step failed "
+                             f"({self.solver.stats()['return_status']})")
+        return np.asarray(sol["x"]).ravel() * S

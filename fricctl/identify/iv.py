@@ -117,6 +117,12 @@ def idim_iv(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     warnings = list(loop.warnings)
     converged = False
     for iteration in range(1, max_iterations + 1):
+        bad = [f"{n} {x:.4g}" for n, x in zip(names, theta) if x < 0 and n != "offset"]
+        if bad and iteration > 1:  # the next instruments cannot be simulated
+            raise ValueError(f"IDIM-IV: iterate {iteration - 1} has a negative "
+                             f"{', '.join(bad)}: the instruments of a non-physical joint "
+                             f"cannot be simulated (the record's regressors are too noisy "
+                             f"for IV); use --recipe didim or the default recipe")
         sim = simulate_record(run, dict(zip(names, theta)), loop, initial_velocity=w0)
         Z = idim_observations(Run(t=run.t, torque=sim.torque, position=sim.position,
                                   units=run.units), model, offset, recipe).decimated[keep]
