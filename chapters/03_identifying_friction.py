@@ -273,6 +273,103 @@ if emps_est is not None:
 # On EMPS the data are rich (long motions at several constant speeds in both
 # directions, recorded at 1 kHz), and the published numbers are reproduced to their
 # printed digits.
+
+# %% [markdown]
+# ## 6. A coarse encoder: errors in variables, and the estimators of the field
+#
+# Every fit above regresses the torque on an acceleration computed from the encoder:
+# a *filtered, twice differentiated, quantised* position.  When the encoder step is
+# coarse against the motion per sample, that regressor carries an error correlated with
+# the motion, and least squares pulls the inertia toward zero ("errors in variables").
+# The EMPS authors answer it two ways: **IDIM-IV** (instrumental variables: the same
+# regressors built from the motion the *model* simulates, Janot, Vandanjon & Gautier
+# 2014) and **DIDIM** (the simulation error minimised over the parameters, Gautier,
+# Janot & Vandanjon 2013).  `fricctl identify`'s default, `identify_record`, starts with
+# the equation error on the record's own signals (the low-pass at the band the motion
+# reaches above the quantisation), refines it by DIDIM on the record's torque replayed
+# (no derivative of the encoder, no model of the controller), takes its standard errors
+# from the residual summed over blocks and from a delete-a-block jackknife, and
+# validates on held-out blocks.  Below, a 1 kHz record with 500 counts per revolution, in
+# closed loop -- the issue's hardest corner.
+
+# %%
+from dataclasses import replace  # noqa: E402
+
+from fricctl import friction as fr  # noqa: E402
+from fricctl.identify import didim, identify_record, idim_iv  # noqa: E402
+
+coarse = replace(p, sample_time=0.001, encoder_counts=5)   # 500 counts per load revolution
+coarse_law = fr.Viscous(p.viscous) + fr.Coulomb(p.coulomb)
+coarse_run = simulate(coarse, ctl.pd_control(2.0, 0.05, ctl.sinusoid(1.0, 0.4)
+                                             + ctl.sinusoid(0.3, 1.7)),
+                      duration=10.0 if FAST else 20.0, friction=coarse_law, noise_std=0.005,
+                      rng=np.random.default_rng(1500)).to_run()
+coarse_truth = {"inertia": coarse.total_inertia, "viscous": p.viscous, "coulomb": p.coulomb}
+ident = identify_record(coarse_run)
+estimates = {"plain (Butterworth + LS)": identify_run(coarse_run),
+             "idim_ls (EMPS recipe)": idim_ls(coarse_run)}
+try:  # IV iterates on instruments simulated by its own estimate: it may leave physics
+    estimates["idim_iv"] = idim_iv(coarse_run)
+except ValueError as exc:
+    print(f"idim_iv refused: {exc}")
+estimates.update({"didim (closed loop)": didim(coarse_run),
+                  "auto: equation error": ident.start,
+                  "auto (default)": ident.result})
+print(f"{'estimator':26s} " + " ".join(f"{k:>9s}" for k in coarse_truth) + "   (error, %)")
+coarse_errors = {}
+for label, res in estimates.items():
+    coarse_errors[label] = {k: 100 * (res.parameters[k] / x - 1) for k, x in coarse_truth.items()}
+    print(f"{label:26s} " + " ".join(f"{e:+9.1f}" for e in coarse_errors[label].values()))
+print(ident.report())
+# the equation error loses a third of the inertia or more; the default meets the issue's
+# targets (inertia and Coulomb within 5 %, viscous 10 %), with the truth inside 4 std
+assert coarse_errors["auto: equation error"]["inertia"] < -30
+assert coarse_errors["plain (Butterworth + LS)"]["inertia"] < -30
+e = coarse_errors["auto (default)"]
+assert abs(e["inertia"]) < 5 and abs(e["coulomb"]) < 5 and abs(e["viscous"]) < 10
+r = ident.result
+assert all(abs(r.parameters[k] - x) < 4 * r.std[r.names.index(k)] for k, x in coarse_truth.items())
+assert any("disagree beyond their standard errors" in w for w in r.warnings)
+
+# %% [markdown]
+# The report says which estimator it kept and why; the figure is the held-out
+# validation: each block of the record replayed with the estimate of the *other*
+# blocks (top), and the equation error's torque on the same blocks (bottom).  A
+# model that explains only the data it was fitted to fails here.
+
+# %%
+fig = figures.plot_held_out(ident)
+plt.show()
+assert ident.held_out.simulation_fit > 95
+
+# %% [markdown]
+# And on EMPS: every estimator fitted on `DATA_EMPS.mat` and checked on
+# `DATA_EMPS_PULSES.mat` (its torque replayed: position fit; and the force predicted
+# by the EMPS recipe: relative error, published 5.9824 % for IDIM-LS).  With its
+# 5e-8 m encoder, EMPS has no errors in variables to speak of: every estimator lands
+# within a few standard errors of the published IDIM-LS.  The default reports DIDIM,
+# whose mass is only known to a few per cent on this stiff closed loop (the replayed
+# position carries little of it) -- and says so, pointing at the equation error, which
+# agrees within the standard errors and is far more precise.
+
+# %%
+if emps_est is not None:
+    from fricctl.identify.compare import compare_estimators, estimator_table  # noqa: E402
+
+    pd_emps = ctl.pd_control(emps_est.gtau * emps_est.kp * emps_est.kv,
+                             emps_est.gtau * emps_est.kv, ctl.constant(0.0))
+    emps_rows = compare_estimators(emps_est.run, emps_val.run, controller=pd_emps)
+    print(estimator_table(emps_rows))
+    for row in emps_rows:
+        res = row.result
+        for name, pub in PUBLISHED.items():
+            j = res.names.index(name)
+            assert abs(res.estimates[j] - pub) < max(3 * res.std[j], 0.025 * abs(pub)), (row.name, name)
+        assert row.validation.simulation_fit > 85 and row.cross_validation_error < 6.5
+    default = emps_rows[-1].result
+    assert default.method == "DIDIM" and any("take the equation error" in w for w in default.warnings)
+
+# %% [markdown]
 # Compare with Section 3: good identification is mostly about the experiment and
 # the signal processing, not about the solver.
 #

@@ -31,12 +31,30 @@ def designs() -> str:
         return design_table(paper_designs())
 
 
-BLOCKS = {"parameters": parameters, "designs": designs}
+def emps_estimators() -> str:
+    """Every estimator of ``fricctl identify`` on ``DATA_EMPS.mat``, validated on
+    ``DATA_EMPS_PULSES.mat`` (needs ``FRICCTL_DATA``)."""
+    from .controllers import constant, pd_control
+    from .datasets import emps
+    from .identify.compare import compare_estimators, estimator_table
+
+    est, val = emps(kind="estimation"), emps(kind="validation")
+    pd = pd_control(est.gtau * est.kp * est.kv, est.gtau * est.kv, constant(0.0))
+    return estimator_table(compare_estimators(est.run, val.run, controller=pd))
 
 
-def render(text: str) -> str:
-    """``text`` with every generated block replaced by its current content."""
+BLOCKS = {"parameters": parameters, "designs": designs, "emps-estimators": emps_estimators}
+#: The blocks that read the EMPS data (``FRICCTL_DATA``); tests/test_readme.py renders them
+#: where the data are.
+DATA_BLOCKS = ("emps-estimators",)
+
+
+def render(text: str, names=None) -> str:
+    """``text`` with the generated blocks ``names`` (default: all) replaced by their
+    current content."""
     for name, fn in BLOCKS.items():
+        if names is not None and name not in names:
+            continue
         pattern = re.compile(rf"(<!-- BEGIN {name} -->\n)(?:.*?\n)?(<!-- END {name} -->)", re.S)
         if not pattern.search(text):
             raise ValueError(f"README has no block {name!r}")

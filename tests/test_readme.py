@@ -14,7 +14,16 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_generated_blocks_are_current():
     text = (ROOT / "README.md").read_text()
-    assert _readme.render(text) == text, "README tables are stale: run `python -m fricctl._readme`"
+    names = [n for n in _readme.BLOCKS if n not in _readme.DATA_BLOCKS]
+    assert _readme.render(text, names) == text, \
+        "README tables are stale: run `python -m fricctl._readme`"
+
+
+def test_generated_emps_blocks_are_current(data_dir, monkeypatch):
+    monkeypatch.setenv("FRICCTL_DATA", str(data_dir))
+    text = (ROOT / "README.md").read_text()
+    assert _readme.render(text, _readme.DATA_BLOCKS) == text, \
+        "README's EMPS tables are stale: run `python -m fricctl._readme` with FRICCTL_DATA set"
 
 
 def test_quick_start_commands_exist():

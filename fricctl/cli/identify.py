@@ -2,13 +2,22 @@
 
 RUN is a CSV record (header ``t,torque,position[,reference]``, see
 :class:`fricctl.datasets.Run`) or a MATLAB file in the EMPS layout (``*.mat``,
-see :func:`fricctl.datasets.emps_file`).  ``--recipe plain`` (default) estimates
-velocity and acceleration with the chosen estimator, drops the border samples and
-the samples at rest, and fits the law by inverse-dynamics least squares (CasADi +
-IPOPT); ``--recipe idim_ls`` is the EMPS benchmark's IDIM-LS (Butterworth +
-central differences, decimation by 10; linear laws only); ``--recipe idim_iv``
-refines it with instruments from the simulated model (Janot, Vandanjon & Gautier
-2014) and ``--recipe didim`` minimises the simulation error of the record
+see :func:`fricctl.datasets.emps_file`).  ``--recipe auto`` (default) is
+:func:`fricctl.identify.identify_record`, the same fit as every diagnosis's baseline:
+the equation error on the record's own signals (low-pass at the band the motion
+reaches above the encoder's quantisation), refined by DIDIM on the record's torque
+replayed (no derivative of the encoder, no model of the controller); the two compared
+by their standard errors (residual summed over blocks), the more precise reported when
+they agree, DIDIM when they disagree; validated on held-out halves (each half
+identified alone, the other replayed with it; ``--no-validation`` skips it).  Linear
+models only (``--recipe plain --model stribeck`` for the Stribeck curve).
+
+Other recipes: ``plain`` estimates velocity and acceleration with the chosen
+estimator, drops the border samples and the samples at rest, and fits by
+inverse-dynamics least squares; ``idim_ls`` is the EMPS benchmark's IDIM-LS
+(Butterworth + central differences, decimation by 10; its published table to every
+decimal); ``idim_iv`` refines it with instruments from the simulated model (Janot,
+Vandanjon & Gautier 2014) and ``didim`` minimises the simulation error of the record
 (Gautier, Janot & Vandanjon 2013).  Both simulate a record with a moving reference
 in closed loop through its PD controller (``--controller KP KD``, else the gains
 fitted to the record's torque) and any other record open loop (its torque
@@ -17,12 +26,16 @@ warning.  Warnings go to stderr, one line each, and into the JSON.  Prints the e
 with standard errors in the IDIM-LS layout, or with ``--json`` one object:
 ``model, units, n_samples, parameters{name: {value, std, unit}}, fit_percent,
 relative_error_percent, residual_rms, condition_number, solver_status, method,
-warnings, estimator, recipe, out``.
+warnings, estimator, recipe, out`` (``auto`` adds ``equation_error``, ``didim``,
+``cutoff_hz`` and ``held_out{simulation_fit_percent, equation_fit_percent, failure}``).
+``--figure FILE.png`` (``auto``) plots the held-out validation: the replayed
+position and the equation error's torque against the record's.
 
 ``--out MODEL.json`` writes the identified model (:class:`fricctl.plant.JointModel`,
 version 2) with each value's standard error in ``provenance``, the record's
 sample time and encoder grid (null when the positions lie on none) and
-``--max-torque`` (null = unknown); ``design``, ``simulate`` and ``patterns`` read it.
+``--max-torque`` (null = unknown); every warning is written into the provenance note of
+the values it concerns ("flagged: ..."); ``design``, ``simulate`` and ``patterns`` read it.
 An existing file is kept unless ``--force``.  Bad input prints one line on stderr
 and exits with code 2.
 """
@@ -33,7 +46,7 @@ import argparse
 from pathlib import Path
 
 #: The recipes; those that simulate the record take the controller.
-_RECIPES = ("plain", "idim_ls", "idim_iv", "didim")
+_RECIPES = ("auto", "plain", "idim_ls", "idim_iv", "didim")
 _SIMULATING = ("idim_iv", "didim")
 
 
@@ -51,11 +64,21 @@ def register(subparsers) -> None:
                                               "[,reference], or an EMPS-layout .mat file")
     p.add_argument("--model", choices=tuple(MODELS), default="coulomb_viscous",
                    help="friction law (default coulomb_viscous: inertia, viscous, Coulomb, offset)")
-    p.add_argument("--recipe", choices=_RECIPES, default="plain",
-                   help="plain: estimator + least squares (default); idim_ls: the EMPS "
-                        "benchmark's IDIM-LS (Butterworth 100 Hz, decimation by 10); idim_iv: "
-                        "IDIM-LS with instruments from the simulated model; didim: the "
-                        "simulation error minimised")
+    p.add_argument("--recipe", choices=_RECIPES, default="auto",
+                   help="auto (default): equation error on the record's signals refined by "
+                        "DIDIM, chosen by their standard errors, validated on held-out halves; "
+                        "plain: estimator + least squares; idim_ls: the EMPS benchmark's IDIM-LS "
+                        "(Butterworth 100 Hz, decimation by 10); idim_iv: IDIM-LS with "
+                        "instruments from the simulated model; didim: the simulation error "
+                        "minimised")
+    p.add_argument("--offset", action=argparse.BooleanOptionalAction, default=None,
+                   help="fit a constant torque offset (default: as the model says; "
+                        "coulomb_viscous yes, asymmetric no)")
+    p.add_argument("--no-validation", action="store_true",
+                   help="auto: skip the validation on held-out halves (two more fits)")
+    p.add_argument("--figure", type=Path, default=None, metavar="FILE.png",
+                   help="auto: plot the held-out validation (replayed position, equation-error "
+                        "torque)")
     p.add_argument("--controller", type=float, nargs=2, default=None, metavar=("KP", "KD"),
                    help="idim_iv/didim: the record's PD gains [N*m/rad, N*m*s/rad or N/m, "
                         "N*s/m] (default: fitted to the record's torque)")
@@ -95,14 +118,39 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
         prov["max_torque"] = Provenance(source="datasheet", note="given as --max-torque")
     how = {"idim_ls": "IDIM-LS", "idim_iv": "IDIM-IV", "didim": "DIDIM"}.get(
         recipe, "inverse-dynamics least squares")
+    if recipe == "auto":
+        how = f"{result.method} (fricctl identify's default: the record's equation error and DIDIM)"
     std = ("sigma^2 (Z^T X)^-1 Z^T Z (X^T Z)^-1" if recipe == "idim_iv"
+           else "the residual summed over blocks" if recipe in ("auto", "didim")
            else "sigma*sqrt(diag((J^T J)^-1))")
     note = f"{how} ({result.model}) on {where}; std from {std}"
-    return JointModel.from_estimates(
+    m = JointModel.from_estimates(
         result.parameters, std=dict(zip(result.names, map(float, result.std))),
         units=record.units, source=f"fricctl identify: {result.model} on {record.source}",
         note=note, sample_time=record.sample_time, encoder_resolution=grid,
         max_torque=max_torque, provenance=prov)
+    return _flagged(m, result)
+
+
+def _flagged(model, result):
+    """The model with each warning in the provenance note of the values it concerns: a
+    warning that starts with a parameter's name concerns that parameter, any other all."""
+    from dataclasses import replace
+
+    from ..plant.model import _ESTIMATE_FIELDS
+
+    if not result.warnings:
+        return model
+    own = {n: [w for w in result.warnings if w.startswith(f"{n}:")] for n in result.names}
+    general = [w for w in result.warnings if not any(w.startswith(f"{n}:") for n in result.names)]
+    prov = dict(model.provenance)
+    for n in result.names:
+        flags = own[n] + general
+        for key in _ESTIMATE_FIELDS[n]:
+            if flags and key in prov:
+                p = prov[key]
+                prov[key] = replace(p, note=f"{p.note}; flagged: " + " | ".join(flags))
+    return replace(model, provenance=prov)
 
 
 def run(args) -> int:
@@ -110,18 +158,27 @@ def run(args) -> int:
 
     from ..controllers import constant, pd_control
     from ..datasets import load_record
-    from ..identify import didim, identify_run, idim_iv, idim_ls
+    from ..identify import LINEAR_MODELS, didim, identify_record, identify_run, idim_iv, idim_ls
     from ._output import about, check_outputs, json_text
 
-    check_outputs({"--out": args.out}, [args.run], force=args.force)
+    check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
+    if args.recipe != "auto":
+        given = [o for o, x in (("--no-validation", args.no_validation or None),
+                                ("--figure", args.figure)) if x is not None]
+        if given:
+            raise ValueError(f"{', '.join(given)} has no effect with --recipe {args.recipe} "
+                             f"(only auto validates on held-out halves)")
+    if args.recipe == "auto" and args.model not in LINEAR_MODELS:
+        raise ValueError(f"--model {args.model} is not linear in its parameters: the auto recipe "
+                         f"fits {' and '.join(LINEAR_MODELS)}; use --recipe plain")
     if args.recipe != "plain":
         given = [o for o, x in (("--estimator", args.estimator), ("--border", args.border))
                  if x is not None]
         if given:
-            raise ValueError(f"{', '.join(given)} has no effect with --recipe {args.recipe} (its "
-                             f"estimator and border are the EMPS recipe's)")
+            raise ValueError(f"{', '.join(given)} has no effect with --recipe {args.recipe} (only "
+                             f"plain takes an estimator and a border)")
     if args.controller is not None and args.recipe not in _SIMULATING:
         raise ValueError(f"--controller has no effect with --recipe {args.recipe} (only "
                          f"{' and '.join(_SIMULATING)} simulate the record)")
@@ -130,31 +187,45 @@ def run(args) -> int:
         controller = pd_control(*args.controller, constant(0.0))
     with about(args.run):
         record = load_record(args.run, units=args.units)
-        if args.recipe == "idim_ls":
-            result = idim_ls(record, model=args.model)
+        ident = None
+        if args.recipe == "auto":
+            ident = identify_record(record, model=args.model, offset=args.offset,
+                                    validate=not args.no_validation)
+            result = ident.result
+            estimator = "butterworth_central"
+        elif args.recipe == "idim_ls":
+            result = idim_ls(record, model=args.model, offset=args.offset)
             estimator = "butterworth_central"
         elif args.recipe in _SIMULATING:
             fit = idim_iv if args.recipe == "idim_iv" else didim
-            result = fit(record, model=args.model, controller=controller)
+            result = fit(record, model=args.model, offset=args.offset, controller=controller)
             estimator = "butterworth_central"
         else:
             estimator = args.estimator or "butterworth_central"
-            result = identify_run(record, model=args.model, estimator=estimator,
+            result = identify_run(record, model=args.model, estimator=estimator, offset=args.offset,
                                   border=50 if args.border is None else args.border)
     for w in result.warnings:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
                          max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
+    if args.figure is not None:
+        from ..figures.identification import plot_held_out
+        from ._output import save_figure
+
+        save_figure(plot_held_out(ident), args.figure, overwrite=args.force)  # atomic
     if args.json:
-        out = result.as_dict()
+        out = result.as_dict() if ident is None else ident.as_dict()
         out.update(estimator=estimator, recipe=args.recipe,
                    out=None if args.out is None else str(args.out))
         print(json_text(out))
     else:
         print(f"{record.source}: {record.n_samples} samples at {record.sample_time:g} s, "
-              f"{'estimator ' + estimator if args.recipe == 'plain' else 'recipe ' + args.recipe}")
-        print(result.report())
+              f"{'estimator ' + estimator if args.recipe == 'plain' else 'recipe ' + args.recipe}"
+              + (f", low-pass at {ident.cutoff:.4g} Hz (the record's motion band)" if ident else ""))
+        print(result.report() if ident is None else ident.report())
+        if args.figure is not None:
+            print(f"figure written to {args.figure}")
         if args.out is not None:
             print(f"model written to {args.out}")
     return 0

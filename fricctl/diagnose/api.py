@@ -25,7 +25,7 @@ from .twin import chain_shares, effect_free_twin
 from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_grid
 
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
-    from ..identify import IdentificationResult
+    from ..identify import IdentificationResult, RecordIdentification
 
 __all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
            "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
@@ -168,7 +168,11 @@ class _Setup:
     grid: WindowGrid
     """The windows of the re-simulation."""
     fit0: "IdentificationResult | None"
-    """The CasADi fit of the rigid baseline (fit mode), or None with a nominal model."""
+    """The CasADi equation-error fit of the rigid baseline the candidates extend (fit
+    mode), or None with a nominal model."""
+    ident: "RecordIdentification | None"
+    """The record identified as ``fricctl identify`` does (fit mode): the baseline the
+    diagnosis reports, or None with a nominal model."""
     base: Baseline
     """The baseline every candidate extends."""
     problem: Problem
@@ -187,8 +191,14 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
             raise ValueError(f"model: cannot be re-simulated at the record's sample time "
                              f"({sig.ts:g} s): {err}") from None
     fit0 = baseline_fit(sig) if model is None else None
+    ident = None
+    if model is None:  # the baseline reported: fricctl identify's own fit of the record
+        from ..identify import identify_record
+
+        ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False)
     base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
-    return _Setup(sig=sig, grid=grid, fit0=fit0, base=base, problem=Problem(sig, base.columns))
+    return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
+                  problem=Problem(sig, base.columns))
 
 
 class _ChainShares:
@@ -284,13 +294,16 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     gain = _gain(sig, sel)
     bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
-    baseline_model = _record_fields(base.fitted, run, sig, model)
-    extended = _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named)
+    baseline_model = _record_fields(base.fitted if setup.ident is None
+                                    else _identified(setup.ident, run), run, sig, model)
+    extended = (baseline_model if not sel.selected else
+                _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named))
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
                                             sel.not_identifiable, sig.units),
                      baseline=baseline_model, extended=extended, gain=gain,
-                     simulation_scores=sel.simulation_scores, fit=ext.fit or setup.fit0, t=sig.t,
+                     simulation_scores=sel.simulation_scores,
+                     fit=ext.fit or (setup.ident.result if setup.ident else setup.fit0), t=sig.t,
                      torque=sig.tm, position=sig.q, velocity=sig.w,
                      residual_before=_sliding_residual(baseline_model, sig),
                      residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
@@ -336,6 +349,17 @@ def _record_fields(m: JointModel, run: Run, sig: Signals, nominal: JointModel | 
                                        note="rigid baseline fitted by fricctl diagnose "
                                             "(inverse-dynamics least squares)")
     return replace(m, sample_time=ts, encoder_resolution=res, provenance=prov)
+
+
+def _identified(ident, run: Run) -> JointModel:
+    """The rigid model of ``fricctl identify``'s fit of the record (the reported baseline)."""
+    r = ident.result
+    return JointModel.from_estimates(
+        r.parameters, std=dict(zip(r.names, map(float, r.std))), units=run.units,
+        source=f"fricctl diagnose: rigid baseline of {run.source or 'the record'}",
+        note=f"rigid baseline fitted by fricctl diagnose as fricctl identify fits it "
+             f"({r.method}; equation error on the record's signals, DIDIM, chosen by their "
+             f"standard errors)")
 
 
 def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple) -> JointModel:

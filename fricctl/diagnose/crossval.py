@@ -318,15 +318,12 @@ def full_fit(problem: Problem, variants: Iterable[Variant], fixed: tuple = ()) -
 
 
 def baseline_fit(sig: Signals) -> "IdentificationResult":
-    """The rigid baseline I, b, Fc by CasADi least squares on the sliding samples."""
-    from ..identify import fit_least_squares, linear_prediction
+    """The rigid baseline I, b, Fc by CasADi least squares on the sliding samples: the
+    equation error of ``fricctl identify`` (:func:`fricctl.identify.equation_error`), the
+    columns every candidate extends."""
+    from ..identify import equation_error
 
-    m = sig.moving
-    X = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
-    y = sig.torque_target(0)[m]
-    scale = (np.linalg.norm(y) or 1.0) / np.maximum(np.linalg.norm(X, axis=0), 1e-300)
-    return fit_least_squares(linear_prediction, X, y, names=BASELINE_PARAMS, initial=np.zeros(3),
-                             lower=[0.0, 0.0, 0.0], scale=scale, units=sig.units)
+    return equation_error(sig, "coulomb_viscous", offset=False)
 
 
 def casadi_refit(problem: Problem, v: Variant, params: tuple) -> "IdentificationResult | None":

@@ -11,9 +11,9 @@ import with its own error (nothing is skipped).
 
 from __future__ import annotations
 
-from . import core, design, diagnosis, diagram, measure, network, paper
+from . import core, design, diagnosis, diagram, identification, measure, network, paper
 
-_SUBMODULES = (core, design, measure, network, paper, diagnosis, diagram)
+_SUBMODULES = (core, design, measure, network, paper, diagnosis, diagram, identification)
 
 __all__ = [name for module in _SUBMODULES for name in module.__all__]
 globals().update({name: getattr(module, name) for module in _SUBMODULES for name in module.__all__})

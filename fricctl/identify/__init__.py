@@ -35,7 +35,14 @@ Modules
 * :mod:`~fricctl.identify.iv` -- :func:`idim_iv`, IDIM-LS refined with instruments
   simulated by the model (Janot, Vandanjon & Gautier 2014);
 * :mod:`~fricctl.identify.didim` -- :func:`didim`, the simulation (output) error
-  minimised over the parameters (Gautier, Janot & Vandanjon 2013).
+  minimised over the parameters (Gautier, Janot & Vandanjon 2013);
+* :mod:`~fricctl.identify.signals` -- the record's signals, filtered in its own motion band
+  (also every diagnosis's);
+* :mod:`~fricctl.identify.record` -- :func:`identify_record`, the default of ``fricctl
+  identify`` and the baseline of every diagnosis: equation error on the record's signals,
+  DIDIM, the choice between them by a Hausman test, validation on held-out halves;
+* :mod:`~fricctl.identify.uncertainty` -- standard errors for coloured residuals (the
+  score summed over blocks).
 
 Notes
 -----
@@ -52,6 +59,7 @@ from .didim import didim
 from .idim import (CrossValidation, IdimObservations, IdimRecipe, cross_validate, identify_run,
                    idim_ls, idim_observations)
 from .iv import idim_iv
+from .record import RecordIdentification, Validation, equation_error, identify_record, validate
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import (
     LINEAR_MODELS,
@@ -84,4 +92,9 @@ __all__ = [
     "idim_observations",
     "idim_iv",
     "didim",
+    "identify_record",
+    "RecordIdentification",
+    "equation_error",
+    "validate",
+    "Validation",
 ]

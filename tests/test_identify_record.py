@@ -1,0 +1,243 @@
+"""The default identification (issue 20): one fit for identify and diagnose, honest stds,
+validation on held-out halves, the choice between estimators read off the record.
+
+Records come from the package's sampled loop on the paper's actuator (Coulomb + viscous,
+the identified model class, so the truth is known) at the sample rates and encoder
+counts of the issue's grid; the slow test runs the whole grid (36 records, the
+benchmark's: ``benchmarks/bench_identify_grid.py``).
+"""
+
+import json
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fricctl import controllers as ctl
+from fricctl import friction as fr
+from fricctl import identify as I
+from fricctl.datasets import Run
+from fricctl.identify.uncertainty import block_covariance, correlation_time
+from fricctl.params import paper_actuator
+from fricctl.simulate import simulate
+
+_P = paper_actuator()
+LAW = fr.Viscous(_P.viscous) + fr.Coulomb(_P.coulomb)
+OPEN = ctl.open_loop(ctl.sinusoid(0.4, 0.5) + ctl.sinusoid(0.15, 2.3))
+CLOSED = ctl.pd_control(2.0, 0.05, ctl.sinusoid(1.0, 0.4) + ctl.sinusoid(0.3, 1.7))
+#: issue 20's targets for the default command: inertia and Coulomb within 5 %, viscous 10 %
+TARGETS = {"inertia": 0.05, "viscous": 0.10, "coulomb": 0.05}
+
+
+def grid_record(rate: float, counts: int, loop: str, seed: int) -> tuple:
+    """(record, truth) at ``rate`` [Hz] with ``counts`` per load revolution, 20 s, torque
+    noise 0.005 N*m, the loop ``"open"`` or ``"closed"`` (PD 2.0, 0.05)."""
+    p = replace(_P, sample_time=1.0 / rate, encoder_counts=counts // int(_P.gear_ratio))
+    run = simulate(p, OPEN if loop == "open" else CLOSED, duration=20.0, friction=LAW,
+                   noise_std=0.005, rng=np.random.default_rng(seed)).to_run()
+    return run, dict(inertia=p.total_inertia, viscous=_P.viscous, coulomb=_P.coulomb)
+
+
+def errors(params: dict, truth: dict) -> dict:
+    return {k: params[k] / x - 1.0 for k, x in truth.items()}
+
+
+def within_targets(params: dict, truth: dict) -> bool:
+    return all(abs(e) < TARGETS[k] for k, e in errors(params, truth).items())
+
+
+# the issue's corners: coarse encoder at 1 kHz (equation error -46 % inertia), fine at 2 kHz
+CORNERS = [(1000, 500, "closed", 1500), (500, 2000, "open", 2500), (2000, 10000, "closed", 12000)]
+
+
+@pytest.fixture(scope="module", params=CORNERS, ids=lambda c: f"{c[0]}Hz-{c[1]}counts-{c[2]}")
+def corner(request):
+    rate, counts, loop, seed = request.param
+    run, truth = grid_record(rate, counts, loop, seed)
+    return run, truth, I.identify_record(run)
+
+
+def test_default_meets_the_targets_where_the_equation_error_does_not(corner):
+    run, truth, ident = corner
+    assert within_targets(ident.parameters, truth), errors(ident.parameters, truth)
+    # every number stands with its std: the truth within 4 of them (seeded records)
+    r = ident.result
+    for k, x in truth.items():
+        assert abs(r.parameters[k] - x) < 4 * r.std[r.names.index(k)], k
+    h = ident.held_out
+    assert h.failure == "" and h.simulation_fit > 95 and not any("poor held-out" in w
+                                                                for w in r.warnings)
+
+
+def test_didim_is_reported_and_a_disagreement_is_told(corner):
+    run, truth, ident = corner
+    s, d = ident.start, ident.refined
+    assert ident.result.method == "DIDIM" and d is not None
+    assert np.all(ident.result.estimates == d.estimates)
+    # the reported std is at least the block covariance's (the jackknife's where larger)
+    assert np.all(ident.result.std >= d.std)
+    apart = [abs(a - b) > I.record.DISAGREEMENT_SIGMAS * math.hypot(sa, sb)
+             for a, sa, b, sb in zip(s.estimates, s.std, d.estimates, d.std)]
+    told = any("disagree beyond their standard errors" in w for w in ident.warnings)
+    assert told == any(apart)
+
+
+def test_coarse_encoder_equation_error_is_biased_and_flagged():
+    run, truth = grid_record(1000, 500, "closed", 1500)
+    ident = I.identify_record(run, validate=False)
+    # the errors-in-variables bias the issue reports, on the package's own generator
+    assert errors(ident.start.parameters, truth)["inertia"] < -0.3
+    assert ident.result.method == "DIDIM"
+    assert within_targets(ident.parameters, truth)
+
+
+def test_identify_and_diagnose_give_the_same_baseline():
+    from fricctl.bench.hidden_effects import hidden_effect_record
+    from fricctl.diagnose import diagnose
+
+    rec = hidden_effect_record(np.random.default_rng(3), cause="time_delay", duration=20.0)
+    d = diagnose(rec.run)
+    ident = I.identify_record(rec.run, offset=False, validate=False)
+    p = ident.parameters
+    assert d.baseline.inertia == p["inertia"]
+    assert d.baseline.friction.viscous_pos == p["viscous"]
+    assert d.baseline.friction.coulomb_pos == p["coulomb"]
+    assert d.baseline.provenance["inertia"].std == ident.result.std[0]
+    # and through the CLI: fricctl identify --no-offset gives the same numbers
+    from fricctl.cli import main
+    import contextlib
+    import io
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = rec.run.to_csv(Path(tmp) / "rec.csv")
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            assert main(["identify", str(path), "--no-offset", "--no-validation", "--json"]) == 0
+    out = json.loads(buf.getvalue())
+    for k, x in p.items():  # the CSV keeps 17 significant digits
+        assert out["parameters"][k]["value"] == pytest.approx(x, rel=1e-9), k
+
+
+def test_warnings_mark_the_model_file(tmp_path, capsys):
+    from fricctl.cli import main
+    from fricctl.plant import JointModel
+
+    # a record whose offset is not identified (none in the truth): the warning names it, and
+    # the model file says so in that value's provenance
+    run, _ = grid_record(1000, 500, "closed", 1500)
+    path = run.to_csv(tmp_path / "r.csv")
+    out = tmp_path / "m.json"
+    fig = tmp_path / "v.png"
+    assert main(["identify", str(path), "--out", str(out), "--figure", str(fig), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["warnings"], "the coarse record's estimators disagree: said"
+    m = JointModel.load(out)
+    assert all("flagged:" in m.provenance[k].note for k in ("inertia", "friction.coulomb_pos"))
+    off = [w for w in res["warnings"] if w.startswith("offset:")]
+    if off:
+        assert off[0] in m.provenance["offset"].note
+    assert fig.stat().st_size > 10_000 and fig.read_bytes()[:4] == b"\x89PNG"
+    # the figure belongs to the default recipe only
+    assert main(["identify", str(path), "--recipe", "idim_ls", "--figure",
+                 str(tmp_path / "w.png")]) == 2
+    assert "only auto validates" in capsys.readouterr().err
+
+
+def test_block_covariance_is_the_white_formula_for_white_noise_and_wider_for_coloured():
+    rng = np.random.default_rng(0)
+    n = 20000
+    J = np.column_stack([np.ones(n), np.sin(np.arange(n) / 300.0)])
+    white = rng.normal(size=n)
+    bc = block_covariance(J, white)
+    ref = np.sqrt(np.diag(np.linalg.inv(J.T @ J)))
+    assert np.all(np.abs(bc.std / ref - 1) < 0.15) and bc.block <= 3
+    # an AR(1) residual, rho = 0.95: correlation time (1+rho)/(1-rho) = 39 samples; the
+    # std of the mean grows by sqrt(39) ~ 6.2
+    e = np.empty(n)
+    e[0] = 0.0
+    for k in range(1, n):
+        e[k] = 0.95 * e[k - 1] + white[k]
+    assert correlation_time(e) == pytest.approx(39.0, rel=0.3)
+    bc = block_covariance(J, e)
+    sigma = np.std(e)
+    assert bc.std[0] / (sigma * ref[0]) == pytest.approx(math.sqrt(39.0), rel=0.3)
+    assert not bc.capped
+
+
+@pytest.mark.slow
+def test_std_is_calibrated_over_seeds():
+    # the truth within the reported std as often as a normal law says, over 8 seeds of a
+    # closed-loop and 8 of an open-loop 500 Hz / 2000-count record (48 errors): |z| < 2 for
+    # at least 85 % of them (95 % for a calibrated std; measured 98 %).  The block
+    # covariance alone is optimistic on replayed positions (75 % measured): the jackknife
+    # is what makes the difference, so that is asserted too
+    z, zb = [], []
+    for loop in ("closed", "open"):
+        for seed in range(8):
+            run, truth = grid_record(500, 2000, loop, 100 + seed)
+            ident = I.identify_record(run)
+            r, d = ident.result, ident.refined
+            z += [(r.parameters[k] - x) / r.std[r.names.index(k)] for k, x in truth.items()]
+            zb += [(d.parameters[k] - x) / d.std[d.names.index(k)] for k, x in truth.items()]
+    z, zb = np.abs(z), np.abs(zb)
+    assert np.mean(z < 2.0) >= 0.85, np.round(z, 1)
+    assert np.mean(zb < 2.0) < np.mean(z < 2.0)
+
+
+def test_a_record_that_cannot_be_replayed_keeps_the_equation_error_and_says_so(monkeypatch):
+    run, truth = grid_record(500, 2000, "open", 7)
+
+    def refuse(*args, **kwargs):
+        raise ValueError("diverging replay")
+
+    monkeypatch.setattr(I.record, "didim", refuse)
+    ident = I.identify_record(run, validate=False)
+    assert ident.refined is None and ident.result.method == "IDIM-LS"
+    assert any("could not be replayed (diverging replay)" in w for w in ident.warnings)
+
+
+def test_validate_on_another_record():
+    run, truth = grid_record(500, 2000, "open", 3)
+    other, _ = grid_record(500, 2000, "closed", 4)
+    ident = I.identify_record(run, validate=False)
+    va = I.validate(ident.result, other)
+    assert va.simulation_fit > 95 and va.equation_fit > 90
+    # a wrong estimate validates worse: half the inertia, twice the Coulomb level
+    bad = dict(ident.parameters, inertia=0.5 * truth["inertia"], coulomb=2 * truth["coulomb"])
+    wrong = replace(ident.result, estimates=np.array([bad[n] for n in ident.result.names]))
+    assert I.validate(wrong, other).simulation_fit < va.simulation_fit - 5
+    with pytest.raises(ValueError, match="result"):
+        I.validate(replace(ident.result, model="stribeck"), other)
+
+
+def test_bad_input():
+    run, _ = grid_record(500, 2000, "open", 3)
+    with pytest.raises(ValueError, match="run"):
+        I.identify_record({"t": [0.0]})
+    with pytest.raises(ValueError, match="model"):
+        I.identify_record(run, model="stribeck", validate=False)
+    with pytest.raises(ValueError, match="refine"):
+        I.identify_record(run, refine="yes")
+    still = Run(t=run.t, torque=0 * run.torque + 0.01,
+                position=np.where(np.arange(run.n_samples) < 100, 0.0, 1e-3))
+    with pytest.raises(ValueError, match="motion"):
+        I.identify_record(still)
+
+
+@pytest.mark.slow
+def test_the_whole_grid_meets_the_targets():
+    # the issue's grid: 500 Hz - 2 kHz, 500 - 10 000 counts per revolution, open and closed
+    # loop, two seeds each (36 records, benchmarks/bench_identify_grid.py prints the table)
+    bad = []
+    for rate in (500, 1000, 2000):
+        for counts in (500, 2000, 10000):
+            for loop in ("open", "closed"):
+                for seed in (1, 2):
+                    run, truth = grid_record(rate, counts, loop, rate + counts + seed)
+                    ident = I.identify_record(run, validate=False)
+                    if not within_targets(ident.parameters, truth):
+                        bad.append((rate, counts, loop, seed, errors(ident.parameters, truth)))
+    assert not bad, bad
