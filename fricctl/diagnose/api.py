@@ -101,7 +101,10 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     -----
     With a nominal model every candidate fits only its own term on top of it (the
     nominal is trusted otherwise); without, the baseline's I, b and Fc are refitted
-    with each candidate.  A record longer than :data:`MAX_SAMPLES` is refused (the
+    with each candidate in the equation error, and the baseline the diagnosis *reports*
+    is ``fricctl identify``'s fit of the record
+    (:func:`fricctl.identify.identify_record` without offset or validation: the
+    same numbers as ``fricctl identify RECORD --no-offset --no-validation``).  A record longer than :data:`MAX_SAMPLES` is refused (the
     diagnosis holds about :data:`BYTES_PER_SAMPLE` bytes per sample).  ``inertia`` and ``friction_scale`` only apply to a
     nominal model.  Causes are named one step at a time (:mod:`.selection`); a
     candidate's score is net of what its term removes on the record's effect-free twin
