@@ -22,6 +22,7 @@ from .report import Diagnosis, Gain, evidence_text
 from .selection import Selection, forward_selection
 from .signals import Signals, estimate_signals, predict
 from .twin import chain_shares, effect_free_twin
+from .verdict import verdict
 from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_grid
 
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
@@ -301,18 +302,22 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                                     else _identified(setup.ident, run), run, sig, model)
     extended = (baseline_model if not sel.selected else
                 _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named))
+    chain_rms = _twin(base).rms
+    residual_after = _sliding_residual(extended, sig)
+    said = verdict(gain.torque_rms_after, chain_rms, residual_after,
+                   {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm})
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
-                                            sel.not_identifiable, sig.units),
+                                            sel.not_identifiable, sig.units, said),
                      baseline=baseline_model, extended=extended, gain=gain,
                      simulation_scores=sel.simulation_scores,
                      fit=ext.fit or (setup.ident.result if setup.ident else setup.fit0), t=sig.t,
                      torque=sig.tm, position=sig.q, velocity=sig.w,
                      residual_before=_sliding_residual(baseline_model, sig),
-                     residual_after=_sliding_residual(extended, sig), sim_before=sel.sim_before,
+                     residual_after=residual_after, sim_before=sel.sim_before,
                      sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
-                     chain_rms=_twin(base).rms,
+                     chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, notes=_notes(sel))
 
 
@@ -361,8 +366,8 @@ def _identified(ident, run: Run) -> JointModel:
         r.parameters, std=dict(zip(r.names, map(float, r.std))), units=run.units,
         source=f"fricctl diagnose: rigid baseline of {run.source or 'the record'}",
         note=f"rigid baseline fitted by fricctl diagnose as fricctl identify fits it "
-             f"({r.method}; equation error on the record's signals, DIDIM, chosen by their "
-             f"standard errors)")
+             f"({r.method}: the record's torque replayed, from the equation error on its "
+             f"signals)")
 
 
 def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple) -> JointModel:

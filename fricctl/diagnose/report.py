@@ -14,6 +14,7 @@ from ..plant import JointModel
 from ..units import units as unit_labels
 from . import causes
 from .selection import MIN_SCORE, Step
+from .verdict import Verdict
 from .windows import WindowedSimulation
 
 if TYPE_CHECKING:
@@ -108,6 +109,9 @@ class Diagnosis:
     notes : dict
         Why a number is undefined (NaN), by its path in :meth:`as_dict` or its top-level
         key (e.g. ``"gain"``: a model that cannot be re-simulated on the record).
+    verdict : Verdict
+        Whether the final model explains the record (its held-out residual against the
+        measuring chain's floor) and where the rest lives (:mod:`.verdict`).
     """
 
     cause: str
@@ -135,6 +139,12 @@ class Diagnosis:
     chain_rms: float = float("nan")
     cutoff: float = float("nan")
     notes: dict = None
+    verdict: Verdict = None
+
+    @property
+    def explained(self) -> bool:
+        """The final model explains the record within the measuring chain's floor."""
+        return bool(self.verdict is not None and self.verdict.explained)
 
     @property
     def score(self) -> float:
@@ -145,6 +155,10 @@ class Diagnosis:
         """The ``fricctl diagnose --json`` object (finite numbers or null; ``undefined``
         gives the reason for every null number, by its path)."""
         out = {
+            "explained": self.explained,
+            "residual_over_floor": (float("nan") if self.verdict is None
+                                    else self.verdict.residual_over_floor),
+            "verdict": None if self.verdict is None else self.verdict.as_dict(),
             "cause": self.cause,
             "causes": list(self.causes),
             "steps": [s.as_dict() for s in self.steps],
@@ -180,6 +194,8 @@ class Diagnosis:
         g = self.gain
         title = " + ".join(f"`{c}`" for c in self.causes)
         lines = [f"# Diagnosis: {title}", ""]
+        if self.verdict is not None:
+            lines += [f"**{self.verdict.sentence()}**", ""]
         lines += [f"*{c}: {causes.physical(c)}*" for c in self.causes]
         lines += ["", "## Evidence", "", self.evidence, "",
                   "## Steps (held-out, blocked cross-validation)", ""]
@@ -243,17 +259,19 @@ class Diagnosis:
 
 
 def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
-                  not_identifiable: dict, units: str) -> str:
-    """The evidence paragraph: each step's net score and its cause's own clause, the gain."""
+                  not_identifiable: dict, units: str, verdict: Verdict | None = None) -> str:
+    """The evidence paragraph: each step's net score and its cause's own clause, the gain,
+    the verdict (explained within noise only when it is)."""
     u = unit_labels(units)
     cannot = "".join(f" {c} cannot be told on this record, because {r}."
                      for c, r in not_identifiable.items())
+    said = "" if verdict is None else " " + verdict.sentence()
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
         return (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque residual "
                 f"net of the measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %); "
-                f"the baseline explains the data within noise (held-out torque RMS "
-                f"{_num(gain.torque_rms_before, '.3g')} {u.torque})." + cannot)
+                f"held-out torque RMS {_num(gain.torque_rms_before, '.3g')} {u.torque}." + said
+                + cannot)
     parts = []
     for i, (st, body) in enumerate(zip(steps, bodies)):
         lead = "" if i == 0 else "Then "
@@ -266,4 +284,4 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
             f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
             f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "
             f"{u.position}.")
-    return " ".join(parts) + tail + cannot
+    return " ".join(parts) + tail + said + cannot

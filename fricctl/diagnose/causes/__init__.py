@@ -36,9 +36,9 @@ from .base import BenchActuator, Baseline, Cause, Injection, Term
 __all__ = ["Cause", "Term", "Baseline", "BenchActuator", "Injection", "REGISTRY", "CAUSES",
            "NONE", "NOMINAL_ONLY", "get", "physical", "candidates", "inject"]
 
-#: The name of "no cause": the baseline explains the data within noise.
+#: The name of "no cause": no candidate of the list improves on the baseline.
 NONE = "none"
-_NONE_PHYSICAL = "the baseline explains the data within noise"
+_NONE_PHYSICAL = "no cause of the list improves the held-out fit (whether the record is explained is the verdict's)"
 
 
 def _discover() -> tuple:
