@@ -1,4 +1,5 @@
 import json
+import math
 
 import numpy as np
 import pytest
@@ -284,3 +285,33 @@ def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
                "pd", "--kp", "1", "--kd", "0.1", "--reference", "step:0.1", "--duration", "0.5")
     assert out.returncode == 2 and out.stderr.count("\n") == 1
     assert "no Coulomb friction" in out.stderr
+
+
+def test_reference_with_a_unit_is_converted_to_radians(tmp_path):
+    # step:30deg is step:(30*pi/180) rad: the same record, bit for bit
+    common = ["simulate", "--controller", "p", "--kp", "2", "--duration", "0.2"]
+    assert main([*common, "--reference", "step:30deg", "--csv", str(tmp_path / "a.csv")]) == 0
+    assert main([*common, "--reference", f"step:{math.radians(30)!r}",
+                 "--csv", str(tmp_path / "b.csv")]) == 0
+    a, b = Run.from_csv(tmp_path / "a.csv"), Run.from_csv(tmp_path / "b.csv")
+    np.testing.assert_array_equal(a.reference, b.reference)
+    np.testing.assert_array_equal(a.position, b.position)
+
+
+def test_reference_in_mm_on_a_linear_model(tmp_path, capsys):
+    m = _linear_model(tmp_path)
+    assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
+                 "--reference", "step:5mm", "--duration", "0.05", "--csv", str(tmp_path / "r.csv")]) == 0
+    assert Run.from_csv(tmp_path / "r.csv").reference[-1] == pytest.approx(0.005, rel=1e-12)
+    # a rotary unit on a linear axis: one line that says the unit is metres
+    assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
+                 "--reference", "step:20deg", "--duration", "0.05"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "metres (m)" in err and "mm" in err
+
+
+def test_unknown_unit_says_radians_and_lists_the_suffixes(capsys):
+    assert main(["simulate", "--controller", "p", "--kp", "2", "--reference", "step:20degree"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "radians (rad)" in err and "rad, mrad, deg" in err

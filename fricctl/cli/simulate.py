@@ -3,7 +3,9 @@
 The plant is the paper's actuator (``--link``, ``--plant``), or your own actuator
 with ``--model MODEL.json`` (a ``fricctl.joint_model`` file: its joint, sample time,
 encoder, torque limit, offset, delay and units; references, torques and gains in
-its units, e.g. [m], [N], [N/m] on a linear axis).  With ``--model`` the summary
+its units, e.g. [m], [N], [N/m] on a linear axis).  A number in ``--reference`` or
+``--torque`` is in that unit, or carries its own: ``step:30deg``, ``step:5mm``
+(:data:`fricctl.units.SUFFIXES`).  With ``--model`` the summary
 keys are ``controller, kp, kd, compensator, compensation_scale, units,
 final_error, steady_state_error, tracking_error_rms, max_abs_error,
 max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (positions in
@@ -14,7 +16,7 @@ output file is kept unless ``--force``.
 
 Examples::
 
-    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:0.5236 --duration 3
+    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:30deg --duration 3
     fricctl simulate --torque sinusoid:0.2,1 --duration 2 --csv run.csv --figure run.png
     fricctl simulate --controller pd --rise-time 0.4 --damping 0.85 --link --reference step:0.08 \\
         --compensation nn --net net.json --scale 0.95 --friction-scale 0.95 --json
@@ -31,27 +33,37 @@ from pathlib import Path
 
 import numpy as np
 
-_SIGNALS = {"step": 1, "constant": 1, "sawtooth": 2, "sinusoid": 2}
+#: Each signal's arguments after the amplitude, and what they are (for their units).
+_SIGNALS = {"step": (), "constant": (), "sawtooth": ("time",), "sinusoid": ("frequency",)}
 
 
-def parse_signal(spec: str):
+def parse_signal(spec: str, quantity: str = "position", kind: str = "rotary"):
     """``kind:a[,b]`` -> a :class:`fricctl.controllers.Signal`.
 
     ``step:A`` (at t = 0), ``constant:A``, ``sawtooth:A,PERIOD``, ``sinusoid:A,FREQ``.
+    Each number may carry a unit (:func:`fricctl.units.parse_quantity`): the amplitude
+    one of ``quantity`` on a ``kind`` axis (``step:20deg``, ``step:5mm``), the period one of
+    time (``500ms``), the frequency ``Hz``; a bare number is in the SI unit ([rad], [m],
+    [N*m], [N], [s], [Hz]).
     """
     from .. import controllers as c
+    from ..units import parse_quantity
 
-    kind, _, args = spec.partition(":")
-    if kind not in _SIGNALS:
-        raise ValueError(f"unknown signal {kind!r} in {spec!r}; use step:A, constant:A, sawtooth:A,PERIOD "
+    name, _, args = spec.partition(":")
+    if name not in _SIGNALS:
+        raise ValueError(f"unknown signal {name!r} in {spec!r}; use step:A, constant:A, sawtooth:A,PERIOD "
                          "or sinusoid:A,FREQ")
+    words = args.split(",") if args else []
+    quantities = (quantity, *_SIGNALS[name])
+    if len(words) != len(quantities):
+        raise ValueError(f"signal {spec!r}: {name} takes {len(quantities)} finite number(s)")
     try:
-        vals = [float(v) for v in args.split(",")] if args else []
-    except ValueError:
-        raise ValueError(f"signal {spec!r}: arguments must be numbers") from None
-    if len(vals) != _SIGNALS[kind] or not all(math.isfinite(v) for v in vals):
-        raise ValueError(f"signal {spec!r}: {kind} takes {_SIGNALS[kind]} finite number(s)")
-    return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[kind](*vals)
+        vals = [parse_quantity(w, q, kind) for w, q in zip(words, quantities)]
+    except ValueError as exc:
+        raise ValueError(f"signal {spec!r}: arguments must be numbers; {exc}") from None
+    if not all(math.isfinite(v) for v in vals):
+        raise ValueError(f"signal {spec!r}: {name} takes {len(quantities)} finite number(s)")
+    return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[name](*vals)
 
 
 def register(sub):
@@ -62,8 +74,14 @@ def register(sub):
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")
     p.add_argument("--kp", type=float, help="proportional gain [N*m/rad] instead of a design")
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
-    p.add_argument("--reference", default=None, help="position reference [rad] (P/PD; default step:0.5236)")
-    p.add_argument("--torque", default=None, help="open-loop torque [N*m], e.g. sinusoid:0.2,1")
+    p.add_argument("--reference", default=None,
+                   help="position reference (P/PD; default step:0.5236): step:A, constant:A, "
+                        "sawtooth:A,PERIOD or sinusoid:A,FREQ; a bare number is in [rad] ([m] on "
+                        "a linear --model), or give a unit: rad, mrad, deg (linear: m, cm, mm, "
+                        "um), e.g. step:30deg; PERIOD in [s] or ms, FREQ in [Hz]")
+    p.add_argument("--torque", default=None,
+                   help="open-loop torque, e.g. sinusoid:0.2,1: a bare number is in [N*m] ([N] on "
+                        "a linear --model), or give a unit: N*m, Nm, mN*m (linear: N, kN)")
     p.add_argument("--model", metavar="MODEL.json", default=None,
                    help="simulate this model file (your own actuator) instead of the paper's")
     p.add_argument("--link", action="store_true", help="attach the SCARA link (0.0046 kg*m^2)")
@@ -133,12 +151,12 @@ def _check_combination(args) -> None:
             raise ValueError("--model needs --reference (in the model's position unit)")
 
 
-def _controller(args, plant):
+def _controller(args, plant, kind: str = "rotary"):
     from ..controllers import open_loop, p_control, pd_control
 
     if args.controller == "open":
-        return open_loop(parse_signal(args.torque))
-    ref = parse_signal(args.reference or "step:0.5236")
+        return open_loop(parse_signal(args.torque, "torque", kind))
+    ref = parse_signal(args.reference or "step:0.5236", "position", kind)
     if args.kp is not None:
         kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
     else:
@@ -243,8 +261,8 @@ def run(args) -> int:
         model = JointModel.load(args.model)
         fr = model.friction
         comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
-        res = simulate_model(model, _controller(args, model), comp, duration=args.duration,
-                             friction=fr.scaled(args.friction_scale))
+        res = simulate_model(model, _controller(args, model, model.units), comp,
+                             duration=args.duration, friction=fr.scaled(args.friction_scale))
         summary, units = _model_summary(res, model), model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
