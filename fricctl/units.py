@@ -27,8 +27,8 @@ from dataclasses import dataclass
 
 from . import _validate as v
 
-__all__ = ["Units", "UNITS", "KINDS", "units", "to_load_side", "to_rotor_side", "SUFFIXES",
-           "parse_quantity"]
+__all__ = ["Units", "UNITS", "KINDS", "units", "quantity", "to_load_side", "to_rotor_side",
+           "SUFFIXES", "parse_quantity"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -65,6 +65,22 @@ KINDS = tuple(UNITS)
 def units(kind) -> Units:
     """The :class:`Units` of ``"rotary"`` or ``"linear"`` (anything else is a ValueError)."""
     return UNITS[v.choice("units", kind, KINDS)]
+
+
+def quantity(value, unit: str) -> dict:
+    """A number with its unit, as fricctl's JSON summaries write every quantity.
+
+    ``identify --json`` writes each parameter as ``{value, std, unit}``; ``design`` and
+    ``simulate`` write each quantity as ``{value, unit}``, with the same keys whatever
+    the plant (rotary or linear, the paper's actuator or a model file).  A dimensionless
+    ratio has the unit ``"-"``.
+
+    Examples
+    --------
+    >>> quantity(0.5, "rad")
+    {'value': 0.5, 'unit': 'rad'}
+    """
+    return {"value": value, "unit": v.text("unit", unit)}
 
 
 _FACTORS = {"inertia": 2, "viscous": 2, "torque": 1, "angle": -1, "velocity": -1}

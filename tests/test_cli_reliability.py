@@ -64,12 +64,12 @@ def test_open_loop_run_has_no_steady_state_error(capsys):
         r.steady_state_error()
     assert main(["simulate", "--torque", "sinusoid:0.2,1", "--duration", "0.5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["steady_state_error_deg"] is None and out["final_error_rad"] is None
-    assert "no reference" in out["undefined"]["steady_state_error_deg"]
+    assert out["steady_state_error"]["value"] is None and out["final_error"]["value"] is None
+    assert "no reference" in out["undefined"]["steady_state_error.value"]
     # a closed loop keeps its number (Fs/Kp bounds it: P control, paper actuator)
     assert main(["simulate", "--controller", "p", "--kp", "1", "--duration", "1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert "undefined" not in out and abs(out["steady_state_error_deg"]) <= math.degrees(P.static)
+    assert "undefined" not in out and abs(out["steady_state_error"]["value"]) <= P.static
 
 
 # -- 2. outputs -------------------------------------------------------------------------------

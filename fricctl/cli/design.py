@@ -7,10 +7,12 @@ identify --out``: its inertia, the mean viscous coefficient of both directions,
 its sample time and units: a linear axis prints kg, N*s/m, N/m), and prints the
 gains with the achieved step metrics of the continuous loop and of the sampled
 loop at the sample time.  ``--json`` prints one JSON object
-(:meth:`fricctl.design.Design.as_dict`):
+(:meth:`fricctl.design.Design.as_dict`), the same keys with or without ``--model``:
 ``law, units, kp, kd, inertia, viscous, sample_time, requested{rise_time, damping, priority},
 rise_time_definition, wn, zeta, achieved{rise_time, damping, overshoot_percent,
-settling_time}, sampled{...same...}, warnings[...]``; missing values are null.
+settling_time}, sampled{...same...}, warnings[...]``; each quantity is ``{"value": ...,
+"unit": ...}`` (as ``identify --json`` writes its parameters; ``"-"`` for a ratio); missing
+values are null.
 """
 
 from __future__ import annotations

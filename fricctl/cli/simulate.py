@@ -5,11 +5,14 @@ with ``--model MODEL.json`` (a ``fricctl.joint_model`` file: its joint, sample t
 encoder, torque limit, offset, delay and units; references, torques and gains in
 its units, e.g. [m], [N], [N/m] on a linear axis).  A number in ``--reference`` or
 ``--torque`` is in that unit, or carries its own: ``step:30deg``, ``step:5mm``
-(:data:`fricctl.units.SUFFIXES`).  With ``--model`` the summary
-keys are ``controller, kp, kd, compensator, compensation_scale, units,
+(:data:`fricctl.units.SUFFIXES`).  The summary has the same keys with or
+without ``--model``: ``controller, kp, kd, compensator, compensation_scale, units,
 final_error, steady_state_error, tracking_error_rms, max_abs_error,
-max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (positions in
-the model's unit).  ``--c-source NAME.c`` (with ``--compensation nn``) also writes
+max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (and a Coulomb
+compensation's ``coulomb_compensation_pos, coulomb_compensation_neg``); each quantity
+is printed with its unit and in ``--json`` is ``{"value": ..., "unit": ...}`` (as
+``identify --json`` writes its parameters), in SI units of the plant's axis ([rad],
+[N*m] on a rotary joint; the text also gives an angle in [deg]).  ``--c-source NAME.c`` (with ``--compensation nn``) also writes
 the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 (:func:`fricctl.nn.c_export.c_source`, functions prefixed ``NAME``).  An existing
 output file is kept unless ``--force``.
@@ -213,17 +216,6 @@ def _errors(res, keys) -> dict:
     return {k: values[k] for k in keys}
 
 
-def _model_summary(res, model) -> dict:
-    return {"controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
-            "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-            "units": model.units,
-            **_errors(res, ("final_error", "steady_state_error", "tracking_error_rms",
-                            "max_abs_error")),
-            "max_abs_position": float(np.max(np.abs(res.q))),
-            "max_abs_torque": float(np.max(np.abs(res.torque_motor))),
-            "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
-
-
 def _figure(res, path, units, *, overwrite: bool) -> None:
     import matplotlib.pyplot as plt
 
@@ -263,16 +255,16 @@ def run(args) -> int:
         comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
         res = simulate_model(model, _controller(args, model, model.units), comp,
                              duration=args.duration, friction=fr.scaled(args.friction_scale))
-        summary, units = _model_summary(res, model), model.units
+        units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
         comp = _compensator(args, scale, params.coulomb, params.coulomb)
         res = simulate(params, _controller(args, params), comp, duration=args.duration,
                        plant=args.plant or "rigid",
                        friction=params.friction_model().scaled(args.friction_scale))
-        summary, units = _paper_summary(res, args.duration), None
+        units = None
     warns = _runaway_warnings(res)
-    summary.update(_compensation_level(comp))
+    summary = _summary(res, units or "rotary", comp)
     if args.csv:
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
             source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
@@ -292,17 +284,10 @@ def run(args) -> int:
         warnings.warn(text, stacklevel=1)
     if args.json:
         summary["warnings"] = warns
-        print(json_text(summary, reasons={k: NO_REFERENCE for k, x in summary.items() if x is None}))
+        print(json_text(summary, reasons={f"{k}.value": NO_REFERENCE for k, x in summary.items()
+                                          if isinstance(x, dict) and x["value"] is None}))
     else:
-        labels = {} if units is None else _unit_labels(units)
-        for k, v in summary.items():
-            if k == "warnings":
-                continue
-            if v is None:
-                print(f"{k:26s} - ({NO_REFERENCE})")
-                continue
-            text = f"{v:.6g}" if isinstance(v, float) else f"{v}"
-            print(f"{k:26s} {text} {labels.get(k, '')}".rstrip())
+        print(_summary_text(summary))
     return 0
 
 
@@ -316,36 +301,54 @@ def _runaway_warnings(res) -> list[str]:
     return [] if check.passed else [f"the compensated joint winds its torque up: {check.reason}"]
 
 
-def _compensation_level(comp) -> dict:
-    """The Coulomb compensation's levels (what it adds per direction, before its scale) [N*m]."""
+#: Keys of the summary, in order: the same for the paper's actuator and a model file
+#: (each quantity ``{value, unit}`` in the plant's units; see :func:`_summary`).
+SUMMARY_KEYS = ("controller", "kp", "kd", "compensator", "compensation_scale", "units",
+                "final_error", "steady_state_error", "tracking_error_rms", "max_abs_error",
+                "max_abs_position", "max_abs_torque", "stuck_intervals", "stuck_at_end")
+
+
+def _summary(res, kind: str, comp) -> dict:
+    """The summary of one run: :data:`SUMMARY_KEYS`, each quantity as ``{value, unit}``
+    (:func:`fricctl.units.quantity`) in the units of a ``kind`` axis, whatever the plant; a
+    Coulomb compensation adds its levels per direction (before its scale)."""
     from ..compensators import CoulombCompensator
+    from ..units import quantity, units as units_of
 
-    if not isinstance(comp, CoulombCompensator):
-        return {}
-    return {"coulomb_compensation_pos": float(comp.coulomb_pos),
-            "coulomb_compensation_neg": float(comp.coulomb_neg)}
-
-
-def _unit_labels(units) -> dict:
-    """Unit of each summary value of a model run (the model's units)."""
-    from ..units import units as units_of
-
-    u = units_of(units)
-    out = {"kp": u.stiffness, "kd": u.viscous, "max_abs_torque": u.torque}
-    out.update({k: u.position for k in ("final_error", "steady_state_error", "tracking_error_rms",
-                                          "max_abs_error", "max_abs_position")})
+    u = units_of(kind)
+    errors = _errors(res, ("final_error", "steady_state_error", "tracking_error_rms",
+                           "max_abs_error"))
+    out = {"controller": res.info.controller,
+           "kp": quantity(res.info.kp, u.stiffness), "kd": quantity(res.info.kd, u.viscous),
+           "compensator": res.info.compensator,
+           "compensation_scale": quantity(res.info.compensation_scale, "-"),
+           "units": kind,
+           **{k: quantity(x, u.position) for k, x in errors.items()},
+           "max_abs_position": quantity(float(np.max(np.abs(res.q))), u.position),
+           "max_abs_torque": quantity(float(np.max(np.abs(res.torque_motor))), u.torque),
+           "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
+    if isinstance(comp, CoulombCompensator):
+        out["coulomb_compensation_pos"] = quantity(float(comp.coulomb_pos), u.torque)
+        out["coulomb_compensation_neg"] = quantity(float(comp.coulomb_neg), u.torque)
     return out
 
 
-def _paper_summary(res, duration) -> dict:
-    e = _errors(res, ("final_error", "steady_state_error"))
-    return {
-        "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
-        "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-        "final_error_rad": e["final_error"],
-        "steady_state_error_deg": (None if e["steady_state_error"] is None
-                                   else math.degrees(e["steady_state_error"])),
-        "max_abs_position_rad": float(np.max(np.abs(res.q))),
-        "stuck_intervals": len(res.stuck_intervals()),
-        "stuck_at_end": bool(res.stuck[-1]),
-    }
+def _summary_text(summary: dict) -> str:
+    """The summary as aligned lines ``key value unit``; an angle also in degrees (a reader
+    of a joint thinks in degrees, the JSON and the computation stay in radians)."""
+    lines = []
+    for k, x in summary.items():
+        if k == "warnings":
+            continue
+        if not isinstance(x, dict):
+            lines.append(f"{k:26s} {x:.6g}" if isinstance(x, float) else f"{k:26s} {x}")
+            continue
+        v, unit = x["value"], x["unit"]
+        if v is None:
+            lines.append(f"{k:26s} - ({NO_REFERENCE})")
+            continue
+        text = f"{k:26s} {v:.6g} {'' if unit == '-' else unit}".rstrip()
+        if unit == "rad":
+            text += f" ({math.degrees(v):.6g} deg)"
+        lines.append(text)
+    return "\n".join(lines)
