@@ -220,3 +220,27 @@ def test_patterns_out_of_double_range_are_refused_by_name(tmp_path, capsys, fact
                      "--restarts", "1"]) == 2
         err = _one_error_line(capsys, "train")
         assert err.startswith("fricctl train: error: tm ") and message in err
+
+
+# -- issue 25: an option typo gets a suggestion and the sub-command's help -------------------
+@pytest.mark.parametrize("argv,line", [
+    (["simulate", "--rise-tme", "0.3"],
+     "fricctl simulate: error: unrecognized arguments: --rise-tme 0.3; did you mean --rise-time? "
+     "(see fricctl simulate --help)"),
+    (["design", "pd", "--dampng=0.9"],
+     "fricctl design: error: unrecognized arguments: --dampng=0.9; did you mean --damping? "
+     "(see fricctl design --help)"),
+    (["model", "show", "m.json", "--jsn"],
+     "fricctl model show: error: unrecognized arguments: --jsn; did you mean --json? "
+     "(see fricctl model show --help)"),
+    (["simulate", "--controller", "pdd"],
+     "fricctl simulate: error: argument --controller: invalid choice: 'pdd' (choose from 'open', "
+     "'p', 'pd'); did you mean pd? (see fricctl simulate --help)"),
+    (["simulte"], "did you mean simulate? (see fricctl --help)"),
+    (["simulate", "--xyzzy"],  # nothing close: no guess
+     "fricctl simulate: error: unrecognized arguments: --xyzzy (see fricctl simulate --help)"),
+])
+def test_option_typo_suggests_and_points_to_the_subcommand_help(argv, line, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and line in err, err
