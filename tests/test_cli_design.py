@@ -67,6 +67,15 @@ def test_10_90_definition(capsys):
     assert math.isfinite(obj["achieved"]["rise_time"]["value"])
 
 
+def test_rise_time_definition_help_says_what_the_command_does(capsys):
+    # issue 25: the help said "required for >= 1" but --damping 1.2 runs without it (and takes
+    # 10-90, test_10_90_definition); the help now states that default and the refusal of 0-100
+    assert main(["design", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "10-90 for damping >= 1" in text and "required for >= 1" not in text
+    assert "0-100 is refused for damping >= 1" in text
+
+
 @pytest.mark.parametrize("argv,match", [
     (["pd", "--rise-time", "0.3", "--damping", "0"], "damping must be > 0"),
     (["pd", "--rise-time", "nan", "--damping", "0.5"], "rise_time must be finite"),

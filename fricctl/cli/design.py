@@ -39,7 +39,8 @@ def register(subparsers) -> None:
     p.add_argument("--model", metavar="MODEL.json", default=None,
                    help="design for this model file instead of the paper's actuator")
     p.add_argument("--rise-time-definition", choices=("0-100", "10-90"), default=None,
-                   help="default 0-100 for damping < 1, 10-90 otherwise (required for >= 1)")
+                   help="default 0-100 for damping < 1 and 10-90 for damping >= 1; 0-100 is "
+                        "refused for damping >= 1 (such a step never reaches its final value)")
     p.add_argument("--priority", choices=("rise_time", "damping"), default=None,
                    help="p with both specs: the one met exactly (default rise_time)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
