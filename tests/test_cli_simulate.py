@@ -346,3 +346,29 @@ def test_one_summary_schema_with_units_with_or_without_a_model(capsys):
     assert "kp                         1.2 N*m/rad\n" in text
     e = built_in["final_error"]["value"]
     assert f"final_error                {e:.6g} rad ({math.degrees(e):.6g} deg)" in text
+
+
+def _figures_of(monkeypatch, argv) -> list:
+    """The figures ``fricctl simulate --figure`` saves, kept open for inspection (Agg)."""
+    import fricctl.cli._output as output
+
+    saved = []
+    monkeypatch.setattr(output, "save_figure", lambda fig, path, **kw: saved.append(fig))
+    assert main(argv) == 0
+    return saved
+
+
+def test_figure_title_stuck_legend_and_top_tick_labels(tmp_path, monkeypatch, capsys):
+    import matplotlib.pyplot as plt
+
+    (fig,) = _figures_of(monkeypatch, [
+        "simulate", "--controller", "pd", "--kp", "1.2", "--kd", "0.09", "--reference", "step:0.5236",
+        "--compensation", "coulomb", "--scale", "0.9", "--duration", "1",
+        "--figure", str(tmp_path / "r.png")])
+    top, bottom = fig.axes
+    assert fig._suptitle.get_text() == ("PD: Kp = 1.2 N*m/rad, Kd = 0.09 N*m*s/rad; "
+                                        "compensation Coulomb (s = 0.9)")
+    assert "stuck (ω = 0)" in [t.get_text() for t in top.get_legend().get_texts()]
+    fig.canvas.draw()
+    assert any(t.get_visible() and t.get_text() for t in top.get_xticklabels())
+    plt.close(fig)

@@ -217,6 +217,8 @@ def _errors(res, keys) -> dict:
 
 
 def _figure(res, path, units, *, overwrite: bool) -> None:
+    """Position (with the stuck intervals) over torques, titled with the controller, its
+    gains and the compensation; both panels carry their time tick labels."""
     import matplotlib.pyplot as plt
 
     from .. import figures
@@ -231,7 +233,21 @@ def _figure(res, path, units, *, overwrite: bool) -> None:
         u = units_of(units)
         a.set_ylabel(f"position q [{u.position}]")
         b.set_ylabel(f"{'torque' if units == 'rotary' else 'force'} [{u.torque}]")
+    a.tick_params(labelbottom=True)  # sharex hides the top panel's time labels
+    fig.suptitle(_title(res, units or "rotary"), fontsize="medium")
     save_figure(fig, path, overwrite=overwrite)
+
+
+def _title(res, kind: str) -> str:
+    """``PD: Kp = 1.213 N*m/rad, Kd = 0.08922 N*m*s/rad; compensation Coulomb (s = 1)``."""
+    from ..units import units as units_of
+
+    info, u = res.info, units_of(kind)
+    gains = "" if info.controller == "open loop" else f": Kp = {info.kp:.4g} {u.stiffness}"
+    if info.controller == "PD":
+        gains += f", Kd = {info.kd:.4g} {u.viscous}"
+    scale = "" if info.compensator == "none" else f" (s = {info.compensation_scale:g})"
+    return f"{info.controller}{gains}; compensation {info.compensator}{scale}"
 
 
 def run(args) -> int:

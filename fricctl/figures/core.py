@@ -78,16 +78,22 @@ def plot_friction_law(model, *, ax=None, omega_max: float = 1.0, n: int = 801, l
     return ax
 
 
-def plot_stuck(result, *, ax=None, color="tab:red", alpha=0.12):
-    """Shade the intervals where the joint is at rest."""
+def plot_stuck(result, *, ax=None, color="tab:red", alpha=0.12, label: str = "stuck (ω = 0)"):
+    """Shade the intervals where the joint is at rest.
+
+    The first interval carries ``label``; an existing legend of ``ax`` (e.g. drawn by
+    :func:`plot_response`) is redrawn so that the shading has its entry in it.
+    """
     ax = get_ax(ax)
     first = True
     for a, b in result.stuck_intervals():
         ax.axvspan(a, b + result.sample_time, color=color, alpha=alpha, lw=0,
-                   label="stuck (ω = 0)" if first else None)
+                   label=label if first else None)
         first = False
     if ax.get_xlabel() == "":
         ax.set_xlabel("time t [s]")
+    if ax.get_legend() is not None:
+        ax.legend(loc="best", fontsize="small")
     return ax
 
 
