@@ -372,3 +372,41 @@ def test_figure_title_stuck_legend_and_top_tick_labels(tmp_path, monkeypatch, ca
     fig.canvas.draw()
     assert any(t.get_visible() and t.get_text() for t in top.get_xticklabels())
     plt.close(fig)
+
+
+def test_several_compensations_one_entry_each_and_one_overlaid_figure(tmp_path, monkeypatch, capsys,
+                                                                       small_net):
+    import matplotlib.pyplot as plt
+
+    _, net_path = small_net
+    m = str(_linear_model(tmp_path))
+    common = ["simulate", "--model", m, "--controller", "pd", "--kp", "2000", "--kd", "80",
+              "--reference", "step:1mm", "--duration", "0.2", "--net", str(net_path)]
+    # each entry is the run of that compensation alone (same plant, reference, gains): identical
+    both = _summary(capsys, *common[1:], "--compensation", "none,coulomb,nn")
+    assert [r["compensator"] for r in both["runs"]] == ["none", "Coulomb", "NN"]
+    for name, entry in zip(("none", "coulomb", "nn"), both["runs"]):
+        alone = common[1:-2] + (common[-2:] if name == "nn" else [])  # --net only for nn
+        assert entry == _summary(capsys, *alone, "--compensation", name)
+    (fig,) = _figures_of(monkeypatch, [*common, "--compensation", "none,coulomb,nn",
+                                       "--figure", str(tmp_path / "all.png")])
+    top, bottom = fig.axes
+    assert fig._suptitle.get_text().endswith("; compensation none, Coulomb, NN (s = 1)")
+    labels = [t.get_text() for t in top.get_legend().get_texts()]
+    for name in ("none", "Coulomb", "NN"):
+        assert f"position q, {name}" in labels
+        assert f"motor torque Tm, {name}" in [t.get_text() for t in bottom.get_legend().get_texts()]
+    assert any(lab.startswith("stuck (ω = 0), ") for lab in labels)
+    assert top.get_ylabel() == "position q [m]" and bottom.get_ylabel() == "force [N]"
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--compensation", "none,coulomb", "--csv", "x.csv"], "--csv writes one record"),
+    (["--compensation", "none,none"], "names a compensation twice"),
+    (["--compensation", "none,colomb"], "unknown compensation 'colomb'"),
+])
+def test_compensation_list_refusals(argv, words, capsys):
+    assert main(["simulate", "--controller", "p", "--kp", "2", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err

@@ -69,6 +69,23 @@ def parse_signal(spec: str, quantity: str = "position", kind: str = "rotary"):
     return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[name](*vals)
 
 
+#: The compensations ``--compensation`` names (see :func:`_compensator`).
+COMPENSATIONS = ("none", "coulomb", "nn")
+
+
+def _compensations(text: str) -> tuple[str, ...]:
+    """``--compensation``: one of :data:`COMPENSATIONS` or a comma list of them, each once."""
+    names = tuple(w.strip() for w in text.split(","))
+    bad = [n for n in names if n not in COMPENSATIONS]
+    if bad:
+        raise argparse.ArgumentTypeError(
+            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(COMPENSATIONS)} "
+            "or a comma list of them, e.g. none,coulomb")
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"{text!r} names a compensation twice")
+    return names
+
+
 def register(sub):
     p = sub.add_parser("simulate", help="simulate the actuator (virtual bench) and save the record",
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -91,11 +108,15 @@ def register(sub):
     p.add_argument("--plant", choices=("rigid", "flexible"), default=None,
                    help="paper actuator: rigid (default) or flexible joint")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
-    p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none",
+    p.add_argument("--compensation", type=_compensations, default=("none",),
+                   metavar="{none,coulomb,nn}[,...]",
                    help="none; coulomb: s*Fc*sign(omega_hat) at the model's sliding (Coulomb) "
                         "level per direction, scaled with the friction (not the breakaway "
                         "level; a model without Coulomb friction is refused); nn: the network "
-                        "of --net.  A compensated run is checked for wind-up (warning)"),
+                        "of --net.  A comma list (none,coulomb,nn) runs each on the same plant "
+                        "and reference: one figure overlays them, the summary has one entry "
+                        "per compensation (--json: runs[...]), --csv is refused.  A "
+                        "compensated run is checked for wind-up (warning)")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--clip", action="store_true",
@@ -138,14 +159,18 @@ def _check_combination(args) -> None:
                 raise ValueError("--controller pd with --kp needs --kd too")
         else:
             refuse(("kd",), "without --kp (the design gives Kd)")
-    if args.compensation != "nn":
-        refuse(("net",), f"with --compensation {args.compensation}")
+    given_comp = ",".join(args.compensation)
+    if "nn" not in args.compensation:
+        refuse(("net",), f"with --compensation {given_comp}")
     elif args.net is None:
         raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
-    if args.compensation == "none":
+    if args.compensation == ("none",):
         refuse(("scale",), "with --compensation none")
-    if args.compensation != "nn" and (args.clip or args.c_source):
+    if "nn" not in args.compensation and (args.clip or args.c_source):
         raise ValueError(f"{'--clip' if args.clip else '--c-source'} applies to --compensation nn")
+    if len(args.compensation) > 1 and args.csv:
+        raise ValueError(f"--csv writes one record; --compensation {given_comp} makes "
+                         f"{len(args.compensation)} (give one compensation with --csv)")
     if args.model is not None:
         bad = [o for o, x in (("--link", args.link), ("--plant", args.plant)) if x]
         if bad:
@@ -173,12 +198,13 @@ def _controller(args, plant, kind: str = "rotary"):
     return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
 
 
-def _compensator(args, scale, coulomb_pos, coulomb_neg):
+def _compensator(name, args, scale, coulomb_pos, coulomb_neg):
+    """The compensator ``name`` (one of :data:`COMPENSATIONS`)."""
     from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
 
-    if args.compensation == "none":
+    if name == "none":
         return NoCompensation()
-    if args.compensation == "coulomb":
+    if name == "coulomb":
         if coulomb_pos <= 0.0 and coulomb_neg <= 0.0:
             raise ValueError("--compensation coulomb: the model has no Coulomb friction "
                              "(coulomb_pos = coulomb_neg = 0), so the compensation would add "
@@ -216,9 +242,10 @@ def _errors(res, keys) -> dict:
     return {k: values[k] for k in keys}
 
 
-def _figure(res, path, units, *, overwrite: bool) -> None:
+def _figure(results, path, units, *, overwrite: bool) -> None:
     """Position (with the stuck intervals) over torques, titled with the controller, its
-    gains and the compensation; both panels carry their time tick labels."""
+    gains and the compensation(s); both panels carry their time tick labels.  Several runs
+    (one per compensation) are overlaid, each in its own colour, with their motor torques."""
     import matplotlib.pyplot as plt
 
     from .. import figures
@@ -226,28 +253,45 @@ def _figure(res, path, units, *, overwrite: bool) -> None:
     from ._output import save_figure
 
     fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
-    figures.plot_response(res, ax=a, unit="deg" if units is None else "rad")
-    figures.plot_stuck(res, ax=a)
-    figures.plot_torques(res, ax=b)
+    unit = "deg" if units is None else "rad"
+    if len(results) == 1:
+        figures.plot_response(results[0], ax=a, unit=unit)
+        figures.plot_stuck(results[0], ax=a)
+        figures.plot_torques(results[0], ax=b)
+    else:
+        for i, res in enumerate(results):
+            name, color = res.info.compensator, f"C{i}"
+            figures.plot_response(res, ax=a, unit=unit, reference=i == 0, color=color,
+                                  label=f"position q, {name}")
+            # each run's stuck intervals as a strip along the bottom, one strip per run
+            figures.plot_stuck(res, ax=a, color=color, alpha=0.5, label=f"stuck (ω = 0), {name}",
+                               band=(0.035 * i, 0.035 * (i + 1)))
+            b.plot(res.t, res.torque_motor, drawstyle="steps-post", color=color,
+                   label=f"motor torque Tm, {name}")
+        b.set_xlabel("time t [s]")
+        b.set_ylabel("torque [N·m]")
+        b.legend(loc="best", fontsize="small")
     if units is not None:  # the figures label a rotary joint; relabel for the model's units
         u = units_of(units)
         a.set_ylabel(f"position q [{u.position}]")
         b.set_ylabel(f"{'torque' if units == 'rotary' else 'force'} [{u.torque}]")
     a.tick_params(labelbottom=True)  # sharex hides the top panel's time labels
-    fig.suptitle(_title(res, units or "rotary"), fontsize="medium")
+    fig.suptitle(_title(results, units or "rotary"), fontsize="medium")
     save_figure(fig, path, overwrite=overwrite)
 
 
-def _title(res, kind: str) -> str:
-    """``PD: Kp = 1.213 N*m/rad, Kd = 0.08922 N*m*s/rad; compensation Coulomb (s = 1)``."""
+def _title(results, kind: str) -> str:
+    """``PD: Kp = 1.213 N*m/rad, Kd = 0.08922 N*m*s/rad; compensation Coulomb (s = 1)``
+    (several compensations: ``compensation none, Coulomb, NN (s = 1)``)."""
     from ..units import units as units_of
 
-    info, u = res.info, units_of(kind)
+    info, u = results[0].info, units_of(kind)
     gains = "" if info.controller == "open loop" else f": Kp = {info.kp:.4g} {u.stiffness}"
     if info.controller == "PD":
         gains += f", Kd = {info.kd:.4g} {u.viscous}"
-    scale = "" if info.compensator == "none" else f" (s = {info.compensation_scale:g})"
-    return f"{info.controller}{gains}; compensation {info.compensator}{scale}"
+    names = [r.info.compensator for r in results]
+    scale = "" if names == ["none"] else f" (s = {info.compensation_scale:g})"
+    return f"{info.controller}{gains}; compensation {', '.join(names)}{scale}"
 
 
 def run(args) -> int:
@@ -268,43 +312,60 @@ def run(args) -> int:
     if args.model is not None:
         model = JointModel.load(args.model)
         fr = model.friction
-        comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
-        res = simulate_model(model, _controller(args, model, model.units), comp,
-                             duration=args.duration, friction=fr.scaled(args.friction_scale))
+        comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
+                              fr.scale * fr.coulomb_neg) for name in args.compensation]
+        ctrl = _controller(args, model, model.units)
+        results = [simulate_model(model, ctrl, comp, duration=args.duration,
+                                  friction=fr.scaled(args.friction_scale)) for comp in comps]
         units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
-        comp = _compensator(args, scale, params.coulomb, params.coulomb)
-        res = simulate(params, _controller(args, params), comp, duration=args.duration,
-                       plant=args.plant or "rigid",
-                       friction=params.friction_model().scaled(args.friction_scale))
+        comps = [_compensator(name, args, scale, params.coulomb, params.coulomb)
+                 for name in args.compensation]
+        ctrl = _controller(args, params)
+        results = [simulate(params, ctrl, comp, duration=args.duration, plant=args.plant or "rigid",
+                            friction=params.friction_model().scaled(args.friction_scale))
+                   for comp in comps]
         units = None
-    warns = _runaway_warnings(res)
-    summary = _summary(res, units or "rotary", comp)
+    warns = [_runaway_warnings(res) for res in results]
+    summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
+        res = results[0]
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
             source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
             units=units or "rotary").to_csv(args.csv, overwrite=args.force)
     if args.figure:
-        _figure(res, args.figure, units, overwrite=args.force)
+        _figure(results, args.figure, units, overwrite=args.force)
     if args.c_source:
         from .._atomic import write_text
         from ..nn.c_export import c_header, c_source
 
         c = Path(args.c_source)
-        net = comp.estimator
+        net = comps[args.compensation.index("nn")].estimator
         write_text(c, c_source(net, name=c.stem, units=units or "rotary"), overwrite=args.force)
         write_text(c.with_suffix(".h"), c_header(net, name=c.stem, units=units or "rotary"),
                    overwrite=args.force)
-    for text in warns:
-        warnings.warn(text, stacklevel=1)
+    several = len(results) > 1
+    for name, texts in zip(args.compensation, warns):
+        for text in texts:
+            warnings.warn(f"--compensation {name}: {text}" if several else text, stacklevel=1)
+    for summary, texts in zip(summaries, warns):
+        summary["warnings"] = texts
     if args.json:
-        summary["warnings"] = warns
-        print(json_text(summary, reasons={f"{k}.value": NO_REFERENCE for k, x in summary.items()
-                                          if isinstance(x, dict) and x["value"] is None}))
+        # one compensation: its summary, as before; several: one entry per compensation
+        out = {"runs": summaries} if several else summaries[0]
+        print(json_text(out, reasons=_no_reference(out)))
     else:
-        print(_summary_text(summary))
+        print("\n\n".join(_summary_text(x) for x in summaries))
     return 0
+
+
+def _no_reference(out: dict) -> dict:
+    """Why each null error value of a summary (or of each of its ``runs``) is undefined."""
+    entries = ({f"runs[{i}].": x for i, x in enumerate(out["runs"])} if "runs" in out
+               else {"": out})
+    return {f"{where}{k}.value": NO_REFERENCE for where, x in entries.items()
+            for k, q in x.items() if isinstance(q, dict) and q["value"] is None}
 
 
 def _runaway_warnings(res) -> list[str]:
