@@ -12,8 +12,11 @@ max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (and a Coulomb
 compensation's ``coulomb_compensation_pos, coulomb_compensation_neg``); each quantity
 is printed with its unit and in ``--json`` is ``{"value": ..., "unit": ...}`` (as
 ``identify --json`` writes its parameters), in SI units of the plant's axis ([rad],
-[N*m] on a rotary joint; the text also gives an angle in [deg]).  ``--c-source NAME.c`` (with ``--compensation nn``) also writes
-the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
+[N*m] on a rotary joint; the text also gives an angle in [deg]).
+``--compensation none,coulomb`` runs each compensation on the same plant and
+reference: one entry each in the summary (``--json``: ``{"runs": [...]}``), one
+overlaid figure.  ``--c-source NAME.c`` (with ``--compensation nn``) also writes the
+simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 (:func:`fricctl.nn.c_export.c_source`, functions prefixed ``NAME``).  An existing
 output file is kept unless ``--force``.
 
@@ -21,6 +24,8 @@ Examples::
 
     fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:30deg --duration 3
     fricctl simulate --torque sinusoid:0.2,1 --duration 2 --csv run.csv --figure run.png
+    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --compensation none,coulomb \\
+        --figure compare.png
     fricctl simulate --controller pd --rise-time 0.4 --damping 0.85 --link --reference step:0.08 \\
         --compensation nn --net net.json --scale 0.95 --friction-scale 0.95 --json
     fricctl simulate --model emps.json --controller pd --rise-time 0.05 --damping 0.7 \\
