@@ -478,7 +478,7 @@ def test_gate_fails_a_claim_on_a_failed_runaway_check():
     assert not c.passed and c.runaway
     assert c.note.startswith("runaway: the velocity never reverses.") and "own criterion was met" in c.note
     c = paper.gate(_claim(passed=False, note="too far"), (bad,))
-    assert not c.passed and c.note.endswith("too far") and c.note.startswith("runaway: ")
+    assert not c.passed and c.note.endswith(". Too far") and c.note.startswith("runaway: ")  # a sentence
     with pytest.raises(ValueError, match="gate"):
         _claim(checks=(bad,))  # a claim cannot pass with a failed check
 
@@ -593,7 +593,11 @@ def test_gate_names_the_coast_test_without_its_pulse_text():
                                "every claim measured with compensation requires. Its own criterion "
                                "was met.")
     own = paper.gate(_claim("coast-decay", passed=False, note="keeps going"), (coast,))
-    assert own.note == "runaway: after the pulse the joint does not coast down. keeps going"
+    assert own.note == "runaway: after the pulse the joint does not coast down. Keeps going"
+    # several runs failing the same check (Fig. 14's steps): one sentence, with the count
+    steps = paper.gate(_claim("fig14-steps"), (_check(False, "wind-up: a"), _check(False, "wind-up: b"),
+                                               _check(False, "wind-up: c")))
+    assert steps.note.startswith("runaway: wind-up: a (and in 2 more of its runs). Its own")
 
 
 def test_claims_markdown_reads_as_text():

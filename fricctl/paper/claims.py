@@ -119,7 +119,14 @@ def gate(claim: Claim, checks) -> Claim:
     # a check of another experiment (the coast test's pulse) is named, not described: its
     # reason is not about this claim's run
     own = [c for c in failed if REPORTED_BY.get(c.name, claim.id) == claim.id]
-    reasons = [c.reason.removeprefix("runaway: ") for c in own]
+    # one reason per kind of check: a claim made of several runs (Fig. 14's eight steps) would
+    # otherwise repeat the same sentence for each
+    by_name: dict[str, list] = {}
+    for c in own:
+        by_name.setdefault(c.name, []).append(c)
+    reasons = [cs[0].reason.removeprefix("runaway: ")
+               + (f" (and in {len(cs) - 1} more of its runs)" if len(cs) > 1 else "")
+               for cs in by_name.values()]
     reasons += [f"the network fails its {c.name} test (claim {REPORTED_BY[c.name]}), which every "
                 "claim measured with compensation requires" for c in failed if c not in own]
     runaway = "runaway: " + "; ".join(reasons) + "."
@@ -127,7 +134,7 @@ def gate(claim: Claim, checks) -> Claim:
         note = runaway + (" Its own criterion was met, by a joint that did not follow its control "
                           "torque." if own else " Its own criterion was met.")
     else:
-        note = runaway + (" " + claim.note if claim.note else "")
+        note = runaway + (" " + claim.note[:1].upper() + claim.note[1:] if claim.note else "")
     return replace(claim, passed=False, note=note, checks=claim.checks + checks)
 
 

@@ -280,8 +280,8 @@ def _num(x: float) -> str:
 
 
 def _seeds(s: ClaimStats) -> str:
-    """``met in 9 of 10 seeds (in 1 the compensated joint ran away)``."""
-    ran = (f" (in {s.runaway_failures} the compensated joint ran away)" if s.runaway_failures
+    """``met in 9 of 10 seeds, the compensated joint ran away in 1``."""
+    ran = (f", the compensated joint ran away in {s.runaway_failures}" if s.runaway_failures
            else "")
     return f"met in {s.n_passed} of {s.n_seeds} seed{'s' if s.n_seeds != 1 else ''}{ran}"
 
