@@ -21,12 +21,14 @@ Examples
 from __future__ import annotations
 
 import math
+import re
 
 from dataclasses import dataclass
 
 from . import _validate as v
 
-__all__ = ["Units", "UNITS", "KINDS", "units", "to_load_side", "to_rotor_side"]
+__all__ = ["Units", "UNITS", "KINDS", "units", "quantity", "to_load_side", "to_rotor_side",
+           "SUFFIXES", "parse_quantity"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -63,6 +65,22 @@ KINDS = tuple(UNITS)
 def units(kind) -> Units:
     """The :class:`Units` of ``"rotary"`` or ``"linear"`` (anything else is a ValueError)."""
     return UNITS[v.choice("units", kind, KINDS)]
+
+
+def quantity(value, unit: str) -> dict:
+    """A number with its unit, as fricctl's JSON summaries write every quantity.
+
+    ``identify --json`` writes each parameter as ``{value, std, unit}``; ``design`` and
+    ``simulate`` write each quantity as ``{value, unit}``, with the same keys whatever
+    the plant (rotary or linear, the paper's actuator or a model file).  A dimensionless
+    ratio has the unit ``"-"``.
+
+    Examples
+    --------
+    >>> quantity(0.5, "rad")
+    {'value': 0.5, 'unit': 'rad'}
+    """
+    return {"value": value, "unit": v.text("unit", unit)}
 
 
 _FACTORS = {"inertia": 2, "viscous": 2, "torque": 1, "angle": -1, "velocity": -1}
@@ -114,3 +132,76 @@ def to_rotor_side(*, gear_ratio: float, **quantities) -> dict:
                          f"known: {', '.join(_FACTORS)}")
     n = v.real("gear_ratio", gear_ratio, positive=True)
     return to_load_side(gear_ratio=1.0 / n, **quantities)
+
+
+#: Unit suffixes a number typed by a user may carry: (quantity, axis kind) -> suffix -> factor to
+#: the SI unit fricctl computes in (the first suffix of each).  A bare number is in that SI unit.
+SUFFIXES = {
+    ("position", "rotary"): {"rad": 1.0, "mrad": 1e-3, "deg": math.pi / 180.0},
+    ("position", "linear"): {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6},
+    ("torque", "rotary"): {"N*m": 1.0, "Nm": 1.0, "mN*m": 1e-3, "mNm": 1e-3},
+    ("torque", "linear"): {"N": 1.0, "kN": 1e3},
+    ("time", "rotary"): {"s": 1.0, "ms": 1e-3},
+    ("time", "linear"): {"s": 1.0, "ms": 1e-3},
+    ("frequency", "rotary"): {"Hz": 1.0},
+    ("frequency", "linear"): {"Hz": 1.0},
+}
+
+#: What each SI unit is called in a message (a reader who typed 'degs' learns the default).
+_UNIT_NAMES = {"rad": "radians", "m": "metres", "N*m": "newton metres", "N": "newtons",
+               "s": "seconds", "Hz": "hertz"}
+
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S*)\s*")
+
+
+def parse_quantity(text: str, quantity: str, kind: str = "rotary") -> float:
+    """A number with an optional unit suffix, converted to fricctl's SI unit.
+
+    Parameters
+    ----------
+    text : str
+        ``"0.35"`` (already in the SI unit), ``"20deg"``, ``"5 mm"``, ``"0.2N*m"``.
+    quantity : {"position", "torque", "time", "frequency"}
+        What the number is (angle or displacement for ``"position"``).
+    kind : {"rotary", "linear"}
+        Axis kind: a rotary position is in [rad] (``rad``, ``mrad``, ``deg`` accepted), a
+        linear one in [m] (``m``, ``cm``, ``mm``, ``um``).
+
+    Returns
+    -------
+    float
+        The value in the SI unit (the first entry of :data:`SUFFIXES` for the quantity).
+
+    Raises
+    ------
+    ValueError
+        Not a number, or a unit not accepted for this quantity: the message says the
+        default unit and lists the accepted suffixes.
+
+    Examples
+    --------
+    >>> round(parse_quantity("20deg", "position"), 6)
+    0.349066
+    >>> parse_quantity("5mm", "position", "linear")
+    0.005
+    >>> parse_quantity("0.3", "position")
+    0.3
+    """
+    kind = v.choice("units", kind, KINDS)
+    table = SUFFIXES.get((quantity, kind))
+    if table is None:
+        raise ValueError(f"quantity must be one of {sorted({q for q, _ in SUFFIXES})}, got {quantity!r}")
+    si = next(iter(table))
+    accepted = (f"a bare number is in {_UNIT_NAMES[si]} ({si}); accepted units: "
+                f"{', '.join(table)}")
+    try:
+        return float(text)  # a bare number (also inf, nan: the caller judges finiteness)
+    except (TypeError, ValueError):
+        pass
+    m = _NUMBER.fullmatch(str(text))
+    if m is None:
+        raise ValueError(f"{text!r} is not a number ({accepted})")
+    number, suffix = m.groups()
+    if suffix not in table:
+        raise ValueError(f"unknown unit {suffix!r} in {text!r} for a {kind} {quantity}; {accepted}")
+    return float(number) * table[suffix]

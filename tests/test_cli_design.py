@@ -23,12 +23,17 @@ def test_pd_json_matches_library(capsys):
     obj = json.loads(out)
     ref = design_pd(paper_actuator().with_link(), rise_time=0.22, damping=0.5)
     # same computation through the CLI: identical numbers (exact)
-    assert obj["kp"] == ref.kp and obj["kd"] == ref.kd
-    assert obj["inertia"] == ref.inertia and obj["viscous"] == ref.viscous
-    assert obj["requested"] == {"rise_time": 0.22, "damping": 0.5, "priority": None}
+    assert obj["kp"] == {"value": ref.kp, "unit": "N*m/rad"}
+    assert obj["kd"] == {"value": ref.kd, "unit": "N*m*s/rad"}
+    assert obj["inertia"] == {"value": ref.inertia, "unit": "kg*m^2"}
+    assert obj["viscous"] == {"value": ref.viscous, "unit": "N*m*s/rad"}
+    assert obj["requested"] == {"rise_time": {"value": 0.22, "unit": "s"},
+                                "damping": {"value": 0.5, "unit": "-"}, "priority": None}
     for key in ("achieved", "sampled"):
         assert set(obj[key]) == {"rise_time", "damping", "overshoot_percent", "settling_time"}
-    assert obj["achieved"]["rise_time"] == pytest.approx(0.22, rel=0.01)  # step_info, 1 %
+        assert {k: m["unit"] for k, m in obj[key].items()} == {
+            "rise_time": "s", "damping": "-", "overshoot_percent": "%", "settling_time": "s"}
+    assert obj["achieved"]["rise_time"]["value"] == pytest.approx(0.22, rel=0.01)  # step_info, 1 %
     assert obj["rise_time_definition"] == "0-100"
 
 
@@ -36,9 +41,9 @@ def test_p_json_kd_zero_and_text(capsys):
     code, out, _ = run(capsys, "p", "--rise-time", "0.2", "--damping", "0.3", "--json")
     assert code == 0
     obj = json.loads(out)
-    assert obj["kd"] == 0 and obj["law"] == "p"
+    assert obj["kd"]["value"] == 0 and obj["law"] == "p"
     ref = design_p(paper_actuator(), rise_time=0.2, damping=0.3)
-    assert obj["kp"] == ref.kp
+    assert obj["kp"]["value"] == ref.kp
     code, out, _ = run(capsys, "p", "--damping", "0.4")
     assert code == 0
     # Kp = b^2/(4 I zeta^2) (closed form), printed with 6 significant digits
@@ -58,8 +63,17 @@ def test_10_90_definition(capsys):
     assert code == 0
     obj = json.loads(out)
     assert obj["rise_time_definition"] == "10-90"
-    assert obj["achieved"]["overshoot_percent"] == 0.0  # overdamped: monotone step
-    assert math.isfinite(obj["achieved"]["rise_time"])
+    assert obj["achieved"]["overshoot_percent"]["value"] == 0.0  # overdamped: monotone step
+    assert math.isfinite(obj["achieved"]["rise_time"]["value"])
+
+
+def test_rise_time_definition_help_says_what_the_command_does(capsys):
+    # issue 25: the help said "required for >= 1" but --damping 1.2 runs without it (and takes
+    # 10-90, test_10_90_definition); the help now states that default and the refusal of 0-100
+    assert main(["design", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "10-90 for damping >= 1" in text and "required for >= 1" not in text
+    assert "0-100 is refused for damping >= 1" in text
 
 
 @pytest.mark.parametrize("argv,match", [
@@ -103,8 +117,10 @@ def test_pd_on_a_linear_model(tmp_path, capsys):
     code, out, _ = run(capsys, "pd", "--model", str(path), "--rise-time", "0.05", "--damping", "0.7",
                        "--json")
     obj = json.loads(out)
-    assert obj["units"] == "linear" and obj["sample_time"] == 0.001
-    assert obj["kp"] == pytest.approx(kp, rel=1e-12) and obj["kd"] == pytest.approx(kd, rel=1e-12)
+    assert obj["units"] == "linear" and obj["sample_time"] == {"value": 0.001, "unit": "s"}
+    assert obj["kp"]["value"] == pytest.approx(kp, rel=1e-12) and obj["kp"]["unit"] == "N/m"
+    assert obj["kd"]["value"] == pytest.approx(kd, rel=1e-12) and obj["kd"]["unit"] == "N*s/m"
+    assert obj["inertia"]["unit"] == "kg"
 
 
 def test_model_viscous_is_the_mean_of_both_directions(tmp_path, capsys):
@@ -113,7 +129,7 @@ def test_model_viscous_is_the_mean_of_both_directions(tmp_path, capsys):
     # EMPS's direction-dependent fit (data README): b+ = 166.7061, b- = 240.4236 N*s/m
     path = _model_file(tmp_path, friction=FrictionModel(viscous_pos=166.7061, viscous_neg=240.4236))
     code, out, _ = run(capsys, "p", "--model", str(path), "--damping", "0.5", "--json")
-    assert code == 0 and json.loads(out)["viscous"] == pytest.approx((166.7061 + 240.4236) / 2)
+    assert code == 0 and json.loads(out)["viscous"]["value"] == pytest.approx((166.7061 + 240.4236) / 2)
 
 
 @pytest.mark.parametrize("kw,argv,match", [

@@ -137,7 +137,7 @@ def test_extended_model_feeds_design_and_simulate(record_csv, tmp_path, capsys):
     assert main(["design", "pd", "--model", str(ext_file), "--rise-time", "0.1",
                  "--damping", "0.7", "--json"]) == 0
     design = json.loads(capsys.readouterr().out)
-    assert design["kp"] > 0
+    assert design["kp"]["value"] > 0 and design["kp"]["unit"] == "N*m/rad"
     assert main(["simulate", "--model", str(ext_file), "--controller", "pd", "--rise-time", "0.1",
                  "--damping", "0.7", "--reference", "step:0.1", "--duration", "1",
                  "--json"]) == 0

@@ -64,6 +64,7 @@ def test_text_output_and_models(tmp_path, capsys):
 @pytest.mark.parametrize("content,msg", [
     ("t,torque,foo\n" + "1,2,3\n" * 20, "unknown column 'foo'"),
     ("t,torque\n" + "1,2\n" * 20, "missing column 'position'"),
+    ("t;torque;position\n" + "0,002;1,5;0\n" * 20, "';'-separated with decimal commas"),
 ])
 def test_bad_csv_exit_2(tmp_path, capsys, content, msg):
     p = tmp_path / "bad.csv"

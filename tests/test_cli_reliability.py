@@ -64,12 +64,12 @@ def test_open_loop_run_has_no_steady_state_error(capsys):
         r.steady_state_error()
     assert main(["simulate", "--torque", "sinusoid:0.2,1", "--duration", "0.5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["steady_state_error_deg"] is None and out["final_error_rad"] is None
-    assert "no reference" in out["undefined"]["steady_state_error_deg"]
+    assert out["steady_state_error"]["value"] is None and out["final_error"]["value"] is None
+    assert "no reference" in out["undefined"]["steady_state_error.value"]
     # a closed loop keeps its number (Fs/Kp bounds it: P control, paper actuator)
     assert main(["simulate", "--controller", "p", "--kp", "1", "--duration", "1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert "undefined" not in out and abs(out["steady_state_error_deg"]) <= math.degrees(P.static)
+    assert "undefined" not in out and abs(out["steady_state_error"]["value"]) <= P.static
 
 
 # -- 2. outputs -------------------------------------------------------------------------------
@@ -220,3 +220,27 @@ def test_patterns_out_of_double_range_are_refused_by_name(tmp_path, capsys, fact
                      "--restarts", "1"]) == 2
         err = _one_error_line(capsys, "train")
         assert err.startswith("fricctl train: error: tm ") and message in err
+
+
+# -- issue 25: an option typo gets a suggestion and the sub-command's help -------------------
+@pytest.mark.parametrize("argv,line", [
+    (["simulate", "--rise-tme", "0.3"],
+     "fricctl simulate: error: unrecognized arguments: --rise-tme 0.3; did you mean --rise-time? "
+     "(see fricctl simulate --help)"),
+    (["design", "pd", "--dampng=0.9"],
+     "fricctl design: error: unrecognized arguments: --dampng=0.9; did you mean --damping? "
+     "(see fricctl design --help)"),
+    (["model", "show", "m.json", "--jsn"],
+     "fricctl model show: error: unrecognized arguments: --jsn; did you mean --json? "
+     "(see fricctl model show --help)"),
+    (["simulate", "--controller", "pdd"],
+     "fricctl simulate: error: argument --controller: invalid choice: 'pdd' (choose from 'open', "
+     "'p', 'pd'); did you mean pd? (see fricctl simulate --help)"),
+    (["simulte"], "did you mean simulate? (see fricctl --help)"),
+    (["simulate", "--xyzzy"],  # nothing close: no guess
+     "fricctl simulate: error: unrecognized arguments: --xyzzy (see fricctl simulate --help)"),
+])
+def test_option_typo_suggests_and_points_to_the_subcommand_help(argv, line, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and line in err, err

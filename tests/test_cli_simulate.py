@@ -1,4 +1,5 @@
 import json
+import math
 
 import numpy as np
 import pytest
@@ -19,7 +20,8 @@ def test_simulate_pd_json_and_csv(tmp_path, capsys):
     # the paper's 0.3 s / 0.9 design warns (ill-conditioned 0-100 % rise time): one line on stderr
     assert captured.err.count("\n") == 1 and "warning: sampled loop" in captured.err
     # PD without compensation sticks inside the +-Fs/Kp band (8.5 deg for Kp = 1.213)
-    assert out["stuck_at_end"] and 0 < out["steady_state_error_deg"] < 8.5
+    assert out["stuck_at_end"] and 0 < out["steady_state_error"]["value"] < math.radians(8.5)
+    assert out["steady_state_error"]["unit"] == "rad"
     run = Run.from_csv(csv)
     assert run.n_samples == 1000 and run.reference is not None
     assert png.stat().st_size > 1000
@@ -27,7 +29,7 @@ def test_simulate_pd_json_and_csv(tmp_path, capsys):
 
 def test_open_loop_below_breakaway_does_not_move(capsys):
     assert main(["simulate", "--torque", "constant:0.17", "--duration", "0.5", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["max_abs_position_rad"] == 0.0
+    assert json.loads(capsys.readouterr().out)["max_abs_position"] == {"value": 0.0, "unit": "rad"}
 
 
 def test_output_path_errors_are_one_line(tmp_path, capsys):
@@ -115,7 +117,7 @@ def test_linear_model_offset_and_units(tmp_path, capsys):
     assert main(["simulate", "--model", str(m), "--torque", "constant:5", "--duration", "3",
                  "--csv", str(tmp_path / "r.csv"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["units"] == "linear" and out["max_abs_torque"] == 5.0
+    assert out["units"] == "linear" and out["max_abs_torque"] == {"value": 5.0, "unit": "N"}
     run = Run.from_csv(tmp_path / "r.csv")
     assert run.units == "linear"
     # velocity over the last second of encoder counts (1e-6 m): v(t) = 0.4 (1 - exp(-t/0.2)),
@@ -274,7 +276,8 @@ def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
                "--damping", "0.9", "--reference", "step:0.08", "--duration", "0.5", "--json")
     got = json.loads(out.stdout)
     # the paper actuator's Coulomb level (params: 0.144 N*m = 0.8 * 0.18)
-    assert got["coulomb_compensation_pos"] == pytest.approx(0.144) and got["warnings"] == []
+    assert got["coulomb_compensation_pos"]["value"] == pytest.approx(0.144)
+    assert got["coulomb_compensation_pos"]["unit"] == "N*m" and got["warnings"] == []
     model = tmp_path / "viscous.json"
     model.write_text(json.dumps({"format": "fricctl.joint_model", "version": 2, "units": "rotary",
                                  "inertia": 0.003, "friction": {"viscous_pos": 0.02,
@@ -284,3 +287,126 @@ def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
                "pd", "--kp", "1", "--kd", "0.1", "--reference", "step:0.1", "--duration", "0.5")
     assert out.returncode == 2 and out.stderr.count("\n") == 1
     assert "no Coulomb friction" in out.stderr
+
+
+def test_reference_with_a_unit_is_converted_to_radians(tmp_path):
+    # step:30deg is step:(30*pi/180) rad: the same record, bit for bit
+    common = ["simulate", "--controller", "p", "--kp", "2", "--duration", "0.2"]
+    assert main([*common, "--reference", "step:30deg", "--csv", str(tmp_path / "a.csv")]) == 0
+    assert main([*common, "--reference", f"step:{math.radians(30)!r}",
+                 "--csv", str(tmp_path / "b.csv")]) == 0
+    a, b = Run.from_csv(tmp_path / "a.csv"), Run.from_csv(tmp_path / "b.csv")
+    np.testing.assert_array_equal(a.reference, b.reference)
+    np.testing.assert_array_equal(a.position, b.position)
+
+
+def test_reference_in_mm_on_a_linear_model(tmp_path, capsys):
+    m = _linear_model(tmp_path)
+    assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
+                 "--reference", "step:5mm", "--duration", "0.05", "--csv", str(tmp_path / "r.csv")]) == 0
+    assert Run.from_csv(tmp_path / "r.csv").reference[-1] == pytest.approx(0.005, rel=1e-12)
+    # a rotary unit on a linear axis: one line that says the unit is metres
+    assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
+                 "--reference", "step:20deg", "--duration", "0.05"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "metres (m)" in err and "mm" in err
+
+
+def test_unknown_unit_says_radians_and_lists_the_suffixes(capsys):
+    assert main(["simulate", "--controller", "p", "--kp", "2", "--reference", "step:20degree"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "radians (rad)" in err and "rad, mrad, deg" in err
+
+
+def _summary(capsys, *argv, json_out=True):
+    assert main(["simulate", *argv, *(["--json"] if json_out else [])]) == 0
+    out = capsys.readouterr().out
+    return json.loads(out) if json_out else out
+
+
+def test_one_summary_schema_with_units_with_or_without_a_model(capsys):
+    # the paper's actuator built in, and the same actuator as a model file: the same keys, each
+    # quantity {value, unit}, the same numbers (the same plant: see the bit-for-bit test above)
+    from fricctl.cli.simulate import SUMMARY_KEYS
+
+    common = ["--controller", "pd", "--kp", "1.2", "--kd", "0.09", "--reference", "step:0.5236",
+              "--duration", "0.5"]
+    built_in = _summary(capsys, *common)
+    from_file = _summary(capsys, *common, "--model", str(paper_actuator_file()))
+    assert list(built_in) == list(from_file) == [*SUMMARY_KEYS, "warnings"]
+    assert built_in == from_file
+    units = {k: x["unit"] for k, x in built_in.items() if isinstance(x, dict)}
+    assert units == {"kp": "N*m/rad", "kd": "N*m*s/rad", "compensation_scale": "-",
+                     "final_error": "rad", "steady_state_error": "rad", "tracking_error_rms": "rad",
+                     "max_abs_error": "rad", "max_abs_position": "rad", "max_abs_torque": "N*m"}
+    # the text: the same lines, every quantity with its unit (an angle also in degrees)
+    text = _summary(capsys, *common, json_out=False)
+    assert text == _summary(capsys, *common, "--model", str(paper_actuator_file()), json_out=False)
+    assert "kp                         1.2 N*m/rad\n" in text
+    e = built_in["final_error"]["value"]
+    assert f"final_error                {e:.6g} rad ({math.degrees(e):.6g} deg)" in text
+
+
+def _figures_of(monkeypatch, argv) -> list:
+    """The figures ``fricctl simulate --figure`` saves, kept open for inspection (Agg)."""
+    import fricctl.cli._output as output
+
+    saved = []
+    monkeypatch.setattr(output, "save_figure", lambda fig, path, **kw: saved.append(fig))
+    assert main(argv) == 0
+    return saved
+
+
+def test_figure_title_stuck_legend_and_top_tick_labels(tmp_path, monkeypatch, capsys):
+    import matplotlib.pyplot as plt
+
+    (fig,) = _figures_of(monkeypatch, [
+        "simulate", "--controller", "pd", "--kp", "1.2", "--kd", "0.09", "--reference", "step:0.5236",
+        "--compensation", "coulomb", "--scale", "0.9", "--duration", "1",
+        "--figure", str(tmp_path / "r.png")])
+    top, bottom = fig.axes
+    assert fig._suptitle.get_text() == ("PD: Kp = 1.2 N*m/rad, Kd = 0.09 N*m*s/rad; "
+                                        "compensation Coulomb (s = 0.9)")
+    assert "stuck (ω = 0)" in [t.get_text() for t in top.get_legend().get_texts()]
+    fig.canvas.draw()
+    assert any(t.get_visible() and t.get_text() for t in top.get_xticklabels())
+    plt.close(fig)
+
+
+def test_several_compensations_one_entry_each_and_one_overlaid_figure(tmp_path, monkeypatch, capsys,
+                                                                       small_net):
+    import matplotlib.pyplot as plt
+
+    _, net_path = small_net
+    m = str(_linear_model(tmp_path))
+    common = ["simulate", "--model", m, "--controller", "pd", "--kp", "2000", "--kd", "80",
+              "--reference", "step:1mm", "--duration", "0.2", "--net", str(net_path)]
+    # each entry is the run of that compensation alone (same plant, reference, gains): identical
+    both = _summary(capsys, *common[1:], "--compensation", "none,coulomb,nn")
+    assert [r["compensator"] for r in both["runs"]] == ["none", "Coulomb", "NN"]
+    for name, entry in zip(("none", "coulomb", "nn"), both["runs"]):
+        alone = common[1:-2] + (common[-2:] if name == "nn" else [])  # --net only for nn
+        assert entry == _summary(capsys, *alone, "--compensation", name)
+    (fig,) = _figures_of(monkeypatch, [*common, "--compensation", "none,coulomb,nn",
+                                       "--figure", str(tmp_path / "all.png")])
+    top, bottom = fig.axes
+    assert fig._suptitle.get_text().endswith("; compensation none, Coulomb, NN (s = 1)")
+    labels = [t.get_text() for t in top.get_legend().get_texts()]
+    for name in ("none", "Coulomb", "NN"):
+        assert f"position q, {name}" in labels
+        assert f"motor torque Tm, {name}" in [t.get_text() for t in bottom.get_legend().get_texts()]
+    assert any(lab.startswith("stuck (ω = 0), ") for lab in labels)
+    assert top.get_ylabel() == "position q [m]" and bottom.get_ylabel() == "force [N]"
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--compensation", "none,coulomb", "--csv", "x.csv"], "--csv writes one record"),
+    (["--compensation", "none,none"], "names a compensation twice"),
+    (["--compensation", "none,colomb"], "unknown compensation 'colomb'"),
+])
+def test_compensation_list_refusals(argv, words, capsys):
+    assert main(["simulate", "--controller", "p", "--kp", "2", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err

@@ -52,6 +52,25 @@ def test_csv_bad_columns(tmp_path, header, message):
         Run.from_csv(p)
 
 
+@pytest.mark.parametrize("content,words", [
+    # a spreadsheet's CSV in a locale with decimal commas (issue 25: the error named the column
+    # 't;torque;position' and nothing more)
+    ("t;torque;position\n0;0,1;0\n0,002;0,1;0\n",
+     "the file looks ';'-separated with decimal commas: fricctl reads ',' between fields and "
+     "'.' as the decimal mark"),
+    ("t;torque;position\n0;0.1;0\n", "the file looks ';'-separated: fricctl reads ','"),
+    ("t\ttorque\tposition\n0\t0.1\t0\n", "the file looks tab-separated: fricctl reads ','"),
+    ("t,torque,position\n0,0,1,0\n", "4 fields, the header has 3 (decimal commas? fricctl "
+                                       "reads '.' as the decimal mark)"),
+])
+def test_csv_separator_and_decimal_comma_hints(tmp_path, content, words):
+    p = tmp_path / "excel.csv"
+    p.write_text(content)
+    with pytest.raises(ValueError) as err:
+        Run.from_csv(p)
+    assert words in str(err.value) and "\n" not in str(err.value)
+
+
 def test_csv_non_numeric_and_missing_file(tmp_path):
     p = tmp_path / "bad.csv"
     p.write_text("t,torque,position\n0,1,2\n0.1,x,3\n")

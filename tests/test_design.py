@@ -480,8 +480,9 @@ def test_design_result_is_frozen_and_serialises():
     with pytest.raises(dataclasses.FrozenInstanceError):
         d.kp = 1.0
     obj = json.loads(json.dumps(d.as_dict(), allow_nan=False))
-    assert obj["kd"] == 0.0 and obj["kp"] == d.kp
-    assert obj["requested"] == {"rise_time": 0.2, "damping": 0.3, "priority": "rise_time"}
+    assert obj["kd"] == {"value": 0.0, "unit": "N*m*s/rad"} and obj["kp"]["value"] == d.kp
+    assert obj["requested"] == {"rise_time": {"value": 0.2, "unit": "s"},
+                                "damping": {"value": 0.3, "unit": "-"}, "priority": "rise_time"}
     for key in ("achieved", "sampled"):
         assert set(obj[key]) == {"rise_time", "damping", "overshoot_percent", "settling_time"}
     text = d.report()

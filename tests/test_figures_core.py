@@ -22,6 +22,8 @@ def test_response_torques_and_stuck():
     assert "[deg]" in a.get_ylabel() and "[s]" in a.get_xlabel()
     figures.plot_stuck(res, ax=a)
     assert len(a.patches) == len(res.stuck_intervals())
+    # issue 25: the shading drawn after plot_response's legend has its entry in it
+    assert "stuck (ω = 0)" in [t.get_text() for t in a.get_legend().get_texts()]
     figures.plot_torques(res, ax=b)
     assert all(l.get_drawstyle() == "steps-post" for l in b.lines)
     assert "[N·m]" in b.get_ylabel()

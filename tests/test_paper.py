@@ -478,7 +478,7 @@ def test_gate_fails_a_claim_on_a_failed_runaway_check():
     assert not c.passed and c.runaway
     assert c.note.startswith("runaway: the velocity never reverses.") and "own criterion was met" in c.note
     c = paper.gate(_claim(passed=False, note="too far"), (bad,))
-    assert not c.passed and c.note.endswith("too far") and c.note.startswith("runaway: ")
+    assert not c.passed and c.note.endswith(". Too far") and c.note.startswith("runaway: ")  # a sentence
     with pytest.raises(ValueError, match="gate"):
         _claim(checks=(bad,))  # a claim cannot pass with a failed check
 
@@ -582,6 +582,42 @@ def test_coast_test_of_both_pipelines(figs, ffigs, network, fnetwork):
     assert abs(fc.omega_end - w_lin) < 0.1 * w_lin
 
 
+def test_gate_names_the_coast_test_without_its_pulse_text():
+    # issue 25: a step claim's note read "after the pulse the joint does not coast down": the
+    # coast test is another experiment; its claim (coast-decay) describes it, the others name it
+    coast = paper.RunawayCheck(name="coast", value=67.0, unit="%", limit=10.0, passed=False,
+                               reason="runaway: after the pulse the joint does not coast down")
+    step_claim = paper.gate(_claim("fig14-accuracy"), (_check(True), coast))
+    assert not step_claim.passed and step_claim.runaway
+    assert step_claim.note == ("runaway: the network fails its coast test (claim coast-decay), which "
+                               "every claim measured with compensation requires. Its own criterion "
+                               "was met.")
+    own = paper.gate(_claim("coast-decay", passed=False, note="keeps going"), (coast,))
+    assert own.note == "runaway: after the pulse the joint does not coast down. Keeps going"
+    # several runs failing the same check (Fig. 14's steps): one sentence, with the count
+    steps = paper.gate(_claim("fig14-steps"), (_check(False, "wind-up: a"), _check(False, "wind-up: b"),
+                                               _check(False, "wind-up: c")))
+    assert steps.note.startswith("runaway: wind-up: a (and in 2 more of its runs). Its own")
+
+
+def test_claims_markdown_reads_as_text():
+    # issue 25: summary first, no escaped bars, verdicts in words
+    per_seed = {("paper", s): [_claim("a", passed=s > 0, value=1.0),
+                               paper.Claim(id="n", claim="fit 100*(1 - ||e||/||y||) with |w| <= 1",
+                                           paper="98 %", measured="|e_ss| 0.5 deg", passed=False,
+                                           figure="Fig. 8", value=0.5, unit="deg",
+                                           note="|e_ss| too large")]
+                for s in range(2)}
+    md = paper.claims_markdown(paper.aggregate_claims(per_seed, {"paper": 0}))
+    lines = md.splitlines()
+    assert lines[2].startswith("- **paper pipeline: 0 of 2 claims of the paper reproduced**")
+    assert "\\|" not in md
+    assert "| fit 100*(1 - ‖e‖/‖y‖) with abs(w) <= 1 |" in md and "| abs(e_ss) 0.5 deg |" in md
+    assert "**not reproduced**: met in 1 of 2 seeds; median 1 [1, 1] deg" in md
+    assert "| n | abs(e_ss) 0.5 deg | **not met** |" in md
+    assert "- **n** (Fig. 8; met in 0 of 2 seeds; median 0.5 deg): (seed 0) |e_ss| too large" in md
+
+
 def test_aggregation_against_a_hand_computation():
     # fake per-seed claims: pipeline "paper" seeds 0-3, pipeline "fricctl" seeds 0-9
     vals = [1.0, 2.0, 3.0, 10.0]
@@ -619,9 +655,10 @@ def test_aggregation_against_a_hand_computation():
     assert [o["passed"] for o in data] == [False, True, False, True]
     md = paper.claims_markdown(stats, why=["a reason with a number: 0.6 deg"])
     assert "| id | claim | paper | paper pipeline | fricctl pipeline | figure |" in md
-    assert "**paper pipeline: 0 of 1 claims of the paper hold in >= 90 % of 4 seeds (extras, not in the " \
-           "paper: 0 of 1)**; figures from seed 1" in md
-    assert "holds: 9/10 pass; median 4.5 [0, 9] deg" in md
+    assert ("- **paper pipeline: 0 of 1 claims of the paper reproduced** (each met in at least 90 % of "
+            "the 4 training seeds); our extra checks, not in the paper: 0 of 1; figures from seed 1."
+            in md)
+    assert "reproduced: met in 9 of 10 seeds; median 4.5 [0, 9] deg" in md
     assert "- a reason with a number: 0.6 deg" in md
     with pytest.raises(ValueError, match="claims"):
         paper.aggregate_claims({("paper", 0): [_claim("a")], ("paper", 1): [_claim("c")]}, {"paper": 0})

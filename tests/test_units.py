@@ -1,3 +1,6 @@
+import math
+import re
+
 import pytest
 
 from fricctl.units import UNITS, to_load_side, to_rotor_side, units
@@ -25,3 +28,30 @@ def test_unit_labels():
     assert UNITS["linear"].viscous == "N*s/m"
     with pytest.raises(ValueError, match="units must be one of"):
         units("metric")
+
+
+def test_parse_quantity_converts_suffixes_to_si():
+    from fricctl.units import parse_quantity
+
+    # hand conversions: 20 deg = 20*pi/180 rad, 5 mm = 0.005 m, 500 ms = 0.5 s
+    assert parse_quantity("20deg", "position") == pytest.approx(20 * math.pi / 180, rel=1e-15)
+    assert parse_quantity("20 deg", "position") == parse_quantity("20deg", "position")
+    assert parse_quantity("-3mrad", "position") == pytest.approx(-3e-3, rel=1e-15)
+    assert parse_quantity("0.4rad", "position") == 0.4 == parse_quantity("0.4", "position")
+    assert parse_quantity("5mm", "position", "linear") == pytest.approx(5e-3, rel=1e-15)
+    assert parse_quantity("1e-3m", "position", "linear") == 1e-3
+    assert parse_quantity("500ms", "time") == 0.5
+    assert parse_quantity("0.2N*m", "torque") == 0.2
+
+
+@pytest.mark.parametrize("text,kind,words", [
+    ("20degs", "rotary", "radians (rad); accepted units: rad, mrad, deg"),
+    ("5mm", "rotary", "radians"),             # a linear unit on a rotary axis
+    ("20deg", "linear", "metres (m); accepted units: m, cm, mm, um"),
+    ("x", "rotary", "not a number"),
+])
+def test_parse_quantity_names_the_default_unit_and_the_accepted_ones(text, kind, words):
+    from fricctl.units import parse_quantity
+
+    with pytest.raises(ValueError, match=re.escape(words)):
+        parse_quantity(text, "position", kind)

@@ -7,10 +7,12 @@ identify --out``: its inertia, the mean viscous coefficient of both directions,
 its sample time and units: a linear axis prints kg, N*s/m, N/m), and prints the
 gains with the achieved step metrics of the continuous loop and of the sampled
 loop at the sample time.  ``--json`` prints one JSON object
-(:meth:`fricctl.design.Design.as_dict`):
+(:meth:`fricctl.design.Design.as_dict`), the same keys with or without ``--model``:
 ``law, units, kp, kd, inertia, viscous, sample_time, requested{rise_time, damping, priority},
 rise_time_definition, wn, zeta, achieved{rise_time, damping, overshoot_percent,
-settling_time}, sampled{...same...}, warnings[...]``; missing values are null.
+settling_time}, sampled{...same...}, warnings[...]``; each quantity is ``{"value": ...,
+"unit": ...}`` (as ``identify --json`` writes its parameters; ``"-"`` for a ratio); missing
+values are null.
 """
 
 from __future__ import annotations
@@ -37,7 +39,8 @@ def register(subparsers) -> None:
     p.add_argument("--model", metavar="MODEL.json", default=None,
                    help="design for this model file instead of the paper's actuator")
     p.add_argument("--rise-time-definition", choices=("0-100", "10-90"), default=None,
-                   help="default 0-100 for damping < 1, 10-90 otherwise (required for >= 1)")
+                   help="default 0-100 for damping < 1 and 10-90 for damping >= 1; 0-100 is "
+                        "refused for damping >= 1 (such a step never reaches its final value)")
     p.add_argument("--priority", choices=("rise_time", "damping"), default=None,
                    help="p with both specs: the one met exactly (default rise_time)")
     p.add_argument("--json", action="store_true", help="print one JSON object")

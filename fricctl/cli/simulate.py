@@ -3,19 +3,29 @@
 The plant is the paper's actuator (``--link``, ``--plant``), or your own actuator
 with ``--model MODEL.json`` (a ``fricctl.joint_model`` file: its joint, sample time,
 encoder, torque limit, offset, delay and units; references, torques and gains in
-its units, e.g. [m], [N], [N/m] on a linear axis).  With ``--model`` the summary
-keys are ``controller, kp, kd, compensator, compensation_scale, units,
+its units, e.g. [m], [N], [N/m] on a linear axis).  A number in ``--reference`` or
+``--torque`` is in that unit, or carries its own: ``step:30deg``, ``step:5mm``
+(:data:`fricctl.units.SUFFIXES`).  The summary has the same keys with or
+without ``--model``: ``controller, kp, kd, compensator, compensation_scale, units,
 final_error, steady_state_error, tracking_error_rms, max_abs_error,
-max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (positions in
-the model's unit).  ``--c-source NAME.c`` (with ``--compensation nn``) also writes
-the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
+max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (and a Coulomb
+compensation's ``coulomb_compensation_pos, coulomb_compensation_neg``); each quantity
+is printed with its unit and in ``--json`` is ``{"value": ..., "unit": ...}`` (as
+``identify --json`` writes its parameters), in SI units of the plant's axis ([rad],
+[N*m] on a rotary joint; the text also gives an angle in [deg]).
+``--compensation none,coulomb`` runs each compensation on the same plant and
+reference: one entry each in the summary (``--json``: ``{"runs": [...]}``), one
+overlaid figure.  ``--c-source NAME.c`` (with ``--compensation nn``) also writes the
+simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 (:func:`fricctl.nn.c_export.c_source`, functions prefixed ``NAME``).  An existing
 output file is kept unless ``--force``.
 
 Examples::
 
-    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:0.5236 --duration 3
+    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --reference step:30deg --duration 3
     fricctl simulate --torque sinusoid:0.2,1 --duration 2 --csv run.csv --figure run.png
+    fricctl simulate --controller pd --rise-time 0.3 --damping 0.9 --compensation none,coulomb \\
+        --figure compare.png
     fricctl simulate --controller pd --rise-time 0.4 --damping 0.85 --link --reference step:0.08 \\
         --compensation nn --net net.json --scale 0.95 --friction-scale 0.95 --json
     fricctl simulate --model emps.json --controller pd --rise-time 0.05 --damping 0.7 \\
@@ -31,27 +41,54 @@ from pathlib import Path
 
 import numpy as np
 
-_SIGNALS = {"step": 1, "constant": 1, "sawtooth": 2, "sinusoid": 2}
+#: Each signal's arguments after the amplitude, and what they are (for their units).
+_SIGNALS = {"step": (), "constant": (), "sawtooth": ("time",), "sinusoid": ("frequency",)}
 
 
-def parse_signal(spec: str):
+def parse_signal(spec: str, quantity: str = "position", kind: str = "rotary"):
     """``kind:a[,b]`` -> a :class:`fricctl.controllers.Signal`.
 
     ``step:A`` (at t = 0), ``constant:A``, ``sawtooth:A,PERIOD``, ``sinusoid:A,FREQ``.
+    Each number may carry a unit (:func:`fricctl.units.parse_quantity`): the amplitude
+    one of ``quantity`` on a ``kind`` axis (``step:20deg``, ``step:5mm``), the period one of
+    time (``500ms``), the frequency ``Hz``; a bare number is in the SI unit ([rad], [m],
+    [N*m], [N], [s], [Hz]).
     """
     from .. import controllers as c
+    from ..units import parse_quantity
 
-    kind, _, args = spec.partition(":")
-    if kind not in _SIGNALS:
-        raise ValueError(f"unknown signal {kind!r} in {spec!r}; use step:A, constant:A, sawtooth:A,PERIOD "
+    name, _, args = spec.partition(":")
+    if name not in _SIGNALS:
+        raise ValueError(f"unknown signal {name!r} in {spec!r}; use step:A, constant:A, sawtooth:A,PERIOD "
                          "or sinusoid:A,FREQ")
+    words = args.split(",") if args else []
+    quantities = (quantity, *_SIGNALS[name])
+    if len(words) != len(quantities):
+        raise ValueError(f"signal {spec!r}: {name} takes {len(quantities)} finite number(s)")
     try:
-        vals = [float(v) for v in args.split(",")] if args else []
-    except ValueError:
-        raise ValueError(f"signal {spec!r}: arguments must be numbers") from None
-    if len(vals) != _SIGNALS[kind] or not all(math.isfinite(v) for v in vals):
-        raise ValueError(f"signal {spec!r}: {kind} takes {_SIGNALS[kind]} finite number(s)")
-    return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[kind](*vals)
+        vals = [parse_quantity(w, q, kind) for w, q in zip(words, quantities)]
+    except ValueError as exc:
+        raise ValueError(f"signal {spec!r}: arguments must be numbers; {exc}") from None
+    if not all(math.isfinite(v) for v in vals):
+        raise ValueError(f"signal {spec!r}: {name} takes {len(quantities)} finite number(s)")
+    return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[name](*vals)
+
+
+#: The compensations ``--compensation`` names (see :func:`_compensator`).
+COMPENSATIONS = ("none", "coulomb", "nn")
+
+
+def _compensations(text: str) -> tuple[str, ...]:
+    """``--compensation``: one of :data:`COMPENSATIONS` or a comma list of them, each once."""
+    names = tuple(w.strip() for w in text.split(","))
+    bad = [n for n in names if n not in COMPENSATIONS]
+    if bad:
+        raise argparse.ArgumentTypeError(
+            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(COMPENSATIONS)} "
+            "or a comma list of them, e.g. none,coulomb")
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"{text!r} names a compensation twice")
+    return names
 
 
 def register(sub):
@@ -62,19 +99,29 @@ def register(sub):
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")
     p.add_argument("--kp", type=float, help="proportional gain [N*m/rad] instead of a design")
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
-    p.add_argument("--reference", default=None, help="position reference [rad] (P/PD; default step:0.5236)")
-    p.add_argument("--torque", default=None, help="open-loop torque [N*m], e.g. sinusoid:0.2,1")
+    p.add_argument("--reference", default=None,
+                   help="position reference (P/PD; default step:0.5236): step:A, constant:A, "
+                        "sawtooth:A,PERIOD or sinusoid:A,FREQ; a bare number is in [rad] ([m] on "
+                        "a linear --model), or give a unit: rad, mrad, deg (linear: m, cm, mm, "
+                        "um), e.g. step:30deg; PERIOD in [s] or ms, FREQ in [Hz]")
+    p.add_argument("--torque", default=None,
+                   help="open-loop torque, e.g. sinusoid:0.2,1: a bare number is in [N*m] ([N] on "
+                        "a linear --model), or give a unit: N*m, Nm, mN*m (linear: N, kN)")
     p.add_argument("--model", metavar="MODEL.json", default=None,
                    help="simulate this model file (your own actuator) instead of the paper's")
     p.add_argument("--link", action="store_true", help="attach the SCARA link (0.0046 kg*m^2)")
     p.add_argument("--plant", choices=("rigid", "flexible"), default=None,
                    help="paper actuator: rigid (default) or flexible joint")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
-    p.add_argument("--compensation", choices=("none", "coulomb", "nn"), default="none",
+    p.add_argument("--compensation", type=_compensations, default=("none",),
+                   metavar="{none,coulomb,nn}[,...]",
                    help="none; coulomb: s*Fc*sign(omega_hat) at the model's sliding (Coulomb) "
                         "level per direction, scaled with the friction (not the breakaway "
                         "level; a model without Coulomb friction is refused); nn: the network "
-                        "of --net.  A compensated run is checked for wind-up (warning)"),
+                        "of --net.  A comma list (none,coulomb,nn) runs each on the same plant "
+                        "and reference: one figure overlays them, the summary has one entry "
+                        "per compensation (--json: runs[...]), --csv is refused.  A "
+                        "compensated run is checked for wind-up (warning)")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--clip", action="store_true",
@@ -117,14 +164,18 @@ def _check_combination(args) -> None:
                 raise ValueError("--controller pd with --kp needs --kd too")
         else:
             refuse(("kd",), "without --kp (the design gives Kd)")
-    if args.compensation != "nn":
-        refuse(("net",), f"with --compensation {args.compensation}")
+    given_comp = ",".join(args.compensation)
+    if "nn" not in args.compensation:
+        refuse(("net",), f"with --compensation {given_comp}")
     elif args.net is None:
         raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
-    if args.compensation == "none":
+    if args.compensation == ("none",):
         refuse(("scale",), "with --compensation none")
-    if args.compensation != "nn" and (args.clip or args.c_source):
+    if "nn" not in args.compensation and (args.clip or args.c_source):
         raise ValueError(f"{'--clip' if args.clip else '--c-source'} applies to --compensation nn")
+    if len(args.compensation) > 1 and args.csv:
+        raise ValueError(f"--csv writes one record; --compensation {given_comp} makes "
+                         f"{len(args.compensation)} (give one compensation with --csv)")
     if args.model is not None:
         bad = [o for o, x in (("--link", args.link), ("--plant", args.plant)) if x]
         if bad:
@@ -133,12 +184,12 @@ def _check_combination(args) -> None:
             raise ValueError("--model needs --reference (in the model's position unit)")
 
 
-def _controller(args, plant):
+def _controller(args, plant, kind: str = "rotary"):
     from ..controllers import open_loop, p_control, pd_control
 
     if args.controller == "open":
-        return open_loop(parse_signal(args.torque))
-    ref = parse_signal(args.reference or "step:0.5236")
+        return open_loop(parse_signal(args.torque, "torque", kind))
+    ref = parse_signal(args.reference or "step:0.5236", "position", kind)
     if args.kp is not None:
         kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
     else:
@@ -152,12 +203,13 @@ def _controller(args, plant):
     return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
 
 
-def _compensator(args, scale, coulomb_pos, coulomb_neg):
+def _compensator(name, args, scale, coulomb_pos, coulomb_neg):
+    """The compensator ``name`` (one of :data:`COMPENSATIONS`)."""
     from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
 
-    if args.compensation == "none":
+    if name == "none":
         return NoCompensation()
-    if args.compensation == "coulomb":
+    if name == "coulomb":
         if coulomb_pos <= 0.0 and coulomb_neg <= 0.0:
             raise ValueError("--compensation coulomb: the model has no Coulomb friction "
                              "(coulomb_pos = coulomb_neg = 0), so the compensation would add "
@@ -195,18 +247,10 @@ def _errors(res, keys) -> dict:
     return {k: values[k] for k in keys}
 
 
-def _model_summary(res, model) -> dict:
-    return {"controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
-            "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-            "units": model.units,
-            **_errors(res, ("final_error", "steady_state_error", "tracking_error_rms",
-                            "max_abs_error")),
-            "max_abs_position": float(np.max(np.abs(res.q))),
-            "max_abs_torque": float(np.max(np.abs(res.torque_motor))),
-            "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
-
-
-def _figure(res, path, units, *, overwrite: bool) -> None:
+def _figure(results, path, units, *, overwrite: bool) -> None:
+    """Position (with the stuck intervals) over torques, titled with the controller, its
+    gains and the compensation(s); both panels carry their time tick labels.  Several runs
+    (one per compensation) are overlaid, each in its own colour, with their motor torques."""
     import matplotlib.pyplot as plt
 
     from .. import figures
@@ -214,14 +258,45 @@ def _figure(res, path, units, *, overwrite: bool) -> None:
     from ._output import save_figure
 
     fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
-    figures.plot_response(res, ax=a, unit="deg" if units is None else "rad")
-    figures.plot_stuck(res, ax=a)
-    figures.plot_torques(res, ax=b)
+    unit = "deg" if units is None else "rad"
+    if len(results) == 1:
+        figures.plot_response(results[0], ax=a, unit=unit)
+        figures.plot_stuck(results[0], ax=a)
+        figures.plot_torques(results[0], ax=b)
+    else:
+        for i, res in enumerate(results):
+            name, color = res.info.compensator, f"C{i}"
+            figures.plot_response(res, ax=a, unit=unit, reference=i == 0, color=color,
+                                  label=f"position q, {name}")
+            # each run's stuck intervals as a strip along the bottom, one strip per run
+            figures.plot_stuck(res, ax=a, color=color, alpha=0.5, label=f"stuck (ω = 0), {name}",
+                               band=(0.035 * i, 0.035 * (i + 1)))
+            b.plot(res.t, res.torque_motor, drawstyle="steps-post", color=color,
+                   label=f"motor torque Tm, {name}")
+        b.set_xlabel("time t [s]")
+        b.set_ylabel("torque [N·m]")
+        b.legend(loc="best", fontsize="small")
     if units is not None:  # the figures label a rotary joint; relabel for the model's units
         u = units_of(units)
         a.set_ylabel(f"position q [{u.position}]")
         b.set_ylabel(f"{'torque' if units == 'rotary' else 'force'} [{u.torque}]")
+    a.tick_params(labelbottom=True)  # sharex hides the top panel's time labels
+    fig.suptitle(_title(results, units or "rotary"), fontsize="medium")
     save_figure(fig, path, overwrite=overwrite)
+
+
+def _title(results, kind: str) -> str:
+    """``PD: Kp = 1.213 N*m/rad, Kd = 0.08922 N*m*s/rad; compensation Coulomb (s = 1)``
+    (several compensations: ``compensation none, Coulomb, NN (s = 1)``)."""
+    from ..units import units as units_of
+
+    info, u = results[0].info, units_of(kind)
+    gains = "" if info.controller == "open loop" else f": Kp = {info.kp:.4g} {u.stiffness}"
+    if info.controller == "PD":
+        gains += f", Kd = {info.kd:.4g} {u.viscous}"
+    names = [r.info.compensator for r in results]
+    scale = "" if names == ["none"] else f" (s = {info.compensation_scale:g})"
+    return f"{info.controller}{gains}; compensation {', '.join(names)}{scale}"
 
 
 def run(args) -> int:
@@ -242,50 +317,60 @@ def run(args) -> int:
     if args.model is not None:
         model = JointModel.load(args.model)
         fr = model.friction
-        comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
-        res = simulate_model(model, _controller(args, model), comp, duration=args.duration,
-                             friction=fr.scaled(args.friction_scale))
-        summary, units = _model_summary(res, model), model.units
+        comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
+                              fr.scale * fr.coulomb_neg) for name in args.compensation]
+        ctrl = _controller(args, model, model.units)
+        results = [simulate_model(model, ctrl, comp, duration=args.duration,
+                                  friction=fr.scaled(args.friction_scale)) for comp in comps]
+        units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
-        comp = _compensator(args, scale, params.coulomb, params.coulomb)
-        res = simulate(params, _controller(args, params), comp, duration=args.duration,
-                       plant=args.plant or "rigid",
-                       friction=params.friction_model().scaled(args.friction_scale))
-        summary, units = _paper_summary(res, args.duration), None
-    warns = _runaway_warnings(res)
-    summary.update(_compensation_level(comp))
+        comps = [_compensator(name, args, scale, params.coulomb, params.coulomb)
+                 for name in args.compensation]
+        ctrl = _controller(args, params)
+        results = [simulate(params, ctrl, comp, duration=args.duration, plant=args.plant or "rigid",
+                            friction=params.friction_model().scaled(args.friction_scale))
+                   for comp in comps]
+        units = None
+    warns = [_runaway_warnings(res) for res in results]
+    summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
+        res = results[0]
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
             source="fricctl simulate" + (f" --model {Path(args.model).name}" if args.model else ""),
             units=units or "rotary").to_csv(args.csv, overwrite=args.force)
     if args.figure:
-        _figure(res, args.figure, units, overwrite=args.force)
+        _figure(results, args.figure, units, overwrite=args.force)
     if args.c_source:
         from .._atomic import write_text
         from ..nn.c_export import c_header, c_source
 
         c = Path(args.c_source)
-        net = comp.estimator
+        net = comps[args.compensation.index("nn")].estimator
         write_text(c, c_source(net, name=c.stem, units=units or "rotary"), overwrite=args.force)
         write_text(c.with_suffix(".h"), c_header(net, name=c.stem, units=units or "rotary"),
                    overwrite=args.force)
-    for text in warns:
-        warnings.warn(text, stacklevel=1)
+    several = len(results) > 1
+    for name, texts in zip(args.compensation, warns):
+        for text in texts:
+            warnings.warn(f"--compensation {name}: {text}" if several else text, stacklevel=1)
+    for summary, texts in zip(summaries, warns):
+        summary["warnings"] = texts
     if args.json:
-        summary["warnings"] = warns
-        print(json_text(summary, reasons={k: NO_REFERENCE for k, x in summary.items() if x is None}))
+        # one compensation: its summary, as before; several: one entry per compensation
+        out = {"runs": summaries} if several else summaries[0]
+        print(json_text(out, reasons=_no_reference(out)))
     else:
-        labels = {} if units is None else _unit_labels(units)
-        for k, v in summary.items():
-            if k == "warnings":
-                continue
-            if v is None:
-                print(f"{k:26s} - ({NO_REFERENCE})")
-                continue
-            text = f"{v:.6g}" if isinstance(v, float) else f"{v}"
-            print(f"{k:26s} {text} {labels.get(k, '')}".rstrip())
+        print("\n\n".join(_summary_text(x) for x in summaries))
     return 0
+
+
+def _no_reference(out: dict) -> dict:
+    """Why each null error value of a summary (or of each of its ``runs``) is undefined."""
+    entries = ({f"runs[{i}].": x for i, x in enumerate(out["runs"])} if "runs" in out
+               else {"": out})
+    return {f"{where}{k}.value": NO_REFERENCE for where, x in entries.items()
+            for k, q in x.items() if isinstance(q, dict) and q["value"] is None}
 
 
 def _runaway_warnings(res) -> list[str]:
@@ -298,36 +383,54 @@ def _runaway_warnings(res) -> list[str]:
     return [] if check.passed else [f"the compensated joint winds its torque up: {check.reason}"]
 
 
-def _compensation_level(comp) -> dict:
-    """The Coulomb compensation's levels (what it adds per direction, before its scale) [N*m]."""
+#: Keys of the summary, in order: the same for the paper's actuator and a model file
+#: (each quantity ``{value, unit}`` in the plant's units; see :func:`_summary`).
+SUMMARY_KEYS = ("controller", "kp", "kd", "compensator", "compensation_scale", "units",
+                "final_error", "steady_state_error", "tracking_error_rms", "max_abs_error",
+                "max_abs_position", "max_abs_torque", "stuck_intervals", "stuck_at_end")
+
+
+def _summary(res, kind: str, comp) -> dict:
+    """The summary of one run: :data:`SUMMARY_KEYS`, each quantity as ``{value, unit}``
+    (:func:`fricctl.units.quantity`) in the units of a ``kind`` axis, whatever the plant; a
+    Coulomb compensation adds its levels per direction (before its scale)."""
     from ..compensators import CoulombCompensator
+    from ..units import quantity, units as units_of
 
-    if not isinstance(comp, CoulombCompensator):
-        return {}
-    return {"coulomb_compensation_pos": float(comp.coulomb_pos),
-            "coulomb_compensation_neg": float(comp.coulomb_neg)}
-
-
-def _unit_labels(units) -> dict:
-    """Unit of each summary value of a model run (the model's units)."""
-    from ..units import units as units_of
-
-    u = units_of(units)
-    out = {"kp": u.stiffness, "kd": u.viscous, "max_abs_torque": u.torque}
-    out.update({k: u.position for k in ("final_error", "steady_state_error", "tracking_error_rms",
-                                          "max_abs_error", "max_abs_position")})
+    u = units_of(kind)
+    errors = _errors(res, ("final_error", "steady_state_error", "tracking_error_rms",
+                           "max_abs_error"))
+    out = {"controller": res.info.controller,
+           "kp": quantity(res.info.kp, u.stiffness), "kd": quantity(res.info.kd, u.viscous),
+           "compensator": res.info.compensator,
+           "compensation_scale": quantity(res.info.compensation_scale, "-"),
+           "units": kind,
+           **{k: quantity(x, u.position) for k, x in errors.items()},
+           "max_abs_position": quantity(float(np.max(np.abs(res.q))), u.position),
+           "max_abs_torque": quantity(float(np.max(np.abs(res.torque_motor))), u.torque),
+           "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
+    if isinstance(comp, CoulombCompensator):
+        out["coulomb_compensation_pos"] = quantity(float(comp.coulomb_pos), u.torque)
+        out["coulomb_compensation_neg"] = quantity(float(comp.coulomb_neg), u.torque)
     return out
 
 
-def _paper_summary(res, duration) -> dict:
-    e = _errors(res, ("final_error", "steady_state_error"))
-    return {
-        "controller": res.info.controller, "kp": res.info.kp, "kd": res.info.kd,
-        "compensator": res.info.compensator, "compensation_scale": res.info.compensation_scale,
-        "final_error_rad": e["final_error"],
-        "steady_state_error_deg": (None if e["steady_state_error"] is None
-                                   else math.degrees(e["steady_state_error"])),
-        "max_abs_position_rad": float(np.max(np.abs(res.q))),
-        "stuck_intervals": len(res.stuck_intervals()),
-        "stuck_at_end": bool(res.stuck[-1]),
-    }
+def _summary_text(summary: dict) -> str:
+    """The summary as aligned lines ``key value unit``; an angle also in degrees (a reader
+    of a joint thinks in degrees, the JSON and the computation stay in radians)."""
+    lines = []
+    for k, x in summary.items():
+        if k == "warnings":
+            continue
+        if not isinstance(x, dict):
+            lines.append(f"{k:26s} {x:.6g}" if isinstance(x, float) else f"{k:26s} {x}")
+            continue
+        v, unit = x["value"], x["unit"]
+        if v is None:
+            lines.append(f"{k:26s} - ({NO_REFERENCE})")
+            continue
+        text = f"{k:26s} {v:.6g} {'' if unit == '-' else unit}".rstrip()
+        if unit == "rad":
+            text += f" ({math.degrees(v):.6g} deg)"
+        lines.append(text)
+    return "\n".join(lines)

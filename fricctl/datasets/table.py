@@ -9,6 +9,7 @@ the line and the column.
 from __future__ import annotations
 
 import csv
+import re
 import types
 from dataclasses import dataclass
 from pathlib import Path
@@ -49,14 +50,35 @@ def _expected(required, optional) -> str:
     return ", ".join(required) + "".join(f"[, {o}]" for o in optional)
 
 
-def _header(path, cells, required, optional) -> list[str]:
+#: Separators a spreadsheet writes instead of ',' (a locale with decimal commas writes ';').
+_OTHER_SEPARATORS = {";": "';'", "\t": "tab"}
+_DECIMAL_COMMA = re.compile(r"\s*[+-]?\d+,\d+(?:[eE][+-]?\d+)?\s*")
+
+
+def _dialect_hint(header_line: str, data_line: str | None, names) -> str:
+    """Why a header may not split into the known columns: another separator and decimal
+    commas (a spreadsheet's 'CSV' in a German or French locale), said in words; else ''."""
+    for sep, name in _OTHER_SEPARATORS.items():
+        cells = [c.strip() for c in header_line.split(sep)]
+        if len(cells) > 1 and any(c in names for c in cells):
+            commas = data_line is not None and any(
+                _DECIMAL_COMMA.fullmatch(c) for c in data_line.split(sep))
+            fix = (f"the decimal commas by '.', then each {name} by ','" if commas
+                   else f"each {name} by ','")
+            return (f"; the file looks {name}-separated{' with decimal commas' if commas else ''}"
+                    f": fricctl reads ',' between fields and '.' as the decimal mark (export "
+                    f"the CSV with those, or replace {fix})")
+    return ""
+
+
+def _header(path, cells, required, optional, hint: str = "") -> list[str]:
     header = [h.strip() for h in cells]
     want = _expected(required, optional)
     unknown = [h for h in header if h not in required + optional]
     if unknown:
         s = "" if len(unknown) == 1 else "s"
         raise ValueError(f"{path}: unknown column{s} {', '.join(map(repr, unknown))} in the "
-                         f"header; expected {want}")
+                         f"header; expected {want}{hint}")
     for name in header:
         if header.count(name) > 1:
             raise ValueError(f"{path}: duplicate column {name!r} in the header")
@@ -152,11 +174,15 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         if not cells or all(not c.strip() for c in cells):
             continue
         if header is None:
-            header = _header(path, cells, required, optional)
+            following = next((x for x in lines[line_no:] if x.strip()), None)
+            header = _header(path, cells, required, optional,
+                             _dialect_hint(line, following, required + optional))
             continue
         if len(cells) != len(header):
+            more = (" (decimal commas? fricctl reads '.' as the decimal mark)"
+                    if len(cells) > len(header) else "")
             raise ValueError(f"{path}, line {line_no}: {len(cells)} fields, the header has "
-                             f"{len(header)}")
+                             f"{len(header)}{more}")
         row = []
         for name, cell in zip(header, cells):
             # strictly a decimal number: Python's float() would read "0.00_2" as 0.002

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import control
 
 from .. import _validate as v
-from ..units import KINDS, units as units_of
+from ..units import KINDS, quantity, units as units_of
 from .second_order import RISE_TIME_DEFINITIONS, StepMetrics
 
 __all__ = ["DesignWarning", "Design"]
@@ -119,21 +119,24 @@ class Design:
         return "\n".join(lines)
 
     def as_dict(self) -> dict:
-        """JSON-ready dict (the CLI's ``--json`` object)."""
+        """JSON-ready dict (the CLI's ``--json`` object): every quantity as ``{value, unit}``
+        (:func:`fricctl.units.quantity`), in the units of :attr:`units`, with the same keys
+        for the paper's actuator and a model file."""
+        u = units_of(self.units)
         return {
             "law": self.law,
             "units": self.units,
-            "kp": self.kp,
-            "kd": self.kd,
-            "inertia": self.inertia,
-            "viscous": self.viscous,
-            "sample_time": self.sample_time,
-            "requested": {"rise_time": self.requested_rise_time,
-                          "damping": self.requested_damping,
+            "kp": quantity(self.kp, u.stiffness),
+            "kd": quantity(self.kd, u.viscous),
+            "inertia": quantity(self.inertia, u.inertia),
+            "viscous": quantity(self.viscous, u.viscous),
+            "sample_time": quantity(self.sample_time, "s"),
+            "requested": {"rise_time": quantity(self.requested_rise_time, "s"),
+                          "damping": quantity(self.requested_damping, "-"),
                           "priority": self.priority},
             "rise_time_definition": self.rise_time_definition,
-            "wn": self.wn,
-            "zeta": self.zeta,
+            "wn": quantity(self.wn, "rad/s"),
+            "zeta": quantity(self.zeta, "-"),
             "achieved": self.achieved.as_dict(),
             "sampled": self.sampled.as_dict(),
             "warnings": list(self.warnings),

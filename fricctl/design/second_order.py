@@ -42,6 +42,8 @@ __all__ = [
 
 #: Allowed rise-time definitions and their ``RiseTimeLimits`` for ``step_info``.
 RISE_TIME_DEFINITIONS = {"0-100": (0.0, 1.0), "10-90": (0.1, 0.9)}
+#: Unit of each :class:`StepMetrics` field.
+METRIC_UNITS = {"rise_time": "s", "damping": "-", "overshoot_percent": "%", "settling_time": "s"}
 #: Settling band used for the settling time (python-control's default) [-].
 SETTLING_THRESHOLD = 0.02
 
@@ -87,8 +89,12 @@ class StepMetrics:
         return -lm / math.sqrt(math.pi**2 + lm**2)
 
     def as_dict(self) -> dict:
-        """Metrics as a plain dict; NaN becomes ``None`` (JSON has no NaN)."""
-        return {f.name: finite_or_none(getattr(self, f.name)) for f in fields(self)}
+        """Each metric as ``{value, unit}`` (:func:`fricctl.units.quantity`); NaN becomes
+        ``None`` (JSON has no NaN)."""
+        from ..units import quantity
+
+        return {f.name: quantity(finite_or_none(getattr(self, f.name)), METRIC_UNITS[f.name])
+                for f in fields(self)}
 
 
 def _settling_tau(zeta: float) -> float:

@@ -78,16 +78,25 @@ def plot_friction_law(model, *, ax=None, omega_max: float = 1.0, n: int = 801, l
     return ax
 
 
-def plot_stuck(result, *, ax=None, color="tab:red", alpha=0.12):
-    """Shade the intervals where the joint is at rest."""
+def plot_stuck(result, *, ax=None, color="tab:red", alpha=0.12, label: str = "stuck (ω = 0)",
+               band: tuple[float, float] = (0.0, 1.0)):
+    """Shade the intervals where the joint is at rest.
+
+    The first interval carries ``label``; an existing legend of ``ax`` (e.g. drawn by
+    :func:`plot_response`) is redrawn so that the shading has its entry in it.  ``band``
+    is the vertical extent as fractions of the axes' height (a strip per run when several
+    runs share the axes, where full-height shades would mix their colours).
+    """
     ax = get_ax(ax)
     first = True
     for a, b in result.stuck_intervals():
-        ax.axvspan(a, b + result.sample_time, color=color, alpha=alpha, lw=0,
-                   label="stuck (ω = 0)" if first else None)
+        ax.axvspan(a, b + result.sample_time, ymin=band[0], ymax=band[1], color=color,
+                   alpha=alpha, lw=0, label=label if first else None)
         first = False
     if ax.get_xlabel() == "":
         ax.set_xlabel("time t [s]")
+    if ax.get_legend() is not None:
+        ax.legend(loc="best", fontsize="small")
     return ax
 
 

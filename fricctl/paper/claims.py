@@ -25,6 +25,11 @@ __all__ = ["Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA
 
 #: The ``paper`` value of a check of ours that is not a claim of the paper.
 EXTRA = "not in the paper"
+#: Runaway checks measured in an experiment of their own, by check name -> the claim that
+#: reports that experiment (the network's coast test: a torque pulse, then Tc = 0).  Every
+#: compensated claim requires it; the note of any other claim names it instead of repeating
+#: its reason (a step test's note would otherwise read "after the pulse the joint ...").
+REPORTED_BY = {"coast": "coast-decay"}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -90,7 +95,9 @@ def gate(claim: Claim, checks) -> Claim:
     A claim whose measurement involves the network's compensation holds only if the
     compensated joint followed its control torque (:mod:`fricctl.paper.runaway`).  A
     failed check makes the claim fail, with ``"runaway: <reason>"`` first in its note
-    (followed by the claim's own note, if its own criterion failed too).
+    (followed by the claim's own note, if its own criterion failed too); a failed check of
+    another experiment (:data:`REPORTED_BY`: the coast test) is named with the claim that
+    reports it, not described.
 
     Parameters
     ----------
@@ -109,11 +116,25 @@ def gate(claim: Claim, checks) -> Claim:
     failed = [c for c in checks if not c.passed]
     if not failed:
         return replace(claim, checks=claim.checks + checks)
-    runaway = "runaway: " + "; ".join(c.reason.removeprefix("runaway: ") for c in failed) + "."
+    # a check of another experiment (the coast test's pulse) is named, not described: its
+    # reason is not about this claim's run
+    own = [c for c in failed if REPORTED_BY.get(c.name, claim.id) == claim.id]
+    # one reason per kind of check: a claim made of several runs (Fig. 14's eight steps) would
+    # otherwise repeat the same sentence for each
+    by_name: dict[str, list] = {}
+    for c in own:
+        by_name.setdefault(c.name, []).append(c)
+    reasons = [cs[0].reason.removeprefix("runaway: ")
+               + (f" (and in {len(cs) - 1} more of its runs)" if len(cs) > 1 else "")
+               for cs in by_name.values()]
+    reasons += [f"the network fails its {c.name} test (claim {REPORTED_BY[c.name]}), which every "
+                "claim measured with compensation requires" for c in failed if c not in own]
+    runaway = "runaway: " + "; ".join(reasons) + "."
     if claim.passed:
-        note = runaway + " Its own criterion was met, by a joint that did not follow its control torque."
+        note = runaway + (" Its own criterion was met, by a joint that did not follow its control "
+                          "torque." if own else " Its own criterion was met.")
     else:
-        note = runaway + (" " + claim.note if claim.note else "")
+        note = runaway + (" " + claim.note[:1].upper() + claim.note[1:] if claim.note else "")
     return replace(claim, passed=False, note=note, checks=claim.checks + checks)
 
 
