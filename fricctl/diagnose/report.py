@@ -222,9 +222,8 @@ class Diagnosis:
                       f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
                       f"{self.cutoff:.4g} Hz.", ""]
         if self.not_identifiable:
-            lines += ["## Cannot be told on this record", ""]
-            lines += [f"- `{c}`: cannot be told on this record, because {r}."
-                      for c, r in self.not_identifiable.items()]
+            lines += ["## Not named: cannot be told on this record, or tried and rejected", ""]
+            lines += [f"- `{c}`: {_why(r)}." for c, r in self.not_identifiable.items()]
             lines.append("")
         lines += ["## Candidates of the first step", "",
                   "| cause | net score | simulation score |", "|---|---|---|"]
@@ -258,13 +257,18 @@ class Diagnosis:
         return "\n".join(lines) + "\n"
 
 
+def _why(reason: str) -> str:
+    """A dropped candidate's reason as a clause: tried and rejected, or not told."""
+    return reason if reason.startswith("tried, rejected") else \
+        f"cannot be told on this record, because {reason}"
+
+
 def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
                   not_identifiable: dict, units: str, verdict: Verdict | None = None) -> str:
     """The evidence paragraph: each step's net score and its cause's own clause, the gain,
     the verdict (explained within noise only when it is)."""
     u = unit_labels(units)
-    cannot = "".join(f" {c} cannot be told on this record, because {r}."
-                     for c, r in not_identifiable.items())
+    cannot = "".join(f" {c}: {_why(r)}." for c, r in not_identifiable.items())
     said = "" if verdict is None else " " + verdict.sentence()
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)

@@ -6,9 +6,10 @@ already named (their hyper-parameters as chosen on each fold's training blocks),
 the fraction the same term removes on the record's effect-free twin
 (:mod:`fricctl.diagnose.twin`: the measuring chain's share).  The best candidate whose net score reaches
 :data:`~fricctl.diagnose.report.MIN_SCORE` and which can be told on this record
-(:func:`collinearity`, then the cause's own ``identifiable``) is named -- preferring one
-whose extended model does not simulate the held-out windows worse -- and the search
-repeats until no candidate reaches it.
+(:func:`collinearity`, then the cause's own ``identifiable``: e.g. a ripple period the
+record can resolve) and whose extended model simulates the held-out windows better is
+named -- one that lowers the torque residual but re-simulates worse is tried and
+rejected, with the reason -- and the search repeats until no candidate reaches it.
 """
 
 from __future__ import annotations
@@ -172,7 +173,13 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                                         if c.name not in verdict.reasons))
         if not verdict.told:
             break
-        state = _name(problem, state, verdict.told, scored, ranking, sse_prev, simulate)
+        before = len(state.steps)
+        named, rejected = _name(problem, state, verdict.told, scored, ranking, sse_prev,
+                                simulate)
+        state = replace(named, not_told={**named.not_told, **rejected},
+                        remaining=tuple(c for c in named.remaining if c.name not in rejected))
+        if len(state.steps) == before:  # every told candidate re-simulated worse
+            break
     return Selection(selected=state.selected, steps=state.steps,
                      first_ranking=state.first_ranking, last_ranking=state.last_ranking,
                      simulation_scores=state.simulation_scores,
@@ -340,9 +347,14 @@ def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | 
 
 
 def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: tuple,
-          sse_prev: float, simulate) -> _State:
-    """Name the best told candidate -- the first whose models simulate the held-out windows
-    better, else the first -- and move the model on by its term."""
+          sse_prev: float, simulate) -> tuple:
+    """Name the best told candidate whose models simulate the held-out windows better and
+    move the model on by its term.  Returns ``(state, rejected)``: the candidates whose
+    extended models re-simulate the held-out windows worse are tried and rejected, with
+    the reason (issue 21: a term that lowers the torque residual but makes the model
+    simulate worse is not a physical cause); when every told one is rejected, the state is
+    returned unchanged.  Where the windows cannot be re-simulated at all (NaN), the
+    simulation does not judge."""
     trials = {}
     for t in told:
         models = tuple(_fold_model(state, t.cause, scored[t.cause.name].cv, f)
@@ -351,7 +363,19 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
     pb = float(np.sum(state.sim.position_error ** 2))
     sim_score = {n: (1.0 - float(np.sum(tr.sim.position_error ** 2)) / pb if pb > 0 else 0.0)
                  for n, tr in trials.items()}
-    pick = ([t for t in told if sim_score[t.cause.name] > 0.0] or list(told))[0]
+    rejected = {}
+    for t in told:
+        sc = sim_score[t.cause.name]
+        if math.isfinite(sc) and sc <= 0.0:
+            before, after = state.sim.rms().position, trials[t.cause.name].sim.rms().position
+            rejected[t.cause.name] = (
+                f"tried, rejected: its extended model re-simulates the held-out windows worse "
+                f"(position RMS {before:.3g} -> {after:.3g}) although it lowers the torque "
+                f"residual")
+    keep = [t for t in told if t.cause.name not in rejected]
+    if not keep:
+        return state, rejected
+    pick = keep[0]
     cause, fit = pick.cause, pick.fit
     s, trial = scored[cause.name], trials[cause.name]
     fold_variants = tuple(f.variant if f is not None else None for f in s.cv.fits)
@@ -373,7 +397,7 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
                    selected=selected, steps=state.steps + (step,), last_ranking=(),
                    remaining=tuple(c for c in remaining if c.name not in gone),
                    not_told={**state.not_told, **gone},
-                   simulation_scores=state.simulation_scores if state.steps else sim_score)
+                   simulation_scores=state.simulation_scores if state.steps else sim_score), {}
 
 
 def not_applicable(base: Baseline, parts: list, theta: np.ndarray, candidates) -> dict:

@@ -521,7 +521,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
                        encoder_resolution=res, loop=path)
 
 
-@jit
+@jit(nogil=True)  # identification replays the folds of a jackknife in threads
 def _replay(plant, st, torque, t0, ts, o_q, o_w, o_f):
     """Drive the joint of a one-run :class:`PlantSpec` from state ``st`` with ``torque`` held
     per sample; records into ``o_q``, ``o_w``, ``o_f``."""

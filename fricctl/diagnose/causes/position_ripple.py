@@ -71,6 +71,21 @@ def _refine(base, variants):
     return out
 
 
+def _identifiable(base, term):
+    """A period the record can resolve: at the median sliding speed the joint crosses it in
+    at least two samples (the Nyquist limit in position); a shorter one is an alias of the
+    sampling, not a ripple of the drive."""
+    sig = base.sig
+    speed = float(np.median(np.abs(sig.w[sig.moving])))
+    per_sample = speed * sig.ts
+    if term.h < 2.0 * per_sample:
+        u = base.labels
+        return (f"the fitted period ({term.h:.3g} {u.position}) is shorter than two samples of "
+                f"motion at the record's median sliding speed ({per_sample:.3g} {u.position} "
+                f"per sample): above the Nyquist limit in position, an alias of the sampling")
+    return None
+
+
 def _extend(model, term, base):
     al, be = term.coef
     ripple = PositionRipple(float(math.hypot(al, be)), term.h, float(math.atan2(be, al)))
@@ -100,5 +115,5 @@ CAUSE = Cause(
     physical="a torque disturbance periodic in position",
     changes=("ripple_amplitude", "ripple_period", "ripple_phase"),
     params=("ripple_sin", "ripple_cos"), variants=_variants, per_fold=True, per_step=True,
-    refine=_refine,
+    refine=_refine, identifiable=_identifiable,
     extend=_extend, evidence=_evidence, inject=_inject)
