@@ -121,3 +121,19 @@ def test_units_mismatch_and_missing_model(tmp_path, capsys):
                  "--out", str(tmp_path / "p.csv")]) == 2
     assert "no such model file" in capsys.readouterr().err
     assert not (tmp_path / "p.csv").exists()
+
+
+def test_a_net_of_another_axis_is_refused(tmp_path, capsys):
+    # issue 26: a net trained on a linear axis (N, m/s) was accepted for a rotary model's patterns
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
+                      envelope_low=[-1, -1], envelope_high=[1, 1], metadata={"units": "linear"})
+    netp = save_net(net, tmp_path / "lin-net.json")
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(_record(tmp_path)), "--model", str(_model(tmp_path)),
+                 "--out", str(out), "--net", str(netp)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "lin-net.json: a network trained on a linear axis" in err
+    assert not out.exists()

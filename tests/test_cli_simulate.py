@@ -190,7 +190,13 @@ def small_net(tmp_path):
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
 def test_c_compensator_compiles_and_matches_python(tmp_path, capsys, small_net):
-    net, net_path = small_net
+    from dataclasses import replace
+
+    from fricctl.nn import save_net
+
+    net, _ = small_net
+    net = replace(net, metadata={"units": "linear"})  # a net of the linear axis
+    net_path = save_net(net, tmp_path / "linear-net.json")
     m = _linear_model(tmp_path)
     c = tmp_path / "axis_comp.c"
     assert main(["simulate", "--model", str(m), "--controller", "pd", "--kp", "2000", "--kd", "80",
@@ -284,3 +290,12 @@ def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
                "pd", "--kp", "1", "--kd", "0.1", "--reference", "step:0.1", "--duration", "0.5")
     assert out.returncode == 2 and out.stderr.count("\n") == 1
     assert "no Coulomb friction" in out.stderr
+
+
+def test_a_net_of_another_axis_is_refused_in_one_line(tmp_path, capsys, small_net):
+    # issue 26: the rotary net small_net on the linear axis ran (rc 0)
+    _, net_path = small_net
+    assert main(["simulate", "--model", str(_linear_model(tmp_path)), "--compensation", "nn",
+                 "--net", str(net_path), "--torque", "constant:1", "--duration", "0.1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "trained on a rotary axis (N*m, rad/s); the model is a linear" in err

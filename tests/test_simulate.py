@@ -317,3 +317,29 @@ def test_every_field_of_the_loops_specs_says_what_it_is():
             entry = re.search(rf"^    {name} : .+\n        \S.*", cls.__doc__, re.M)
             assert entry, f"{cls.__name__}.{name} is not documented"
             assert name in hints, f"{cls.__name__}.{name} has no type"
+
+
+def test_a_net_of_another_kind_of_axis_is_refused():
+    # issue 26: a net trained on a linear axis (N, m/s) ran on a rotary joint, and the reverse
+    from dataclasses import replace
+
+    from fricctl.data import paper_actuator_model
+    from fricctl.nn import FrictionNet
+    from fricctl.simulate import simulate_model
+
+    def net(units):
+        return FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[0.1], b2=0.0, input_offset=[0, 0],
+                           input_scale=[1, 1], output_offset=0.0, output_scale=1.0,
+                           envelope_low=[-1, -1], envelope_high=[1, 1], metadata={"units": units})
+
+    ctl = open_loop(constant(0.1))
+    with pytest.raises(ValueError, match=r"compensator: its network was trained on a linear axis "
+                                         r"\(N, m/s\); the model is a rotary axis"):
+        simulate_model(paper_actuator_model(), ctl, NNCompensator(net("linear")), duration=0.1)
+    with pytest.raises(ValueError, match="the actuator .ActuatorParams. is a rotary axis"):
+        simulate(paper_actuator(), ctl, NNCompensator(net("linear")), duration=0.1)
+    linear = replace(paper_actuator_model(), units="linear")
+    with pytest.raises(ValueError, match="trained on a rotary axis .N.m, rad/s.; the model is a linear"):
+        simulate_model(linear, ctl, NNCompensator(net("rotary")), duration=0.1)
+    for units, model in (("rotary", paper_actuator_model()), ("linear", linear)):
+        simulate_model(model, ctl, NNCompensator(net(units)), duration=0.1)  # the same axis runs

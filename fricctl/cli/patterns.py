@@ -96,6 +96,9 @@ def run(args) -> int:
         from ..nn import fit_report, load_net
 
         net = load_net(args.net)
+        if net.units != model.units:
+            raise ValueError(f"{args.net.name}: a network trained on a {net.units} axis, the "
+                             f"model ({Path(args.model).name}) is {model.units}")
         net_fit = fit_report(pats.friction, net=net, tm=pats.tm, omega=pats.omega)
     write_patterns(args.out, pats, overwrite=args.force)
     u = units_of(model.units)

@@ -268,6 +268,8 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", Controller)
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      Compensator)
+    for c in comps:
+        _check_axis(c, "rotary", "the actuator (ActuatorParams)")
     frs, kind = _batch_frictions(friction, plist, n, plant)
     ts = plist[0].sample_time
     if any(p.sample_time != ts for p in plist):
@@ -335,6 +337,18 @@ def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise) -> LoopSpe
                     q0=np.array([v.real("q0", q0)]),
                     delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
                     noise=noise)
+
+
+def _check_axis(comp: Compensator, kind: str, what: str) -> None:
+    """Refuse a compensator made for another kind of axis (a net trained on a linear axis,
+    force [N] and velocity [m/s], run on a rotary joint, or the reverse)."""
+    from ..units import units as units_of
+
+    if comp.units is not None and comp.units != kind:
+        made, here = units_of(comp.units), units_of(kind)
+        raise ValueError(f"compensator: its network was trained on a {made.kind} axis "
+                         f"({made.torque}, {made.velocity}); {what} is a {here.kind} axis "
+                         f"({here.torque}, {here.velocity})")
 
 
 def _one_result(t, out, stuck, **info) -> SimResult:
@@ -407,6 +421,7 @@ def simulate_model(model: JointModel, controller: Controller,
     if model.sample_time is None:
         raise ValueError("sample_time: the model has none (null): set the controller's sample "
                          "time in the model file")
+    _check_axis(comp, model.units, "the model")
     ts = model.sample_time
     nsamp = _samples(duration, ts, 1)
     fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
