@@ -77,10 +77,16 @@ def run(args) -> int:
     for r in args.runs:
         with about(r):
             records.append(load_record(r))
+    from ..diagnose.api import check_model_agrees
+
     for path, rec in zip(args.runs, records):
         if rec.units != model.units:
             raise ValueError(f"{Path(path).name}: a {rec.units} record for a {model.units} model "
                              f"({Path(args.model).name})")
+        # the velocity quantum is the model's encoder step over its sample time: both must be
+        # the record's, as diagnose requires (issue 26: 0.031 or 0.5 rad/s for a true 0.0157)
+        with about(path):
+            check_model_agrees(model, rec, Path(args.model).name)
     options = POLYNOMIAL_OPTIONS if args.estimator == "polynomial_segments" else {}
     with about(*args.runs):
         pats = record_patterns(records, inertia=model.inertia, estimator=args.estimator,
