@@ -294,3 +294,20 @@ def test_record_patterns_by_hand():
         record_patterns([run, _run(units="linear")], inertia=1.0)
     with pytest.raises(ValueError, match="inertia must be > 0"):
         record_patterns(run, inertia=-1.0)
+
+
+def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
+    # issue 26: "# units: rotary" then "# units: linear": the last one won, silently
+    body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
+    p = tmp_path / "two.csv"
+    p.write_text("# source: bench\n# units: rotary\n# note: relabelled\n# units: linear\n" + body)
+    with pytest.raises(ValueError, match=r"two.csv, line 4: '# units: linear' contradicts line 2 "
+                                         r"\('# units: rotary'\)"):
+        Run.from_csv(p)
+    p.write_text("# units: linear\n# units: linear\n" + body)  # the same twice: no conflict
+    assert Run.from_csv(p).units == "linear"
+    pats = tmp_path / "pats.csv"
+    pats.write_text("# velocity_quantum: 0.01\n# velocity_quantum: 0.02\ntm,omega,friction\n"
+                    "1,1,1\n2,2,2\n")
+    with pytest.raises(ValueError, match="line 2: '# velocity_quantum: 0.02' contradicts line 1"):
+        read_patterns(pats)
