@@ -299,3 +299,22 @@ def test_a_net_of_another_axis_is_refused_in_one_line(tmp_path, capsys, small_ne
                  "--net", str(net_path), "--torque", "constant:1", "--duration", "0.1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "trained on a rotary axis (N*m, rad/s); the model is a linear" in err
+
+
+@pytest.mark.parametrize("name, why", [("int", "is a C keyword"), ("default", "is a C keyword"),
+                                       ("tanh", "C standard library"), ("exp", "C standard library"),
+                                       ("abs", "C standard library"), ("NAN", "C standard library"),
+                                       ("__x", "reserved to the C implementation")])
+def test_c_source_named_after_c_itself_is_refused(tmp_path, capsys, small_net, name, why):
+    # issue 26: tanh.c gave C that does not compile ("conflicting types for 'tanh'"), rc 0
+    from fricctl.nn.c_export import c_source
+
+    net, net_path = small_net
+    c = tmp_path / f"{name}.c"
+    assert main(["simulate", "--compensation", "nn", "--net", str(net_path), "--torque",
+                 "constant:0.1", "--duration", "0.1", "--c-source", str(c)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--c-source {name}.c: the function name {name!r}" in err
+    assert why in err and not c.exists() and not c.with_suffix(".h").exists()
+    with pytest.raises(ValueError, match=why):  # the library refuses it too
+        c_source(net, name=name)

@@ -171,10 +171,16 @@ def _compensator(args, scale, coulomb_pos, coulomb_neg):
 def _outputs(args) -> dict:
     outs = {"--csv": args.csv, "--figure": args.figure, "--c-source": args.c_source}
     if args.c_source is not None:
+        from ..nn.c_export import check_c_name
+
         c = Path(args.c_source)
         if c.suffix != ".c" or not (c.stem.isidentifier() and c.stem.isascii()):
             raise ValueError(f"--c-source must be NAME.c with NAME a C identifier (the functions' "
                              f"prefix), got {c.name!r}")
+        try:  # not int.c, default.c, tanh.c: the C would not compile
+            check_c_name(c.stem)
+        except ValueError as exc:
+            raise ValueError(f"--c-source {c.name}: the function {exc}") from None
         outs["--c-source (its header)"] = c.with_suffix(".h")
     return outs
 
