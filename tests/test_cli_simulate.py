@@ -318,3 +318,14 @@ def test_c_source_named_after_c_itself_is_refused(tmp_path, capsys, small_net, n
     assert why in err and not c.exists() and not c.with_suffix(".h").exists()
     with pytest.raises(ValueError, match=why):  # the library refuses it too
         c_source(net, name=name)
+
+
+def test_a_reference_above_the_nyquist_frequency_warns_on_stderr_and_in_json(capsys):
+    # issue 26: --reference sinusoid:0.1,300 at 500 Hz reported a 6.6e-15 deg error, no warning
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "sinusoid:0.1,300", "--duration", "0.5", "--json"]) == 0
+    out, err = capsys.readouterr()
+    words = "is at or above the Nyquist frequency 250 Hz of the sample time 0.002 s"
+    mine = [line for line in err.splitlines() if words in line]  # (the design warns too)
+    assert len(mine) == 1 and mine[0].startswith("fricctl simulate: warning: the reference")
+    assert [w for w in json.loads(out)["warnings"] if words in w] and len(json.loads(out)["warnings"]) == 1

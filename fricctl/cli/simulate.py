@@ -234,7 +234,7 @@ def run(args) -> int:
     from ..datasets import Run
     from ..params import paper_actuator
     from ..plant import JointModel
-    from ..simulate import simulate, simulate_model
+    from ..simulate import sampling_warnings, simulate, simulate_model
     from ._output import check_figure, check_outputs, json_text
 
     _check_combination(args)
@@ -249,17 +249,19 @@ def run(args) -> int:
         model = JointModel.load(args.model)
         fr = model.friction
         comp = _compensator(args, scale, fr.scale * fr.coulomb_pos, fr.scale * fr.coulomb_neg)
-        res = simulate_model(model, _controller(args, model), comp, duration=args.duration,
+        ctl = _controller(args, model)
+        res = simulate_model(model, ctl, comp, duration=args.duration,
                              friction=fr.scaled(args.friction_scale))
         summary, units = _model_summary(res, model), model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
         comp = _compensator(args, scale, params.coulomb, params.coulomb)
-        res = simulate(params, _controller(args, params), comp, duration=args.duration,
+        ctl = _controller(args, params)
+        res = simulate(params, ctl, comp, duration=args.duration,
                        plant=args.plant or "rigid",
                        friction=params.friction_model().scaled(args.friction_scale))
         summary, units = _paper_summary(res, args.duration), None
-    warns = _runaway_warnings(res)
+    warns = sampling_warnings(ctl, res.sample_time) + _runaway_warnings(res)
     summary.update(_compensation_level(comp))
     if args.csv:
         Run(t=res.t, torque=res.torque_motor, position=res.q_meas, reference=res.reference,
