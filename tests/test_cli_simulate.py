@@ -329,3 +329,18 @@ def test_a_reference_above_the_nyquist_frequency_warns_on_stderr_and_in_json(cap
     mine = [line for line in err.splitlines() if words in line]  # (the design warns too)
     assert len(mine) == 1 and mine[0].startswith("fricctl simulate: warning: the reference")
     assert [w for w in json.loads(out)["warnings"] if words in w] and len(json.loads(out)["warnings"]) == 1
+
+
+def test_a_stuck_joint_record_is_written_and_identify_refuses_it(tmp_path, capsys):
+    # issue 26: a joint that never breaks away (0.05 N*m < breakaway) is a valid result; its
+    # record was refused ("no motion") when written. Identification may refuse it; writing not.
+    csv = tmp_path / "stuck.csv"
+    assert main(["simulate", "--torque", "constant:0.05", "--duration", "1", "--csv", str(csv),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["stuck_at_end"]
+    run = Run.from_csv(csv)
+    assert run.n_samples == 500 and not run.position.any() and run.encoder_grid() is None
+    for recipe in ("plain", "idim_ls"):
+        assert main(["identify", str(csv), "--recipe", recipe]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "stuck.csv: position: no motion" in err, err
