@@ -101,6 +101,17 @@ def _fsync(path: Path, *, folder: bool = False) -> None:
         os.close(fd)
 
 
+def _temp_folder(dest: Path) -> Path:
+    """Make an empty temporary folder beside ``dest`` (signals held by the caller); an error
+    names ``dest``'s folder, never the temporary name."""
+    tmp = _temp_name(dest, "")
+    try:
+        tmp.mkdir()
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror or str(exc), str(dest.parent)) from None
+    return tmp
+
+
 def _exists_error(dest: Path) -> FileExistsError:
     return FileExistsError(errno.EEXIST, "exists (another process wrote it meanwhile); not "
                                          "overwritten", str(dest))
@@ -134,6 +145,26 @@ def _named(exc: OSError, tmp: Path | None, dest: Path) -> OSError:
     if exc.filename is not None and (tmp is None or os.fspath(exc.filename) != os.fspath(tmp)):
         return exc
     return OSError(exc.errno, exc.strerror or str(exc), str(dest))
+
+
+def _outside(exc: OSError, tmp: Path, dest: Path) -> OSError:
+    """``exc`` naming the file of ``dest`` where it names one in the temporary folder ``tmp``
+    (a full disk while a report is written names the report's file, not a hidden name)."""
+    name = None if exc.filename is None else os.fspath(exc.filename)
+    if not isinstance(name, str) or not (name == str(tmp) or name.startswith(str(tmp) + os.sep)):
+        return exc
+    return OSError(exc.errno, exc.strerror or str(exc), str(dest) + name[len(str(tmp)):])
+
+
+@contextlib.contextmanager
+def _named_outside(tmp: Path, dest: Path) -> Iterator[None]:
+    try:
+        yield
+    except OSError as exc:
+        named = _outside(exc, tmp, dest)
+        if named is exc:
+            raise
+        raise named from None
 
 
 @contextlib.contextmanager
@@ -224,9 +255,9 @@ def atomic_folder(path) -> Iterator[Path]:
     tmp = None
     try:
         with _signals_held():
-            tmp = _temp_name(dest, "")
-            tmp.mkdir()
-        yield tmp
+            tmp = _temp_folder(dest)
+        with _named_outside(tmp, dest):
+            yield tmp
         with _signals_held():
             try:
                 os.rename(tmp, dest)  # onto an existing non-empty folder: refused by the OS
@@ -351,9 +382,9 @@ def replace_folder(path, *, keep=None, overwrite: bool = False) -> Iterator[Path
     tmp = None
     try:
         with _signals_held():
-            tmp = _temp_name(dest, "")
-            tmp.mkdir()
-        yield tmp
+            tmp = _temp_folder(dest)
+        with _named_outside(tmp, dest):
+            yield tmp
         if not dest.exists():
             with _signals_held():
                 try:

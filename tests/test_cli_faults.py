@@ -326,7 +326,7 @@ def test_a_report_cut_by_a_file_size_limit_leaves_no_folder(work):
     proc = _start(work, ["diagnose", "record.csv", "--report", str(report)], fsize=20_000)
     err = proc.communicate()[1]
     assert proc.returncode == 2, err
-    _one_line(err, "fricctl diagnose: error:")
+    _one_line(err, f"fricctl diagnose: error: {report}{os.sep}")  # the file, not a temporary
     assert not report.exists() and _leftovers(work) == []
 
 
@@ -444,3 +444,46 @@ def test_a_dangling_output_link_names_its_target_folder(work, tmp_path, capsys):
     err = capsys.readouterr().err
     _one_line(err, "fricctl identify: error: --out:")
     assert str(tmp_path / "missing") in err
+
+
+# -- messages (issue 26) ----------------------------------------------------------------------
+@pytest.mark.parametrize("folder", ["atomic_folder", "replace_folder"])
+def test_a_full_disk_in_a_new_folder_names_the_file_not_the_temporary(tmp_path, folder):
+    import errno
+
+    from fricctl import _atomic
+
+    dest = tmp_path / "report"
+    with pytest.raises(OSError) as info:
+        with getattr(_atomic, folder)(dest) as where:
+            with atomic_path(where / "residuals.png"):
+                raise OSError(errno.ENOSPC, "No space left on device")  # names no file
+    assert info.value.errno == errno.ENOSPC and info.value.filename == str(dest / "residuals.png")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_full_disk_names_the_output_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savetxt", full)
+    out = tmp_path / "run.csv"
+    assert main(["simulate", "--torque", "constant:0.3", "--duration", "0.1", "--csv", str(out)]) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl simulate: error: {out}: No space left on device")
+    assert not out.exists() and _leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("argv", [["diagnose", "{record}", "--report", "{link}"],
+                                  ["reproduce", "--out", "{link}", "--fast", "--seeds", "1"]])
+def test_a_dangling_output_folder_link_names_its_target_folder(work, tmp_path, capsys, argv):
+    link = tmp_path / "out"
+    link.symlink_to(tmp_path / "missing" / "out")
+    argv = [a.format(record=work / "record.csv", link=link) for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl {argv[0]}: error: --")
+    assert f"symbolic link into the folder {tmp_path / 'missing'}, which does not exist" in err
+    assert TEMP_MARK not in err and _leftovers(tmp_path) == []
