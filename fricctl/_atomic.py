@@ -23,6 +23,8 @@ renamed into place (:func:`atomic_folder`); a folder that replaces an earlier on
 
 Notes
 -----
+A destination that is a device or a named pipe (``--csv /dev/null --force``) is written
+into directly: replacing it with a file would destroy it (as root, ``/dev/null`` itself).
 A destination that is a symbolic link is followed: the file it points to is replaced, the link
 kept (what writing through the link did before).  An existing file's permission bits are kept;
 a new file gets ``0o666`` less the umask, as :func:`open` would give it.  On a file system
@@ -67,6 +69,16 @@ def _signals_held() -> Iterator[None]:
 def _destination(path) -> Path:
     """The file a write to ``path`` lands in (a symbolic link followed)."""
     return Path(os.path.realpath(os.fspath(path)))
+
+
+def _special(dest: Path) -> bool:
+    """True for an existing destination that is neither a regular file nor a folder (a
+    device such as ``/dev/null``, a named pipe): it is written into, not replaced."""
+    try:
+        mode = os.stat(dest).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
 def _temp_name(dest: Path, suffix: str) -> Path:
@@ -201,6 +213,11 @@ def atomic_path(path, *, overwrite: bool = True) -> Iterator[Path]:
     ['a.txt']
     """
     dest = _destination(path)
+    if _special(dest):  # /dev/null, a named pipe: written into; replacing it would destroy it
+        if not overwrite:
+            raise _exists_error(dest)
+        yield dest
+        return
     tmp = None
     try:
         with _signals_held():

@@ -17,6 +17,7 @@ loading fricctl (the first few tenths of a second) ends the process as Python do
 import os
 import resource
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -487,3 +488,21 @@ def test_a_dangling_output_folder_link_names_its_target_folder(work, tmp_path, c
     _one_line(err, f"fricctl {argv[0]}: error: --")
     assert f"symbolic link into the folder {tmp_path / 'missing'}, which does not exist" in err
     assert TEMP_MARK not in err and _leftovers(tmp_path) == []
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_named_pipe_or_device_output_is_written_into_not_replaced(tmp_path, capsys):
+    # a FIFO (and so /dev/null, as root) was replaced by a regular file: os.replace onto it
+    import threading
+
+    fifo = tmp_path / "run.csv"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    assert main(["simulate", "--torque", "constant:0.3", "--duration", "0.1", "--csv", str(fifo),
+                 "--force"]) == 0
+    reader.join(timeout=60)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)  # still the pipe
+    assert got and got[0].startswith(b"# source: fricctl simulate") and got[0].count(b"\n") == 53
+    assert _leftovers(tmp_path) == []
