@@ -420,10 +420,12 @@ def replace_folder(path, *, keep=None, overwrite: bool = False) -> Iterator[Path
         shutil.copymode(dest, tmp)
         _carry(dest, tmp, keep)
         with _signals_held():
-            _exchange(tmp, dest)  # tmp now holds the old tree
-            _carry(tmp, dest, keep)  # what was added to the old tree while carrying
-            shutil.rmtree(tmp)
-            tmp = None
+            _exchange(tmp, dest)
+            old, tmp = tmp, None  # the new tree is in place; ``old`` holds the previous one
+            # what was added to the previous tree while carrying; should this fail, the
+            # previous tree stays under its temporary name (never removed with files in it)
+            _carry(old, dest, keep)
+            shutil.rmtree(old)
             _fsync(dest.parent, folder=True)
     finally:
         if tmp is not None:
