@@ -54,6 +54,8 @@ class Compensator:
 
     scale: float = 1.0
     name: str = "compensator"
+    #: Kind of axis the compensator was made for (``"rotary"``, ``"linear"``); None: any.
+    units: str | None = None
 
     def __call__(self, tm, omega_hat):  # pragma: no cover - abstract
         raise NotImplementedError
@@ -165,6 +167,13 @@ class NNCompensator(Compensator):
 
     def _is_net(self) -> bool:
         return all(hasattr(self.estimator, a) for a in NET_ATTRIBUTES)
+
+    @property
+    def units(self) -> str | None:
+        """The axis the network was trained on (:attr:`fricctl.nn.FrictionNet.units`); None
+        for an estimator that does not say."""
+        kind = getattr(self.estimator, "units", None)
+        return kind if isinstance(kind, str) else None
 
     def __call__(self, tm, omega_hat):
         if self.clip and self._is_net():

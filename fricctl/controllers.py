@@ -38,6 +38,15 @@ class Signal:
 
     func: Callable[[np.ndarray], np.ndarray]
     description: str
+    frequency: float | None = None
+    """Highest frequency of a periodic signal [Hz] (a sawtooth's: its fundamental); None for
+    one that is not periodic.  The simulation warns when it is at or above the Nyquist
+    frequency of the sample time (:func:`fricctl.simulate.sampling_warnings`)."""
+
+    def __post_init__(self):
+        if self.frequency is not None:
+            object.__setattr__(self, "frequency",
+                               v.real("frequency", self.frequency, positive=True, unit="Hz"))
 
     def __call__(self, t):
         t = v.array("t", t, ndim=None)
@@ -49,8 +58,10 @@ class Signal:
     def __add__(self, other: "Signal") -> "Signal":
         if not isinstance(other, Signal):
             return NotImplemented
+        freqs = [f for f in (self.frequency, other.frequency) if f is not None]
         return Signal(func=lambda t: self.func(t) + other.func(t),
-                      description=f"{self.description} + {other.description}")
+                      description=f"{self.description} + {other.description}",
+                      frequency=max(freqs) if freqs else None)
 
     def __repr__(self):
         return f"Signal({self.description})"
@@ -73,7 +84,8 @@ def sawtooth(amplitude: float, period: float) -> Signal:
     """Rising ramp from 0 to ``amplitude`` over each ``period`` [s], then reset."""
     a = v.real("amplitude", amplitude)
     p = v.real("period", period, positive=True, unit="s")
-    return Signal(func=lambda t: a * np.mod(t, p) / p, description=f"sawtooth {a:g}, period {p:g} s")
+    return Signal(func=lambda t: a * np.mod(t, p) / p, description=f"sawtooth {a:g}, period {p:g} s",
+                  frequency=1.0 / p)
 
 
 def sinusoid(amplitude: float, frequency: float, phase: float = 0.0, offset: float = 0.0) -> Signal:
@@ -83,7 +95,7 @@ def sinusoid(amplitude: float, frequency: float, phase: float = 0.0, offset: flo
     ph = v.real("phase", phase)
     off = v.real("offset", offset)
     return Signal(func=lambda t: off + a * np.sin(2 * np.pi * f * t + ph),
-                  description=f"sinusoid {a:g} at {f:g} Hz")
+                  description=f"sinusoid {a:g} at {f:g} Hz", frequency=f)
 
 
 def ramp_sinusoid(amplitude_start: float, amplitude_end: float, frequency: float,
@@ -94,7 +106,7 @@ def ramp_sinusoid(amplitude_start: float, amplitude_end: float, frequency: float
     f = v.real("frequency", frequency, positive=True, unit="Hz")
     d = v.real("duration", duration, positive=True, unit="s")
     return Signal(func=lambda t: (a0 + (a1 - a0) * np.clip(t / d, 0, 1)) * np.sin(2 * np.pi * f * t),
-                  description=f"sinusoid {a0:g}->{a1:g} at {f:g} Hz")
+                  description=f"sinusoid {a0:g}->{a1:g} at {f:g} Hz", frequency=f)
 
 
 def sequence(levels, durations) -> Signal:

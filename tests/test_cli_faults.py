@@ -17,6 +17,7 @@ loading fricctl (the first few tenths of a second) ends the process as Python do
 import os
 import resource
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -326,7 +327,7 @@ def test_a_report_cut_by_a_file_size_limit_leaves_no_folder(work):
     proc = _start(work, ["diagnose", "record.csv", "--report", str(report)], fsize=20_000)
     err = proc.communicate()[1]
     assert proc.returncode == 2, err
-    _one_line(err, "fricctl diagnose: error:")
+    _one_line(err, f"fricctl diagnose: error: {report}{os.sep}")  # the file, not a temporary
     assert not report.exists() and _leftovers(work) == []
 
 
@@ -372,7 +373,12 @@ def test_reproduce_workers_die_with_their_parent(work, how):
             break
         time.sleep(0.1)
     assert _alive(kids) == []
-    assert _leftovers(work) == []
+    if how == "kill-9":  # runs no clean-up: the unfinished tree is left beside DIR, never in it
+        assert not out.exists()
+        assert [p.name for p in work.glob(f"*{TEMP_MARK}*")] in ([], [p.name for p in work.glob(
+            f".{out.name}.*{TEMP_MARK}")])
+    else:
+        assert _leftovers(work) == []
 
 
 # -- files from elsewhere ---------------------------------------------------------------------
@@ -439,3 +445,64 @@ def test_a_dangling_output_link_names_its_target_folder(work, tmp_path, capsys):
     err = capsys.readouterr().err
     _one_line(err, "fricctl identify: error: --out:")
     assert str(tmp_path / "missing") in err
+
+
+# -- messages (issue 26) ----------------------------------------------------------------------
+@pytest.mark.parametrize("folder", ["atomic_folder", "replace_folder"])
+def test_a_full_disk_in_a_new_folder_names_the_file_not_the_temporary(tmp_path, folder):
+    import errno
+
+    from fricctl import _atomic
+
+    dest = tmp_path / "report"
+    with pytest.raises(OSError) as info:
+        with getattr(_atomic, folder)(dest) as where:
+            with atomic_path(where / "residuals.png"):
+                raise OSError(errno.ENOSPC, "No space left on device")  # names no file
+    assert info.value.errno == errno.ENOSPC and info.value.filename == str(dest / "residuals.png")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_full_disk_names_the_output_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savetxt", full)
+    out = tmp_path / "run.csv"
+    assert main(["simulate", "--torque", "constant:0.3", "--duration", "0.1", "--csv", str(out)]) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl simulate: error: {out}: No space left on device")
+    assert not out.exists() and _leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("argv", [["diagnose", "{record}", "--report", "{link}"],
+                                  ["reproduce", "--out", "{link}", "--fast", "--seeds", "1"]])
+def test_a_dangling_output_folder_link_names_its_target_folder(work, tmp_path, capsys, argv):
+    link = tmp_path / "out"
+    link.symlink_to(tmp_path / "missing" / "out")
+    argv = [a.format(record=work / "record.csv", link=link) for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl {argv[0]}: error: --")
+    assert f"symbolic link into the folder {tmp_path / 'missing'}, which does not exist" in err
+    assert TEMP_MARK not in err and _leftovers(tmp_path) == []
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes")
+def test_a_named_pipe_or_device_output_is_written_into_not_replaced(tmp_path, capsys):
+    # a FIFO (and so /dev/null, as root) was replaced by a regular file: os.replace onto it
+    import threading
+
+    fifo = tmp_path / "run.csv"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    assert main(["simulate", "--torque", "constant:0.3", "--duration", "0.1", "--csv", str(fifo),
+                 "--force"]) == 0
+    reader.join(timeout=60)
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)  # still the pipe
+    assert got and got[0].startswith(b"# source: fricctl simulate") and got[0].count(b"\n") == 53
+    assert _leftovers(tmp_path) == []

@@ -74,13 +74,12 @@ def test_json_and_held_out_net(tmp_path, capsys):
 
 
 def test_linear_units_follow_the_model(tmp_path, capsys):
-    model = _model(tmp_path, units="linear", inertia=95.0, encoder_resolution=5e-8,
-                   sample_time=0.001)
+    model = _model(tmp_path, units="linear", inertia=95.0)  # 1e-4 m per count, 2 ms
     rec = _record(tmp_path, units="linear")
     out = tmp_path / "p.csv"
     assert main(["patterns", str(rec), "--model", str(model), "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "I = 95 kg" in text and "velocity quantum 5e-05 m/s" in text
+    assert "I = 95 kg" in text and "velocity quantum 0.05 m/s" in text  # 1e-4 m / 0.002 s
     assert "# columns: tm [N], omega [m/s], friction [N], at_rest [0/1]" in out.read_text()
 
 
@@ -121,3 +120,34 @@ def test_units_mismatch_and_missing_model(tmp_path, capsys):
                  "--out", str(tmp_path / "p.csv")]) == 2
     assert "no such model file" in capsys.readouterr().err
     assert not (tmp_path / "p.csv").exists()
+
+
+def test_a_net_of_another_axis_is_refused(tmp_path, capsys):
+    # issue 26: a net trained on a linear axis (N, m/s) was accepted for a rotary model's patterns
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
+                      envelope_low=[-1, -1], envelope_high=[1, 1], metadata={"units": "linear"})
+    netp = save_net(net, tmp_path / "lin-net.json")
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(_record(tmp_path)), "--model", str(_model(tmp_path)),
+                 "--out", str(out), "--net", str(netp)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "lin-net.json: a network trained on a linear axis" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("change, words", [
+    (dict(sample_time=0.001), "model.json: sample_time 0.001 s differs from the record's 0.002 s"),
+    (dict(encoder_resolution=5e-4), "model.json: encoder_resolution 0.0005 differs from the grid"),
+])
+def test_a_model_of_another_sampling_or_encoder_is_refused(tmp_path, capsys, change, words):
+    # issue 26: patterns wrote velocity_quantum = encoder / sample time of the wrong model
+    # where diagnose refuses the same pair (fricctl.diagnose.check_model_agrees)
+    out = tmp_path / "p.csv"
+    assert main(["patterns", str(_record(tmp_path)), "--model", str(_model(tmp_path, **change)),
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err, err
+    assert not out.exists()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 
@@ -109,6 +110,10 @@ def test_reproduce_refuses_a_non_empty_folder_without_force(reproduced, tmp_path
     (out / "nets").mkdir()
     (out / "nets" / "fricctl-seed7.json").write_text("{}")  # stale, from a run with more seeds
     (out / "claims.md").write_text("old")
+    sha = hashlib.sha256(b"{}").hexdigest()  # the manifest of that run lists it: it is removed
+    (out / "fricctl-manifest.json").write_text(json.dumps(
+        {"format": "fricctl.reproduce-manifest", "version": 1,
+         "files": {"nets/fricctl-seed7.json": sha}}))
     assert main(["reproduce", "--out", str(out), "--fast", "--seeds", "1", "--pipelines", "fricctl",
                  "--workers", "1", "--force"]) == 0
     assert (out / "mine.txt").read_text() == "keep me"
@@ -146,3 +151,97 @@ def test_reproduce_out_is_a_file(tmp_path, capsys):
     f.write_text("x")
     assert main(["reproduce", "--out", str(f), "--fast"]) == 2
     assert "not a folder" in capsys.readouterr().err
+
+
+# -- --force replaces the tree as a whole and removes only what the manifest lists (issue 26) --
+def _fake_reproduce(monkeypatch, seeds_written, *, interrupt=False):
+    """Replace the expensive part of ``reproduce`` (training, figures) by a stub that writes
+    the same kinds of files: one net per seed, one figure folder, claims."""
+    import types
+
+    import fricctl.paper
+    from fricctl.cli import reproduce as cli_reproduce
+    from fricctl.nn import FrictionNet
+
+    net = FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=1.0,
+                      envelope_low=[-1, -1], envelope_high=[1, 1])
+
+    def reproduce_paper(**kwargs):
+        return types.SimpleNamespace(
+            runs={("fricctl", s): types.SimpleNamespace(net=net) for s in seeds_written},
+            stats=(), markdown=lambda: f"seeds {seeds_written}\n", json=lambda: "[]",
+            summary=lambda: "stub")
+
+    def write_figures(res, out, executor):
+        folder = out / "figures" / f"fricctl-seed{seeds_written[0]}"
+        folder.mkdir(parents=True)
+        (folder / "fig04.png").write_bytes(b"png " + str(seeds_written).encode())
+        if interrupt:
+            raise KeyboardInterrupt
+        return [str(folder / "fig04.png")]
+
+    monkeypatch.setattr(fricctl.paper, "reproduce_paper", reproduce_paper)
+    monkeypatch.setattr(cli_reproduce, "_write_figures", write_figures)
+
+
+def _tree(folder):
+    """Relative path -> (bytes, inode) of every file under ``folder``."""
+    return {p.relative_to(folder).as_posix(): (p.read_bytes(), p.stat().st_ino)
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_reproduce_force_removes_only_what_the_manifest_lists(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    argv = ["reproduce", "--out", str(out), "--fast", "--pipelines", "fricctl", "--workers", "1"]
+    _fake_reproduce(monkeypatch, (7, 8))
+    assert main(argv + ["--seeds", "2"]) == 0
+    manifest = json.loads((out / "fricctl-manifest.json").read_text())
+    assert sorted(manifest["files"]) == ["claims.json", "claims.md", "figures/fricctl-seed7/fig04.png",
+                                         "nets/fricctl-seed7.json", "nets/fricctl-seed8.json"]
+    # the user's own files, among the run's and beside them
+    (out / "figures" / "fricctl-seed7" / "my-notes.txt").write_text("notes")
+    (out / "nets" / "lab-seed7.json").write_text("{}")
+    (out / "my-empty-folder").mkdir()
+    (out / "nets" / "fricctl-seed8.json").write_text("edited by hand")  # changed: the user's now
+    mine = {k: v for k, v in _tree(out).items()
+            if k in ("figures/fricctl-seed7/my-notes.txt", "nets/lab-seed7.json",
+                     "nets/fricctl-seed8.json")}
+    _fake_reproduce(monkeypatch, (0,))
+    assert main(argv + ["--seeds", "1", "--force"]) == 0
+    after = _tree(out)
+    for rel, (content, inode) in mine.items():  # the same files, not copies
+        assert after[rel] == (content, inode), rel
+    assert (out / "my-empty-folder").is_dir()
+    assert "nets/fricctl-seed7.json" not in after and "figures/fricctl-seed7/fig04.png" not in after
+    assert after["claims.md"][0] == b"seeds (0,)\n"
+    assert sorted(json.loads((out / "fricctl-manifest.json").read_text())["files"]) == [
+        "claims.json", "claims.md", "figures/fricctl-seed0/fig04.png", "nets/fricctl-seed0.json"]
+    assert not [p for p in tmp_path.rglob("*") if ".fricctl-tmp" in p.name]
+
+
+def test_an_interrupted_reproduce_force_leaves_the_previous_tree(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    argv = ["reproduce", "--out", str(out), "--fast", "--pipelines", "fricctl", "--workers", "1"]
+    _fake_reproduce(monkeypatch, (3,))
+    assert main(argv + ["--seeds", "1"]) == 0
+    (out / "nets" / "lab-seed7.json").write_text("{}")
+    before = _tree(out)
+    _fake_reproduce(monkeypatch, (0,), interrupt=True)
+    assert main(argv + ["--seeds", "1", "--force"]) == 130
+    assert _tree(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no temporary tree left
+    # and into a new folder: nothing at all
+    assert main(argv + ["--seeds", "1", "--out", str(tmp_path / "new")]) == 130
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_reproduce_refuses_a_manifest_it_did_not_write(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "fricctl-manifest.json").write_text('{"files": []}')
+    _fake_reproduce(monkeypatch, (0,))
+    assert main(["reproduce", "--out", str(out), "--seeds", "1", "--workers", "1", "--force"]) == 2
+    err = capsys.readouterr().err
+    assert "not a manifest fricctl reproduce wrote" in err and err.count("\n") == 1
+    assert sorted(p.name for p in out.iterdir()) == ["fricctl-manifest.json"]

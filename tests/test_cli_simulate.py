@@ -192,7 +192,13 @@ def small_net(tmp_path):
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (cc or gcc) on PATH")
 def test_c_compensator_compiles_and_matches_python(tmp_path, capsys, small_net):
-    net, net_path = small_net
+    from dataclasses import replace
+
+    from fricctl.nn import save_net
+
+    net, _ = small_net
+    net = replace(net, metadata={"units": "linear"})  # a net of the linear axis
+    net_path = save_net(net, tmp_path / "linear-net.json")
     m = _linear_model(tmp_path)
     c = tmp_path / "axis_comp.c"
     assert main(["simulate", "--model", str(m), "--controller", "pd", "--kp", "2000", "--kd", "80",
@@ -378,10 +384,10 @@ def test_several_compensations_one_entry_each_and_one_overlaid_figure(tmp_path, 
                                                                        small_net):
     import matplotlib.pyplot as plt
 
-    _, net_path = small_net
-    m = str(_linear_model(tmp_path))
-    common = ["simulate", "--model", m, "--controller", "pd", "--kp", "2000", "--kd", "80",
-              "--reference", "step:1mm", "--duration", "0.2", "--net", str(net_path)]
+    _, net_path = small_net  # a rotary net: on a rotary model (a linear one refuses it)
+    m = str(paper_actuator_file())
+    common = ["simulate", "--model", m, "--controller", "pd", "--kp", "2", "--kd", "0.1",
+              "--reference", "step:10deg", "--duration", "0.2", "--net", str(net_path)]
     # each entry is the run of that compensation alone (same plant, reference, gains): identical
     both = _summary(capsys, *common[1:], "--compensation", "none,coulomb,nn")
     assert [r["compensator"] for r in both["runs"]] == ["none", "Coulomb", "NN"]
@@ -397,7 +403,7 @@ def test_several_compensations_one_entry_each_and_one_overlaid_figure(tmp_path, 
         assert f"position q, {name}" in labels
         assert f"motor torque Tm, {name}" in [t.get_text() for t in bottom.get_legend().get_texts()]
     assert any(lab.startswith("stuck (ω = 0), ") for lab in labels)
-    assert top.get_ylabel() == "position q [m]" and bottom.get_ylabel() == "force [N]"
+    assert top.get_ylabel() == "position q [rad]" and bottom.get_ylabel() == "torque [N*m]"
     plt.close(fig)
 
 
@@ -410,3 +416,57 @@ def test_compensation_list_refusals(argv, words, capsys):
     assert main(["simulate", "--controller", "p", "--kp", "2", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err
+
+
+def test_a_net_of_another_axis_is_refused_in_one_line(tmp_path, capsys, small_net):
+    # issue 26: the rotary net small_net on the linear axis ran (rc 0)
+    _, net_path = small_net
+    assert main(["simulate", "--model", str(_linear_model(tmp_path)), "--compensation", "nn",
+                 "--net", str(net_path), "--torque", "constant:1", "--duration", "0.1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "trained on a rotary axis (N*m, rad/s); the model is a linear" in err
+
+
+@pytest.mark.parametrize("name, why", [("int", "is a C keyword"), ("default", "is a C keyword"),
+                                       ("tanh", "C standard library"), ("exp", "C standard library"),
+                                       ("abs", "C standard library"), ("NAN", "C standard library"),
+                                       ("__x", "reserved to the C implementation")])
+def test_c_source_named_after_c_itself_is_refused(tmp_path, capsys, small_net, name, why):
+    # issue 26: tanh.c gave C that does not compile ("conflicting types for 'tanh'"), rc 0
+    from fricctl.nn.c_export import c_source
+
+    net, net_path = small_net
+    c = tmp_path / f"{name}.c"
+    assert main(["simulate", "--compensation", "nn", "--net", str(net_path), "--torque",
+                 "constant:0.1", "--duration", "0.1", "--c-source", str(c)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--c-source {name}.c: the function name {name!r}" in err
+    assert why in err and not c.exists() and not c.with_suffix(".h").exists()
+    with pytest.raises(ValueError, match=why):  # the library refuses it too
+        c_source(net, name=name)
+
+
+def test_a_reference_above_the_nyquist_frequency_warns_on_stderr_and_in_json(capsys):
+    # issue 26: --reference sinusoid:0.1,300 at 500 Hz reported a 6.6e-15 deg error, no warning
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "sinusoid:0.1,300", "--duration", "0.5", "--json"]) == 0
+    out, err = capsys.readouterr()
+    words = "is at or above the Nyquist frequency 250 Hz of the sample time 0.002 s"
+    mine = [line for line in err.splitlines() if words in line]  # (the design warns too)
+    assert len(mine) == 1 and mine[0].startswith("fricctl simulate: warning: the reference")
+    assert [w for w in json.loads(out)["warnings"] if words in w] and len(json.loads(out)["warnings"]) == 1
+
+
+def test_a_stuck_joint_record_is_written_and_identify_refuses_it(tmp_path, capsys):
+    # issue 26: a joint that never breaks away (0.05 N*m < breakaway) is a valid result; its
+    # record was refused ("no motion") when written. Identification may refuse it; writing not.
+    csv = tmp_path / "stuck.csv"
+    assert main(["simulate", "--torque", "constant:0.05", "--duration", "1", "--csv", str(csv),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["stuck_at_end"]
+    run = Run.from_csv(csv)
+    assert run.n_samples == 500 and not run.position.any() and run.encoder_grid() is None
+    for recipe in ("plain", "idim_ls"):
+        assert main(["identify", str(csv), "--recipe", recipe]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "stuck.csv: position: no motion" in err, err

@@ -98,8 +98,8 @@ def test_validation_messages():
         Run(t=tt, torque=tq, position=q)
     with pytest.raises(ValueError, match=f"fewer than {MIN_SAMPLES} samples"):
         Run(t=t[:5], torque=tq[:5], position=q[:5])
-    with pytest.raises(ValueError, match="no motion"):
-        Run(t=t, torque=tq, position=np.zeros(300))
+    # a joint stuck below breakaway is a valid record (issue 26); it lies on no encoder grid
+    assert Run(t=t, torque=tq, position=np.zeros(300)).encoder_grid() is None
     with pytest.raises(ValueError, match="length 299 differs"):
         Run(t=t, torque=tq[:-1], position=q)
     with pytest.raises(ValueError, match="units"):
@@ -313,3 +313,20 @@ def test_record_patterns_by_hand():
         record_patterns([run, _run(units="linear")], inertia=1.0)
     with pytest.raises(ValueError, match="inertia must be > 0"):
         record_patterns(run, inertia=-1.0)
+
+
+def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
+    # issue 26: "# units: rotary" then "# units: linear": the last one won, silently
+    body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
+    p = tmp_path / "two.csv"
+    p.write_text("# source: bench\n# units: rotary\n# note: relabelled\n# units: linear\n" + body)
+    with pytest.raises(ValueError, match=r"two.csv, line 4: '# units: linear' contradicts line 2 "
+                                         r"\('# units: rotary'\)"):
+        Run.from_csv(p)
+    p.write_text("# units: linear\n# units: linear\n" + body)  # the same twice: no conflict
+    assert Run.from_csv(p).units == "linear"
+    pats = tmp_path / "pats.csv"
+    pats.write_text("# velocity_quantum: 0.01\n# velocity_quantum: 0.02\ntm,omega,friction\n"
+                    "1,1,1\n2,2,2\n")
+    with pytest.raises(ValueError, match="line 2: '# velocity_quantum: 0.02' contradicts line 1"):
+        read_patterns(pats)

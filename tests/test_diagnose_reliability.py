@@ -179,3 +179,23 @@ def test_a_model_of_another_sampling_or_encoder_is_refused(delay_record):
     # agreeing values (to 1e-3) are accepted
     ok = replace(nom, sample_time=run.sample_time * (1 + 1e-4), encoder_resolution=run.encoder_grid())
     assert diagnose(run, ok).causes == ("time_delay",)
+
+
+def test_check_model_agrees_refuses_wrong_types_naming_the_argument():
+    # issue 26: AttributeError for wrong-typed arguments (the other library calls: ValueError)
+    from fricctl.data import paper_actuator_model
+
+    model = paper_actuator_model()
+    t = np.arange(100) * 0.002
+    res = model.encoder_resolution
+    run = Run(t=t, torque=np.ones(100), position=res * np.round(t ** 2 / res))  # on its grid
+    api.check_model_agrees(model, run)  # the right types: no complaint
+    for args, words in (((None, run), "model must be a fricctl.plant.JointModel, got NoneType"),
+                        (("model.json", run), "model must be a fricctl.plant.JointModel, got str"),
+                        ((model, "run.csv"), "run must be a fricctl.datasets.Run, got str"),
+                        ((model, {"t": t}), "run must be a fricctl.datasets.Run, got dict"),
+                        ((run, model), "model must be")):
+        with pytest.raises(ValueError, match=words):
+            api.check_model_agrees(*args)
+    with pytest.raises(ValueError, match="name must be a string"):
+        api.check_model_agrees(model, run, name=3)

@@ -781,3 +781,25 @@ def test_plot_history_and_fit(casadi_net, sliding):
         plot_fit(f, f[:-1])
     with pytest.raises(ValueError, match="against"):
         plot_training_history(hist, against="epochs")
+
+
+def test_a_net_file_says_the_units_of_the_axis_it_was_trained_on(tmp_path):
+    # issue 26: a linear axis's net said N*m, rad/s in its units entry
+    lin = save_net(one_unit_net(metadata={"units": "linear"}), tmp_path / "lin.json")
+    rot = save_net(one_unit_net(), tmp_path / "rot.json")
+    data = json.loads(lin.read_text())
+    assert data["units"] == {"inputs": ["N", "m/s"], "output": "N", "side": "load"}
+    assert json.loads(rot.read_text())["units"] == {"inputs": ["N*m", "rad/s"], "output": "N*m",
+                                                    "side": "load"}
+    assert load_net(lin).units == "linear" and load_net(rot).units == "rotary"
+    # an entry that contradicts the metadata is refused, naming the key
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(dict(data, metadata={"units": "rotary"})))
+    with pytest.raises(ValueError, match="units: the file's units entry is a linear axis's"):
+        load_net(bad)
+    # a linear net written before the fix (rotary entry, "linear" metadata): read as linear
+    old = tmp_path / "old.json"
+    old.write_text(json.dumps(dict(data, units=json.loads(rot.read_text())["units"])))
+    assert load_net(old).units == "linear"
+    with pytest.raises(ValueError, match=r"metadata\['units'\] must be one of"):
+        one_unit_net(metadata={"units": "metric"})

@@ -317,3 +317,48 @@ def test_every_field_of_the_loops_specs_says_what_it_is():
             entry = re.search(rf"^    {name} : .+\n        \S.*", cls.__doc__, re.M)
             assert entry, f"{cls.__name__}.{name} is not documented"
             assert name in hints, f"{cls.__name__}.{name} has no type"
+
+
+def test_a_net_of_another_kind_of_axis_is_refused():
+    # issue 26: a net trained on a linear axis (N, m/s) ran on a rotary joint, and the reverse
+    from dataclasses import replace
+
+    from fricctl.data import paper_actuator_model
+    from fricctl.nn import FrictionNet
+    from fricctl.simulate import simulate_model
+
+    def net(units):
+        return FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[0.1], b2=0.0, input_offset=[0, 0],
+                           input_scale=[1, 1], output_offset=0.0, output_scale=1.0,
+                           envelope_low=[-1, -1], envelope_high=[1, 1], metadata={"units": units})
+
+    ctl = open_loop(constant(0.1))
+    with pytest.raises(ValueError, match=r"compensator: its network was trained on a linear axis "
+                                         r"\(N, m/s\); the model is a rotary axis"):
+        simulate_model(paper_actuator_model(), ctl, NNCompensator(net("linear")), duration=0.1)
+    with pytest.raises(ValueError, match="the actuator .ActuatorParams. is a rotary axis"):
+        simulate(paper_actuator(), ctl, NNCompensator(net("linear")), duration=0.1)
+    linear = replace(paper_actuator_model(), units="linear")
+    with pytest.raises(ValueError, match="trained on a rotary axis .N.m, rad/s.; the model is a linear"):
+        simulate_model(linear, ctl, NNCompensator(net("rotary")), duration=0.1)
+    for units, model in (("rotary", paper_actuator_model()), ("linear", linear)):
+        simulate_model(model, ctl, NNCompensator(net(units)), duration=0.1)  # the same axis runs
+
+
+def test_a_reference_above_the_nyquist_frequency_warns():
+    # issue 26: sinusoid 0.1 at 300 Hz, Ts = 2 ms (Nyquist 250 Hz): the loop follows its
+    # 200 Hz alias (|300 - 500|) and reported a steady-state error of 6.6e-15 deg, no warning
+    from fricctl.simulate import sampling_warnings
+
+    p = paper_actuator()
+    assert p.sample_time == 0.002
+    with pytest.warns(RuntimeWarning, match=r"the reference \(sinusoid 0.1 at 300 Hz\) is at or "
+                                            r"above the Nyquist frequency 250 Hz .* at 200 Hz"):
+        simulate(p, pd_control(2.0, 0.1, sinusoid(0.1, 300.0)), duration=0.1)
+    with pytest.warns(RuntimeWarning, match=r"torque profile .* at 0 Hz"):  # 500 Hz: a constant
+        simulate(p, open_loop(sinusoid(0.1, 500.0)), duration=0.1)
+    assert sampling_warnings(pd_control(2.0, 0.1, sinusoid(0.1, 249.0)), 0.002) == []
+    assert len(sampling_warnings(pd_control(2.0, 0.1, sinusoid(0.1, 250.0)), 0.002)) == 1
+    # a sum of signals: its highest frequency; a sawtooth: its fundamental 1/period
+    assert (sinusoid(1.0, 3.0) + sinusoid(1.0, 300.0) + constant(1.0)).frequency == 300.0
+    assert sawtooth(1.0, 0.001).frequency == 1000.0 and constant(1.0).frequency is None

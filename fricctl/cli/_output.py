@@ -106,6 +106,13 @@ def save_figure(fig, path, *, overwrite: bool, dpi: int = 110) -> None:
 def check_new_folder(option: str, path) -> None:
     """Refuse a folder to be made at ``path`` when the first existing folder above it is not
     writable (checked before any work: the command would fail only when it writes)."""
+    if os.path.islink(path) and not os.path.exists(path):
+        # a dangling link: the folder is made where it points; say which folder is missing
+        target = Path(os.path.realpath(path))
+        if not target.parent.is_dir():
+            raise ValueError(f"{option}: {path} is a symbolic link into the folder "
+                             f"{target.parent}, which does not exist")
+        path = target
     above = Path(os.path.abspath(path)).parent
     while not above.exists() and above != above.parent:
         above = above.parent

@@ -187,6 +187,10 @@ def run(args) -> int:
         controller = pd_control(*args.controller, constant(0.0))
     with about(args.run):
         record = load_record(args.run, units=args.units)
+        if record.encoder_grid() is None and record.position.min() == record.position.max():
+            # a valid record (a joint stuck below breakaway), but nothing to identify from
+            raise ValueError("position: no motion (the position is constant): a joint that "
+                             "never moved says nothing about its dynamics")
         ident = None
         if args.recipe == "auto":
             ident = identify_record(record, model=args.model, offset=args.offset,

@@ -77,10 +77,16 @@ def run(args) -> int:
     for r in args.runs:
         with about(r):
             records.append(load_record(r))
+    from ..diagnose.api import check_model_agrees
+
     for path, rec in zip(args.runs, records):
         if rec.units != model.units:
             raise ValueError(f"{Path(path).name}: a {rec.units} record for a {model.units} model "
                              f"({Path(args.model).name})")
+        # the velocity quantum is the model's encoder step over its sample time: both must be
+        # the record's, as diagnose requires (issue 26: 0.031 or 0.5 rad/s for a true 0.0157)
+        with about(path):
+            check_model_agrees(model, rec, Path(args.model).name)
     options = POLYNOMIAL_OPTIONS if args.estimator == "polynomial_segments" else {}
     with about(*args.runs):
         pats = record_patterns(records, inertia=model.inertia, estimator=args.estimator,
@@ -96,6 +102,9 @@ def run(args) -> int:
         from ..nn import fit_report, load_net
 
         net = load_net(args.net)
+        if net.units != model.units:
+            raise ValueError(f"{args.net.name}: a network trained on a {net.units} axis, the "
+                             f"model ({Path(args.model).name}) is {model.units}")
         net_fit = fit_report(pats.friction, net=net, tm=pats.tm, omega=pats.omega)
     write_patterns(args.out, pats, overwrite=args.force)
     u = units_of(model.units)

@@ -18,20 +18,24 @@ DIR:
                seed whose number of claims passed is the median), the coast test and a
                robustness sweep.
 
-Refuses a DIR that exists and is not empty, unless --force (which replaces the files
-an earlier run wrote there and leaves anything else alone).  A claim that fails is
-reported, not an error: the exit code is 0 whenever the run completes (2 for bad
-arguments).
+  fricctl-manifest.json   the files this run wrote, with their SHA-256.
+
+The run is written into a new folder beside DIR, which replaces DIR as a whole only
+when the run is complete: an interrupted or failed run leaves DIR as it was.  Refuses a
+DIR that exists and is not empty, unless --force.  With --force, the files the earlier
+run's manifest lists (unchanged since) are the only ones removed; anything else in DIR
+(your notes, other networks) is kept in the new DIR.  A claim that fails is reported,
+not an error: the exit code is 0 whenever the run completes (2 for bad arguments).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import hashlib
+import json
 import multiprocessing
 import os
-import re
-import shutil
 import signal
 import sys
 import time
@@ -40,8 +44,9 @@ from pathlib import Path
 
 #: Most worker processes accepted [-].
 MAX_WORKERS = 256
-_OWN_NET = re.compile(r"[a-z]+-seed\d+\.json")
-_OWN_FIGURES = re.compile(r"[a-z]+-seed\d+")
+#: The file in DIR that lists what a run wrote there: all that ``--force`` removes.
+MANIFEST = "fricctl-manifest.json"
+_MANIFEST_FORMAT = "fricctl.reproduce-manifest"
 
 
 def _cpus() -> int:
@@ -68,7 +73,8 @@ def register(subparsers) -> None:
     p.add_argument("--fast", action="store_true",
                    help="short training experiments and a small sweep (for tests)")
     p.add_argument("--force", action="store_true",
-                   help="write into a non-empty DIR, replacing an earlier run's files")
+                   help="write into a non-empty DIR, replacing the files an earlier run's "
+                        "manifest lists (and nothing else)")
     p.set_defaults(func=run)
 
 
@@ -114,28 +120,84 @@ def _pipelines(text: str) -> tuple:
 
 
 def _prepare_out(out: Path, force: bool) -> None:
-    """Refuse a non-empty folder unless ``force``; with it, remove what an earlier run wrote."""
+    """Refuse a non-empty folder unless ``force``, and a folder this run could not replace
+    (checked before the run: a refusal costs nothing)."""
+    from ._output import check_new_folder
+
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
+    check_new_folder("--out", out)  # the new tree is built beside DIR
     if not out.exists():
         return
+    here = Path.cwd().resolve()
+    if here == out.resolve() or out.resolve() in here.parents:
+        raise ValueError(f"--out {out} holds the working folder, and is replaced as a whole when "
+                         "the run completes: run from another folder")
     entries = sorted(out.iterdir())
     if not entries:
         return
     if not force:
         raise ValueError(f"--out {out} is not empty ({len(entries)} entries): pass --force to replace an "
                          "earlier run's files there, or choose another folder")
-    for name in ("claims.md", "claims.json"):
-        if (out / name).is_file():
-            (out / name).unlink()
-    if (out / "nets").is_dir():
-        for f in (out / "nets").iterdir():
-            if f.is_file() and _OWN_NET.fullmatch(f.name):
-                f.unlink()
-    if (out / "figures").is_dir():
-        for d in (out / "figures").iterdir():
-            if d.is_dir() and _OWN_FIGURES.fullmatch(d.name):
-                shutil.rmtree(d)
+    for name in ("nets", "figures"):
+        if (out / name).exists() and not (out / name).is_dir():
+            raise ValueError(f"--out {out / name} is a file where this run writes a folder; move it away")
+    _manifest(out)  # readable, before the run
+
+
+def _digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _manifest(folder: Path) -> dict:
+    """Relative path -> SHA-256 of the files the run that wrote ``folder`` wrote ({} when it
+    has no manifest: a folder fricctl did not write, whose files are all kept)."""
+    from .. import _validate as v
+
+    path = folder / MANIFEST
+    if not path.is_file():
+        return {}
+    try:
+        data = v.strict_json(path.read_text(encoding="utf-8"), max_depth=4)
+        if not (isinstance(data, dict) and data.get("format") == _MANIFEST_FORMAT
+                and data.get("version") == 1 and isinstance(data.get("files"), dict)
+                and all(isinstance(d, str) for d in data["files"].values())):
+            raise ValueError(f"not a {_MANIFEST_FORMAT} version 1 object with a 'files' object")
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"--out: {path} is not a manifest fricctl reproduce wrote ({exc}); move it "
+                         "away (with it, --force would not know which files an earlier run wrote)") from None
+    return data["files"]
+
+
+def _write_manifest(folder: Path) -> None:
+    """List every file in ``folder`` (all written by this run) in its manifest."""
+    from .._atomic import write_text
+
+    files = {p.relative_to(folder).as_posix(): _digest(p)
+             for p in sorted(folder.rglob("*")) if p.is_file()}
+    write_text(folder / MANIFEST, json.dumps({"format": _MANIFEST_FORMAT, "version": 1,
+                                              "files": files}, indent=1) + "\n")
+
+
+def _earlier_run(folder: Path):
+    """``keep(rel, file)`` for :func:`fricctl._atomic.replace_folder`: False for the files the
+    manifest in ``folder`` lists and that are unchanged since (what an earlier run wrote).
+    The manifest is read when the run is complete (another run may have replaced it)."""
+    files: list = []
+
+    def keep(rel: str, file: Path) -> bool:
+        if rel == MANIFEST:
+            return False
+        if not files:
+            files.append(_manifest(folder))
+        digest = files[0].get(rel)
+        return digest is None or not file.is_file() or file.is_symlink() or _digest(file) != digest
+
+    return keep
 
 
 def _worker_init(parent: int) -> None:
@@ -264,26 +326,29 @@ def run(args) -> int:
 
     matplotlib.use("Agg")  # files only: never open windows from the command line
 
-    from .._atomic import write_text
+    from .._atomic import replace_folder, write_text
     from ..nn import save_net
     from ..paper import reproduce_paper
 
     workers = min(workers, seeds * len(pipelines))
     progress = _Progress()
-    out.mkdir(parents=True, exist_ok=True)
-    with contextlib.ExitStack() as stack:
+    Path(os.path.abspath(out)).parent.mkdir(parents=True, exist_ok=True)
+    # the whole tree is built beside DIR and replaces it only when complete (issue 26)
+    with replace_folder(out, keep=_earlier_run(Path(os.path.realpath(out))),
+                        overwrite=args.force) as new, contextlib.ExitStack() as stack:
         ex = None if workers == 1 else stack.enter_context(_worker_pool(workers))
         res = reproduce_paper(fast=args.fast, seeds=seeds, pipelines=pipelines, executor=ex,
                               progress=progress, figures=False)
         t0 = time.perf_counter()
-        figures = _write_figures(res, out, ex)
+        figures = _write_figures(res, new, ex)
         print(f"figures of the representative seeds drawn in {time.perf_counter() - t0:.1f} s",
               file=sys.stderr)
-    (out / "nets").mkdir(exist_ok=True)
-    for (name, seed), r in res.runs.items():  # each file atomic (fricctl._atomic)
-        save_net(r.net, out / "nets" / f"{name}-seed{seed}.json")
-    write_text(out / "claims.md", res.markdown())
-    write_text(out / "claims.json", res.json() + "\n")
+        (new / "nets").mkdir()
+        for (name, seed), r in res.runs.items():
+            save_net(r.net, new / "nets" / f"{name}-seed{seed}.json")
+        write_text(new / "claims.md", res.markdown())
+        write_text(new / "claims.json", res.json() + "\n")
+        _write_manifest(new)
     ids = list(dict.fromkeys(s.id for s in res.stats))
     by = {(s.id, s.pipeline): s for s in res.stats}
     print(f"{'claim':<15s} " + " ".join(f"{p:>18s}" for p in pipelines))

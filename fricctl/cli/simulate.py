@@ -223,10 +223,16 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg):
 def _outputs(args) -> dict:
     outs = {"--csv": args.csv, "--figure": args.figure, "--c-source": args.c_source}
     if args.c_source is not None:
+        from ..nn.c_export import check_c_name
+
         c = Path(args.c_source)
         if c.suffix != ".c" or not (c.stem.isidentifier() and c.stem.isascii()):
             raise ValueError(f"--c-source must be NAME.c with NAME a C identifier (the functions' "
                              f"prefix), got {c.name!r}")
+        try:  # not int.c, default.c, tanh.c: the C would not compile
+            check_c_name(c.stem)
+        except ValueError as exc:
+            raise ValueError(f"--c-source {c.name}: the function {exc}") from None
         outs["--c-source (its header)"] = c.with_suffix(".h")
     return outs
 
@@ -303,7 +309,7 @@ def run(args) -> int:
     from ..datasets import Run
     from ..params import paper_actuator
     from ..plant import JointModel
-    from ..simulate import simulate, simulate_model
+    from ..simulate import sampling_warnings, simulate, simulate_model
     from ._output import check_figure, check_outputs, json_text
 
     _check_combination(args)
@@ -332,7 +338,7 @@ def run(args) -> int:
                             friction=params.friction_model().scaled(args.friction_scale))
                    for comp in comps]
         units = None
-    warns = [_runaway_warnings(res) for res in results]
+    warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res) for res in results]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
         res = results[0]

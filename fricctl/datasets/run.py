@@ -49,7 +49,9 @@ class Run:
     Notes
     -----
     A ``Run`` is validated on construction (finite values, equal lengths, at least
-    :data:`MIN_SAMPLES` samples, strictly increasing uniform time, some motion);
+    :data:`MIN_SAMPLES` samples, strictly increasing uniform time); a joint that never
+    moved (stuck below breakaway) is a valid record -- identification refuses it, not the
+    record;
     it holds no velocity or acceleration -- those are estimates, see
     :mod:`fricctl.estimation`.  Arrays are copied and made read-only.
 
@@ -101,8 +103,6 @@ class Run:
             raise ValueError(
                 f"t: non-uniform time step at row {int(bad[0]) + 1} "
                 f"({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
-        if np.ptp(arrays["position"]) == 0.0:
-            raise ValueError("position: no motion (the position is constant)")
         for name, x in arrays.items():
             x.setflags(write=False)
             object.__setattr__(self, name, x)
@@ -144,6 +144,8 @@ class Run:
         """
         d = self.position - self.position[0]
         steps = np.abs(np.diff(self.position))
+        if not np.any(steps > 0):  # a joint that never moved: no count was ever seen
+            return None
         k = d / float(steps[steps > 0].min())
         n = np.round(k)
         if float(np.max(np.abs(k - n))) >= 1e-3:

@@ -88,6 +88,11 @@ def _header(path, cells, required, optional, hint: str = "") -> list[str]:
     return header
 
 
+#: ``#`` keys whose value fricctl reads: a second line with another value is refused (the
+#: last one silently won: a record relabelled by hand with both lines kept).
+SINGLE_KEYS = ("units", "velocity_quantum")
+
+
 def _check_lines(path, lines: list[str], want: str) -> None:
     """Refuse a binary file (a NUL byte) or an overlong line, naming the file and the line."""
     for line_no, line in enumerate(lines, start=1):
@@ -132,7 +137,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         byte (a binary file), a line longer than :data:`MAX_LINE` characters, no header, an unknown, missing or duplicate column, a row
         with another number of fields, a cell that is not a finite decimal number
         (``0.00_2``, ``0x10``, ``1,5``, NaN, inf; the message names the file, the line
-        and the column), or fewer than
+        and the column), two ``#`` lines of a :data:`SINGLE_KEYS` key with different
+        values (naming the line), or fewer than
         ``min_rows`` rows.
 
     Examples
@@ -159,13 +165,18 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
                          f"{want})") from None
     _check_lines(path, lines, want)
     meta: dict[str, str] = {}
+    meta_line: dict[str, int] = {}
     header = None
     rows = []
     for line_no, line in enumerate(lines, start=1):
         if header is None and line.startswith("#"):
             key, sep, value = line[1:].partition(":")
+            key, value = key.strip(), value.strip()
+            if sep and key in SINGLE_KEYS and key in meta and meta[key] != value:
+                raise ValueError(f"{path}, line {line_no}: '# {key}: {value}' contradicts line "
+                                 f"{meta_line[key]} ('# {key}: {meta[key]}'); keep one")
             if sep:
-                meta[key.strip()] = value.strip()
+                meta[key], meta_line[key] = value, line_no
             continue
         try:
             cells = next(csv.reader([line]), [])

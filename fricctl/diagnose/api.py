@@ -60,6 +60,9 @@ def check_model_agrees(model: JointModel, run: Run, name: str = "model") -> None
     (:meth:`~fricctl.datasets.Run.encoder_grid`; a filtered record has none: not checked).
     ``name`` is how the message calls the model (a file name on the command line).
     """
+    v.instance("model", model, JointModel, "a fricctl.plant.JointModel")
+    v.instance("run", run, Run, "a fricctl.datasets.Run")
+    v.text("name", name)
     ts = run.sample_time
     where = run.source or "the record"
     if model.sample_time is not None and abs(model.sample_time - ts) > AGREEMENT * ts:

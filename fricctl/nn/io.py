@@ -10,6 +10,9 @@ A saved network is one JSON object::
      "units": {"inputs": ["N*m", "rad/s"], "output": "N*m", "side": "load"},
      "metadata": {...}}
 
+``units`` is the entry of the axis the net was trained on (``metadata["units"]``, see
+:attr:`FrictionNet.units`): ``["N", "m/s"]`` and ``"N"`` on a linear axis.
+
 Floats are written by :func:`json.dumps` (shortest round-trip repr), so a load
 gives the same net bit for bit.  No pickle: a file is data, never code.
 
@@ -27,9 +30,10 @@ from pathlib import Path
 
 from .. import _validate as v
 from .._atomic import write_text
+from ..units import UNITS as _UNITS
 from .net import FrictionNet
 
-__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "MAX_DEPTH", "UNITS", "save_net", "load_net",
+__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "MAX_DEPTH", "UNITS", "UNITS_OF", "save_net", "load_net",
            "net_to_dict", "net_from_dict", "net_to_json", "net_from_json"]
 
 #: Deepest bracket nesting a network file may have (a saved net has 4).
@@ -61,13 +65,16 @@ def net_to_dict(net: FrictionNet) -> dict:
         "output_scale": net.output_scale,
         "envelope_low": net.envelope_low.tolist(),
         "envelope_high": net.envelope_high.tolist(),
-        "units": json.loads(json.dumps(UNITS)),
+        "units": json.loads(json.dumps(UNITS_OF[net.units])),
         "metadata": dict(net.metadata),
     }
 
 
-#: The ``units`` entry of a network file: the only one a FrictionNet has (load side, SI).
-UNITS = {"inputs": ["N*m", "rad/s"], "output": "N*m", "side": "load"}
+#: The ``units`` entry of a network file of each kind of axis (load side, SI).
+UNITS_OF = {kind: {"inputs": [u.torque, u.velocity], "output": u.torque, "side": "load"}
+            for kind, u in _UNITS.items()}
+#: The ``units`` entry of a rotary joint's network (the paper's).
+UNITS = UNITS_OF["rotary"]
 
 #: Shapes of the numeric entries in the file (``None``: the number of hidden units).
 _SHAPES = {"w1": (None, 2), "b1": ("H",), "w2": ("H",), "b2": (), "input_offset": (2,),
@@ -81,8 +88,8 @@ def net_from_dict(data: dict) -> FrictionNet:
     Refused: another format or version (``"version"`` must be the integer 1, not
     ``true`` or ``1.0``), a missing or unknown key, a weight that is not a JSON number
     (a string, a boolean, null) or lies beyond double precision, arrays of the wrong
-    shape, ``hidden`` disagreeing with ``w1``, and a ``units`` entry other than
-    :data:`UNITS`.
+    shape, ``hidden`` disagreeing with ``w1``, and a ``units`` entry other than one of
+    :data:`UNITS_OF`, or of another axis than the metadata's ``units``.
     """
     if not isinstance(data, dict):
         raise ValueError(f"a saved FrictionNet is a JSON object, got {type(data).__name__}")
@@ -100,9 +107,18 @@ def net_from_dict(data: dict) -> FrictionNet:
         raise ValueError(f"FrictionNet file is missing key(s): {', '.join(missing)}")
     if unknown:
         raise ValueError(f"FrictionNet file has unknown key(s): {', '.join(unknown)}")
-    if data["units"] != UNITS or not isinstance(data["units"], dict):
-        raise ValueError(f"units: a FrictionNet file has units {json.dumps(UNITS)} "
-                         f"(load side, SI), got {json.dumps(data['units'])[:120]}")
+    kind = next((k for k, u in UNITS_OF.items() if data["units"] == u), None)
+    if kind is None or not isinstance(data["units"], dict):
+        raise ValueError(f"units: a FrictionNet file has units {json.dumps(UNITS)} (rotary) or "
+                         f"{json.dumps(UNITS_OF['linear'])} (linear; load side, SI), got "
+                         f"{json.dumps(data['units'])[:120]}")
+    meta = data["metadata"]
+    trained = meta["units"] if isinstance(meta, dict) and "units" in meta else "rotary"
+    # a linear net written before issue 26 has the rotary entry and "units": "linear" in its
+    # metadata (which was right): read as linear; any other disagreement is refused
+    if trained != kind and not (trained == "linear" and data["units"] == UNITS):
+        raise ValueError(f"units: the file's units entry is a {kind} axis's, its metadata says "
+                         f"the net was trained on a {trained!s:.20} axis")
     hidden = v.integer("hidden", data["hidden"], low=1)
     w1 = v.json_numbers("w1", data["w1"], shape=_SHAPES["w1"])
     if w1.shape[0] != hidden:

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _validate as v
+from ..units import KINDS
 
 __all__ = ["FrictionNet", "ARRAY_FIELDS"]
 
@@ -108,11 +109,19 @@ class FrictionNet:
             meta = json.loads(json.dumps(dict(self.metadata), allow_nan=False))
         except (TypeError, ValueError) as exc:
             raise ValueError(f"metadata must be JSON-serialisable: {exc}") from None
+        if "units" in meta:  # the axis it was trained on (fricctl train writes it)
+            v.choice("metadata['units']", meta["units"], KINDS)
         values["metadata"] = types.MappingProxyType(meta)
         for name, value in values.items():
             object.__setattr__(self, name, value)
 
     # -- evaluation --------------------------------------------------------
+    @property
+    def units(self) -> str:
+        """Kind of axis the net was trained on: ``"rotary"`` (Tm [N*m], omega [rad/s]) or
+        ``"linear"`` (force [N], velocity [m/s]); ``metadata["units"]``, rotary if absent."""
+        return self.metadata["units"] if "units" in self.metadata else "rotary"
+
     @property
     def hidden(self) -> int:
         """Number of hidden units H."""

@@ -29,10 +29,10 @@ hidden-effect bench); :func:`replay` drives the plant alone with a recorded torq
 
 from __future__ import annotations
 
-from .api import (DEFAULT_SUBSTEPS, MAX_SAMPLES, Schedule, replay, simulate, simulate_batch,
-                  simulate_model, simulate_schedule)
+from .api import (DEFAULT_SUBSTEPS, MAX_SAMPLES, Schedule, replay, sampling_warnings, simulate,
+                  simulate_batch, simulate_model, simulate_schedule)
 from .results import BatchResult, ReplayResult, SimInfo, SimResult
 
 __all__ = ["SimResult", "BatchResult", "SimInfo", "ReplayResult", "Schedule", "simulate",
            "simulate_batch", "simulate_model", "simulate_schedule", "replay", "DEFAULT_SUBSTEPS",
-           "MAX_SAMPLES"]
+           "MAX_SAMPLES", "sampling_warnings"]

@@ -268,10 +268,13 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     clist = _as_list(controller, n, "controller", Controller)
     comps = _as_list(NoCompensation() if compensator is None else compensator, n, "compensator",
                      Compensator)
+    for c in comps:
+        _check_axis(c, "rotary", "the actuator (ActuatorParams)")
     frs, kind = _batch_frictions(friction, plist, n, plant)
     ts = plist[0].sample_time
     if any(p.sample_time != ts for p in plist):
         raise ValueError("all runs of a batch must share one sample_time")
+    _warn_sampling(clist, ts)
     nsamp = _samples(duration, ts, n)
     delay = _delay(delay, nsamp, ts)
     quantize = v.flag("quantize", quantize)
@@ -335,6 +338,66 @@ def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise) -> LoopSpe
                     q0=np.array([v.real("q0", q0)]),
                     delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
                     noise=noise)
+
+
+def sampling_warnings(controller: Controller, sample_time: float) -> list[str]:
+    """Why a run of ``controller`` sampled every ``sample_time`` may mislead: a reference or
+    torque profile at or above the Nyquist frequency ``1/(2*sample_time)``.
+
+    The loop reads the signal at the sample instants only, so it follows its alias: a
+    300 Hz sinusoid at 500 Hz sampling is a 200 Hz one, and a 500 Hz one a constant (the
+    "steady-state error" of such a run is that of the alias, not of the signal).
+
+    Parameters
+    ----------
+    controller : Controller
+    sample_time : float
+        Ts [s].
+
+    Returns
+    -------
+    list of str
+        One sentence per signal above the Nyquist frequency (empty: none).  :func:`simulate`,
+        :func:`simulate_batch` and :func:`simulate_model` also issue each as a
+        :class:`RuntimeWarning`.
+
+    Examples
+    --------
+    >>> from fricctl.controllers import pd_control, sinusoid
+    >>> sampling_warnings(pd_control(1.0, 0.1, sinusoid(0.1, 300.0)), 0.002)[0][:60]
+    'the reference (sinusoid 0.1 at 300 Hz) is at or above the Ny'
+    """
+    v.instance("controller", controller, Controller)
+    ts = v.real("sample_time", sample_time, positive=True, unit="s")
+    nyquist = 0.5 / ts
+    out = []
+    for what, sig in (("reference", controller.reference), ("torque profile", controller.feedforward)):
+        f = sig.frequency
+        if f is not None and f >= nyquist:
+            alias = abs(f - round(f * ts) / ts)
+            out.append(f"the {what} ({sig.description}) is at or above the Nyquist frequency "
+                       f"{nyquist:g} Hz of the sample time {ts:g} s: the loop sees it aliased, "
+                       f"at {alias:.4g} Hz")
+    return out
+
+
+def _warn_sampling(controllers, sample_time: float) -> None:
+    import warnings
+
+    for text in dict.fromkeys(t for c in controllers for t in sampling_warnings(c, sample_time)):
+        warnings.warn(text, RuntimeWarning, stacklevel=3)
+
+
+def _check_axis(comp: Compensator, kind: str, what: str) -> None:
+    """Refuse a compensator made for another kind of axis (a net trained on a linear axis,
+    force [N] and velocity [m/s], run on a rotary joint, or the reverse)."""
+    from ..units import units as units_of
+
+    if comp.units is not None and comp.units != kind:
+        made, here = units_of(comp.units), units_of(kind)
+        raise ValueError(f"compensator: its network was trained on a {made.kind} axis "
+                         f"({made.torque}, {made.velocity}); {what} is a {here.kind} axis "
+                         f"({here.torque}, {here.velocity})")
 
 
 def _one_result(t, out, stuck, **info) -> SimResult:
@@ -407,7 +470,9 @@ def simulate_model(model: JointModel, controller: Controller,
     if model.sample_time is None:
         raise ValueError("sample_time: the model has none (null): set the controller's sample "
                          "time in the model file")
+    _check_axis(comp, model.units, "the model")
     ts = model.sample_time
+    _warn_sampling([controller], ts)
     nsamp = _samples(duration, ts, 1)
     fr = model.friction if friction is None else v.instance("friction", friction, FrictionModel)
     a = replace(model, friction=fr).joint().kernel_args()
