@@ -245,14 +245,20 @@ def test_emps_published_model(data_dir):
     pub = JointModel(inertia=95.1089, friction=Viscous(203.5034) + Coulomb(20.3935), offset=-3.1648,
                      units="linear")
     d = diagnose(est, pub)
-    # a position-periodic force of some tens of micrometres (chapter 08 tells it)
-    assert d.cause == "position_ripple"
-    assert 10e-6 < d.extended.friction.ripple_period < 200e-6
-    assert d.gain.torque_rms_after < d.gain.torque_rms_before
+    # the periodogram's best period, 62 um, is shorter than two samples of motion at the
+    # record's median sliding speed (82.5 um per sample): an alias of the sampling, tried and
+    # not named (issue 21: it was named before, for a -0.1 % gain)
+    assert "position_ripple" not in d.causes
+    assert "Nyquist limit in position" in d.not_identifiable["position_ripple"]
+    assert d.cause == "none"
     # fit mode: the rigid baseline without offset misses the direction dependence the
     # published asymmetric model has (Fv+ 166.7, Fv- 240.4 N*s/m, EMPS sec. 3.4)
     d2 = diagnose(est)
     assert d2.cause == "asymmetry"
+    # and the verdict says what is left: not explained, the residual a function of velocity
+    # (the presliding at reversals a careful analysis finds is not among the causes named)
+    assert not d2.explained and d2.verdict.residual_over_floor > 2
+    assert d2.verdict.strongest == "velocity"
     fr = d2.extended.friction
     assert fr.viscous_neg > fr.viscous_pos
     # transfer to the PULSES file: the extension must not predict worse there
