@@ -263,7 +263,8 @@ def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None
         try:
             refined = didim(segments[0], model=model, offset=offset, loop=_REPLAY,
                             output="position", recipe=_didim_recipe(sigs[0]),
-                            start=start if near is None else near, also=tuple(segments[1:]))
+                            start=start if near is None else near, also=tuple(segments[1:]),
+                            tolerance=1e-6 if near is None else JACKKNIFE_TOLERANCE)
         except ValueError as err:
             why = str(err)
     return _Fit(cutoff=cutoff, start=start, refined=refined, why_not=why)
@@ -273,6 +274,10 @@ def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None
 _REPLAY = RecordLoop(closed=False)
 #: Blocks of the delete-a-block jackknife and of the held-out validation [-].
 JACKKNIFE_BLOCKS = 4
+#: Relative step at which a jackknife fit stops [-]: it starts at the whole record's optimum,
+#: and its spread is read at the scale of the standard errors (a tenth of a per cent and
+#: more), far above this.
+JACKKNIFE_TOLERANCE = 1e-4
 
 
 def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
