@@ -137,7 +137,7 @@ def _flagged(model, result):
     warning that starts with a parameter's name concerns that parameter, any other all."""
     from dataclasses import replace
 
-    from ..plant.model import _ESTIMATE_FIELDS
+    from ..plant.model import ESTIMATE_FIELDS
 
     if not result.warnings:
         return model
@@ -146,7 +146,7 @@ def _flagged(model, result):
     prov = dict(model.provenance)
     for n in result.names:
         flags = own[n] + general
-        for key in _ESTIMATE_FIELDS[n]:
+        for key in ESTIMATE_FIELDS[n]:
             if flags and key in prov:
                 p = prov[key]
                 prov[key] = replace(p, note=f"{p.note}; flagged: " + " | ".join(flags))

@@ -59,7 +59,7 @@ from ..units import KINDS
 from ..units import units as units_of
 from .joints import FlexibleJoint, RigidJoint
 
-__all__ = ["JointModel", "Provenance", "MODEL_FORMAT", "MODEL_VERSION", "READ_VERSIONS",
+__all__ = ["JointModel", "Provenance", "ESTIMATE_FIELDS", "MODEL_FORMAT", "MODEL_VERSION", "READ_VERSIONS",
            "PROVENANCE_SOURCES", "provenance_keys"]
 
 MODEL_FORMAT = "fricctl.joint_model"
@@ -82,7 +82,7 @@ _KEYS_V1 = ("format", "version", "units", "inertia", "friction", "offset", "dela
             "load_inertia", "stiffness", "damping", "source")
 _KEYS_V2 = _KEYS_V1 + tuple(n for n, _ in _OPTIONAL) + ("provenance",)
 #: Identified parameter names (fricctl.identify.MODELS) -> the model values they set.
-_ESTIMATE_FIELDS = {
+ESTIMATE_FIELDS = {
     "inertia": ("inertia",), "offset": ("offset",),
     "viscous": ("friction.viscous_pos", "friction.viscous_neg"),
     "coulomb": ("friction.coulomb_pos", "friction.coulomb_neg"),
@@ -365,9 +365,9 @@ class JointModel:
         """
         v.instance("estimates", estimates, Mapping, "a mapping of parameter names to values")
         std = {} if std is None else dict(v.instance("std", std, Mapping, "a mapping"))
-        unknown = sorted(set(estimates) - set(_ESTIMATE_FIELDS))
+        unknown = sorted(set(estimates) - set(ESTIMATE_FIELDS))
         if unknown or "inertia" not in estimates:
-            raise ValueError(f"estimates: need 'inertia', may have {', '.join(_ESTIMATE_FIELDS)}; "
+            raise ValueError(f"estimates: need 'inertia', may have {', '.join(ESTIMATE_FIELDS)}; "
                              f"unknown {unknown}")
         x = {k: v.real(f"estimates[{k!r}]", val) for k, val in estimates.items()}
         if "static" in x:
@@ -378,7 +378,7 @@ class JointModel:
             x["static"] -= fc  # the Stribeck excess over the Coulomb level
         fr, prov = {}, dict(provenance or {})
         for name, value in x.items():
-            for key in _ESTIMATE_FIELDS[name]:
+            for key in ESTIMATE_FIELDS[name]:
                 s = std.get(name) if name != "static" else None
                 n = note + (" (static - coulomb; the std of static is "
                             f"{std['static']:.4g})" if name == "static" and "static" in std else "")
