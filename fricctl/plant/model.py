@@ -59,8 +59,8 @@ from ..units import KINDS
 from ..units import units as units_of
 from .joints import FlexibleJoint, RigidJoint
 
-__all__ = ["JointModel", "Provenance", "ESTIMATE_FIELDS", "MODEL_FORMAT", "MODEL_VERSION", "READ_VERSIONS",
-           "PROVENANCE_SOURCES", "provenance_keys"]
+__all__ = ["JointModel", "Provenance", "ESTIMATE_FIELDS", "MODEL_FORMAT", "MODEL_VERSION",
+           "READ_VERSIONS", "PROVENANCE_SOURCES", "provenance_keys"]
 
 MODEL_FORMAT = "fricctl.joint_model"
 #: The version :meth:`JointModel.save` writes.
