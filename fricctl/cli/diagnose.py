@@ -7,12 +7,18 @@ EMPS layout, a linear axis), fits the rigid baseline (or takes ``--model FILE``,
 count must agree with the record's),
 re-simulates it over 0.5 s windows, names every cause the record supports one
 step at a time by blocked cross-validation (or ``none``), extends the model and
-reports the held-out gain.  ``--json`` prints one object (finite numbers or null):
-``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
+reports the held-out gain and the verdict: is the record explained?  ``--json`` prints one
+object (finite numbers or null): ``explained`` (the final model's held-out torque residual
+at most twice the measuring chain's floor, or not significantly above it),
+``residual_over_floor``, ``verdict`` (``p_value`` of the variance-ratio test, ``dof``,
+``dependence``: the share of the final residual's variance its bin means against
+position, velocity, time and torque carry, ``strongest``), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
 ``chain``, held-out torque and simulation RMS before and after), ``ranking``
 (``[{cause, score}]`` of the first step), ``not_identifiable`` (cause -> why it
-cannot be told on this record), ``evidence``, ``baseline`` and ``extended``
+cannot be told on this record, or "tried, rejected: ..." when its extended model
+re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl identify``'s fit of the record,
+``--no-offset --no-validation``, or the given model) and ``extended``
 (parameter dicts), ``gain`` (``torque_rms_before``, ``torque_rms_after``,
 ``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data,
 ``chain_rms`` and ``cutoff``.  A linear axis: ``# units: linear`` in the file or
