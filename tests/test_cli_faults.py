@@ -506,3 +506,22 @@ def test_a_named_pipe_or_device_output_is_written_into_not_replaced(tmp_path, ca
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)  # still the pipe
     assert got and got[0].startswith(b"# source: fricctl simulate") and got[0].count(b"\n") == 53
     assert _leftovers(tmp_path) == []
+
+
+def test_diagnose_refuses_a_huge_record_by_count_before_reading_it(tmp_path, monkeypatch, capsys):
+    # issue 26: a 25-million-sample record died of MemoryError after 141 s of parsing; the
+    # count is taken first (8 MB chunks, no parsing): rows past the limit are never read,
+    # so garbage there cannot be what the message is about
+    import fricctl.diagnose as dg
+    from fricctl.cli import main
+    from fricctl.datasets import record_length
+
+    monkeypatch.setattr(dg, "MAX_SAMPLES", 1000)
+    path = tmp_path / "huge.csv"
+    rows = "".join(f"{0.001 * k:.3f},0.1,{1e-4 * k:.6f}\n" for k in range(1200))
+    path.write_text("# units: rotary\nt,torque,position\n" + rows + "not,a,number\n")
+    assert record_length(path) == 1201
+    assert main(["diagnose", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "1201 samples, more than the 1000" in err
+    assert "decimate it by 2" in err

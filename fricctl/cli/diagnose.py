@@ -71,7 +71,7 @@ REPORT_FILES = ("residuals.png", "simulation.png", "spectrum.png", "steps.png", 
 
 def run(args) -> int:
     from ..datasets import load_record
-    from ..diagnose import diagnose
+    from ..diagnose import MAX_SAMPLES, diagnose
     from ..plant import JointModel
     from ._output import check_new_folder, check_outputs
 
@@ -84,7 +84,7 @@ def run(args) -> int:
                           [args.run, args.model], force=args.force)
         else:  # built beside, then renamed into place: the first existing ancestor must be writable
             check_new_folder("--report", out)
-    record = load_record(args.run, units=args.units)
+    record = load_record(args.run, units=args.units, max_samples=MAX_SAMPLES)  # counted first
     model = JointModel.load(args.model) if args.model else None
     if model is not None:
         check_model(model, record, Path(args.model).name, units_given=args.units is not None)

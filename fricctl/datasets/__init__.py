@@ -33,7 +33,7 @@ environment variable (the folder that holds ``emps/DATA_EMPS.mat``).
 
 from __future__ import annotations
 
-from .emps_data import EMPS_SOURCE_HINT, EmpsData, emps, emps_file, load_record
+from .emps_data import EMPS_SOURCE_HINT, EmpsData, emps, emps_file, load_record, record_length
 from .patterns import (PATTERN_COLUMNS, FrictionPatterns, PatternTable, read_patterns,
                        record_patterns, write_patterns)
 from .run import MIN_SAMPLES, TIME_STEP_RTOL, Run
@@ -45,6 +45,7 @@ __all__ = [
     "emps",
     "emps_file",
     "load_record",
+    "record_length",
     "Table",
     "read_columns",
     "FrictionPatterns",

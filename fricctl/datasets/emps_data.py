@@ -187,7 +187,32 @@ def emps_file(path) -> EmpsData:
                     kind="estimation" if pulses is None else "validation", pulses=pulses)
 
 
-def load_record(path, *, units: str | None = None) -> Run:
+def record_length(path) -> int:
+    """Samples a record file holds, counted without parsing it [-]: a CSV's lines that are
+    neither comments (``#``) nor its header, or the length of a ``.mat`` file's ``t``
+    (an upper bound for a CSV with blank lines).  Reads the file in 8 MB chunks."""
+    path = Path(path)
+    if path.suffix.lower() == ".mat":
+        from scipy.io import whosmat
+
+        try:
+            shapes = {name: shape for name, shape, _ in whosmat(str(path))}
+        except (ValueError, NotImplementedError, OSError) as err:
+            raise ValueError(f"{path}: cannot be read as a MATLAB file ({err})") from None
+        return int(np.prod(shapes["t"])) if "t" in shapes else 0
+    lines = comments = 0
+    last = b"\n"
+    with open(path, "rb") as f:
+        while chunk := f.read(8 << 20):
+            lines += chunk.count(b"\n")
+            comments += chunk.count(b"\n#") + (last == b"\n" and chunk[:1] == b"#")
+            last = chunk[-1:]
+    if last != b"\n":
+        lines += 1  # a last line without its newline
+    return max(lines - comments - 1, 0)
+
+
+def load_record(path, *, units: str | None = None, max_samples: int | None = None) -> Run:
     """A record from a CSV file (:meth:`Run.from_csv`) or a MATLAB file in the EMPS layout.
 
     Parameters
@@ -198,10 +223,19 @@ def load_record(path, *, units: str | None = None) -> Run:
     units : {"rotary", "linear"}, optional
         Overrides the CSV's ``# units:`` line; for a ``.mat`` file it must be
         ``"linear"`` (the EMPS layout is a linear axis).
+    max_samples : int, optional
+        Refuse a longer record *before* reading it (:func:`record_length`): a command with a
+        sample limit does not spend minutes and gigabytes parsing what it will refuse.
     """
     path = Path(path)
     if units is not None:
         v.choice("units", units, ("rotary", "linear"))
+    if max_samples is not None and path.is_file():
+        n = record_length(path)
+        if n > v.integer("max_samples", max_samples, low=1):
+            raise ValueError(f"{path}: {n} samples, more than the {max_samples} this command "
+                             f"takes; cut the record or decimate it by "
+                             f"{-(-n // max_samples)}")
     if path.suffix.lower() == ".mat":
         if units not in (None, "linear"):
             raise ValueError(f"{path}: a .mat record in the EMPS layout is a linear axis, "
