@@ -525,3 +525,37 @@ def test_diagnose_refuses_a_huge_record_by_count_before_reading_it(tmp_path, mon
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "1201 samples, more than the 1000" in err
     assert "decimate it by 2" in err
+
+
+@pytest.mark.slow
+def test_diagnose_at_its_sample_limit_stays_within_its_memory_budget(tmp_path):
+    # issue 26: the limit is a measurement, checked at the limit: a record of exactly
+    # MAX_SAMPLES (a 120 s, 2 kHz generator record tiled, continuous in time and position)
+    # diagnosed by the CLI in a child process whose peak RSS (interpreter, CSV reading and
+    # compiled code included) stays under MEMORY_BUDGET; one sample more is refused
+    import subprocess
+    import sys
+
+    from fricctl.bench.hidden_effects import hidden_effect_record
+    from fricctl.datasets import Run
+    from fricctl.diagnose import MAX_SAMPLES, MEMORY_BUDGET
+
+    r = hidden_effect_record(np.random.default_rng(7), cause="none", duration=120.0,
+                             sample_time=0.0005).run
+    k = -(-(MAX_SAMPLES + 1) // r.n_samples)
+    t = np.concatenate([r.t + i * r.n_samples * r.sample_time for i in range(k)])
+    q = np.concatenate([r.position + i * (r.position[-1] - r.position[0]) for i in range(k)])
+    tm = np.tile(r.torque, k)
+    for n, name in ((MAX_SAMPLES, "limit.csv"), (MAX_SAMPLES + 1, "over.csv")):
+        Run(t=t[:n], torque=tm[:n], position=q[:n]).to_csv(tmp_path / name)
+    code = ("import resource, sys; from fricctl.cli import main; "
+            "rc = main(['diagnose', sys.argv[1], '--json']); "
+            "print('RSS', rc, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, "
+            "file=sys.stderr)")
+    out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "limit.csv")],
+                         capture_output=True, text=True)
+    _, rc, rss = [ln for ln in out.stderr.splitlines() if ln.startswith("RSS")][0].split()
+    assert rc == "0" and int(rss) < MEMORY_BUDGET, (rc, int(rss) / 1e9)
+    over = subprocess.run([sys.executable, "-m", "fricctl", "diagnose",
+                           str(tmp_path / "over.csv")], capture_output=True, text=True)
+    assert over.returncode == 2 and f"more than the {MAX_SAMPLES}" in over.stderr

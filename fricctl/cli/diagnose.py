@@ -30,8 +30,8 @@ re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl 
 --model`` and ``fricctl simulate --model`` read it); existing files are not
 overwritten without ``--force``.  A new DIR is built beside and renamed into place when
 complete (an interrupted run leaves no DIR); into an existing DIR each file is written
-atomically.  A record longer than 615 384 samples is refused
-(about 6.5 kB per sample, a 4 GB budget); a progress bar shows on stderr when it is a
+atomically.  A record longer than 571 428 samples is refused, counted before it is read
+(7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
 """

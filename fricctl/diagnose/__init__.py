@@ -50,7 +50,7 @@ effect-free twin), :mod:`.selection` (the forward selection), :mod:`.report`
 Notes
 -----
 Limits: a record of at most :data:`MAX_SAMPLES` samples (the diagnosis holds about
-:data:`BYTES_PER_SAMPLE` bytes per sample: 6.5 kB, a 4 GB budget; a longer record is
+:data:`BYTES_PER_SAMPLE` bytes per sample: 7.0 kB, a 4 GB budget; a longer record is
 refused with the number), sampled every 1 us to 10 s, with re-simulation windows of at
 least 10 samples; a nominal model must be one the record's sample time can re-simulate
 (:mod:`fricctl.simulate` refuses a plant needing more than 100 000 RK4 sub-steps per sample)
