@@ -538,7 +538,7 @@ def test_diagnose_at_its_sample_limit_stays_within_its_memory_budget(tmp_path):
 
     from fricctl.bench.hidden_effects import hidden_effect_record
     from fricctl.datasets import Run
-    from fricctl.diagnose import MAX_SAMPLES, MEMORY_BUDGET
+    from fricctl.diagnose.api import MAX_SAMPLES, MEMORY_BUDGET
 
     r = hidden_effect_record(np.random.default_rng(7), cause="none", duration=120.0,
                              sample_time=0.0005).run
