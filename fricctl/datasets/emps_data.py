@@ -187,19 +187,21 @@ def emps_file(path) -> EmpsData:
                     kind="estimation" if pulses is None else "validation", pulses=pulses)
 
 
-def record_length(path) -> int:
+def record_length(path) -> int | None:
     """Samples a record file holds, counted without parsing it [-]: a CSV's lines that are
     neither comments (``#``) nor its header, or the length of a ``.mat`` file's ``t``
-    (an upper bound for a CSV with blank lines).  Reads the file in 8 MB chunks."""
+    (an upper bound for a CSV with blank lines); None when a ``.mat`` file's table of
+    contents cannot be read (its reader, :func:`emps_file`, then says why).  Reads a CSV in
+    8 MB chunks."""
     path = Path(path)
     if path.suffix.lower() == ".mat":
         from scipy.io import whosmat
 
         try:
             shapes = {name: shape for name, shape, _ in whosmat(str(path))}
-        except (ValueError, NotImplementedError, OSError) as err:
-            raise ValueError(f"{path}: cannot be read as a MATLAB file ({err})") from None
-        return int(np.prod(shapes["t"])) if "t" in shapes else 0
+        except (ValueError, NotImplementedError, OSError, zlib.error):
+            return None
+        return int(np.prod(shapes["t"])) if "t" in shapes else None
     lines = comments = 0
     last = b"\n"
     with open(path, "rb") as f:
@@ -232,7 +234,7 @@ def load_record(path, *, units: str | None = None, max_samples: int | None = Non
         v.choice("units", units, ("rotary", "linear"))
     if max_samples is not None and path.is_file():
         n = record_length(path)
-        if n > v.integer("max_samples", max_samples, low=1):
+        if n is not None and n > v.integer("max_samples", max_samples, low=1):
             raise ValueError(f"{path}: {n} samples, more than the {max_samples} this command "
                              f"takes; cut the record or decimate it by "
                              f"{-(-n // max_samples)}")
