@@ -52,7 +52,7 @@ def test_registry_order_and_names():
     assert [c.name for c in causes.candidates(nominal=False)] == [
         n for n in REGISTRY if n not in causes.NOMINAL_ONLY]
     assert causes.candidates(nominal=True) == tuple(REGISTRY.values())
-    assert causes.physical("none").startswith("the baseline explains")
+    assert causes.physical("none").startswith("no cause of the list improves")
     with pytest.raises(ValueError, match="no cause 'none'"):
         causes.get("none")
     with pytest.raises(ValueError, match="backlash"):
