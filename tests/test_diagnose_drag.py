@@ -22,7 +22,8 @@ def test_drag_is_named_on_most_records():
     # the target for a new cause hidden alone: >= 85 % named (exactly, nothing else).
     # Measured when written: 8 of 8 seeds (100 %), net scores 71-96 % (Stribeck second at
     # 51-83 %); the drag at each record's 95th-percentile speed was 0.20-0.71 x Fc (the bench
-    # sizes it at 6 rad/s; these records reach 4.1-6.9 rad/s)
+    # sizes it at its top speed, 6 rad/s on a rotary joint; these records reach 4.1-6.9 rad/s).
+    # On the linear axis (exploration seeds, not asserted here): 8 of 8 named, 0.19-0.57 x Fc
     named = []
     for i in range(8):
         rec = hidden_effect_record(np.random.default_rng([2029, i]), cause="drag", duration=20.0)
@@ -58,8 +59,8 @@ def test_stribeck_is_not_named_drag(i):
 
 
 def test_injection_sizes_the_drag_against_coulomb():
-    # the bench's drag at its sizing speed is 0.3 .. 0.8 x Fc (times the strength), and the
-    # truth's friction is the baseline's plus that drag alone
+    # the bench's drag at the actuator's top speed is 0.3 .. 0.8 x Fc (times the strength),
+    # and the truth's friction is the baseline's plus that drag alone
     from fricctl.diagnose.causes import BenchActuator
 
     act = BenchActuator(motor_inertia=3e-3, link_inertia=2e-3, viscous=0.017, coulomb=0.14,
@@ -67,5 +68,6 @@ def test_injection_sizes_the_drag_against_coulomb():
     for seed in range(20):
         inj = REGISTRY["drag"].inject(np.random.default_rng(seed), act)
         m = inj.magnitude
+        assert m["speed"] == act.top_speed == 6.0  # the default: 6 x travel (1 rad) per second
         assert 0.3 * act.coulomb <= m["coefficient"] * m["speed"] ** 2 <= 0.8 * act.coulomb
         assert inj.truth.friction == (act.friction() + Drag(m["coefficient"])).model()

@@ -4,7 +4,8 @@ Regressor: ``LP(w*|w|)``; coefficient: the drag ``c >= 0`` (one for both directi
 difference between the directions is :mod:`.asymmetry`'s).  In fit mode the baseline's
 viscous and Coulomb terms are refitted with it, so the drag is what the record's friction
 adds *above a straight line* in speed.
-Bench: the drag at :data:`BENCH_SPEED` x travel/s is 0.3 .. 0.8 Fc.
+Bench: the drag at the actuator's top speed (``BenchActuator.top_speed``: 6 rad/s on the
+bench's rotary joints, less on a heavy linear axis) is 0.3 .. 0.8 Fc.
 
 Notes
 -----
@@ -27,14 +28,6 @@ import numpy as np
 
 from ...friction import Drag
 from .base import Cause, coulomb_level
-
-#: Speed at which the bench sizes its drag, in the axis's travel per second: the 95th
-#: percentile of |w| on the bench's effect-free rotary records is 6.2 .. 7.8 rad/s with the
-#: mixed excitation and 2.2 .. 6.0 rad/s in closed loop (6 records each, measured when this
-#: cause was written); a drag slows the open-loop segments, so the records that hide one
-#: move a little slower [travel/s].
-BENCH_SPEED = 6.0
-
 
 def _v95(base) -> float:
     """95th percentile of |w| over the sliding samples [rad/s]."""
@@ -79,7 +72,10 @@ def _evidence(base, term, extended):
 
 
 def _inject(rng, act):
-    speed = BENCH_SPEED * act.travel
+    # the record's own speeds are not known before its excitation is drawn: the drag is sized
+    # at the speed the bench's fastest excitation reaches with this actuator (a drag slows
+    # the open-loop segments: the records that hide one reach 0.7-1.2 x it, rotary)
+    speed = act.top_speed
     ratio = rng.uniform(0.3, 0.8) * act.strength
     mag = dict(coefficient=ratio * act.coulomb / speed ** 2, speed=speed,
                torque_at_speed=ratio * act.coulomb)
