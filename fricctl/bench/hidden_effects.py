@@ -32,7 +32,8 @@ Hidden effects and their magnitudes
 -----------------------------------
 Each cause module of :mod:`fricctl.diagnose.causes` says how the bench hides its
 effect (its ``inject`` function, ranges in its docstring's "Bench:" line, times
-``strength``; periods and velocities times the axis's :data:`TRAVEL`):
+``strength``; periods and velocities times the axis's :data:`TRAVEL`; an effect growing
+with speed sized at the actuator's top speed, ``BenchActuator.top_speed``):
 :data:`HIDDEN_CAUSES` and :data:`NOMINAL_CAUSES` come from that registry, so a new
 cause module is hidden here without an edit.  ``none`` adds nothing.  Two effects
 are hidden together by setting each one's changed parameters on the same nominal
