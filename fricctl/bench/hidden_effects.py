@@ -32,7 +32,8 @@ Hidden effects and their magnitudes
 -----------------------------------
 Each cause module of :mod:`fricctl.diagnose.causes` says how the bench hides its
 effect (its ``inject`` function, ranges in its docstring's "Bench:" line, times
-``strength``; periods and velocities times the axis's :data:`TRAVEL`):
+``strength``; periods and velocities times the axis's :data:`TRAVEL`; an effect growing
+with speed sized at the actuator's top speed, ``BenchActuator.top_speed``):
 :data:`HIDDEN_CAUSES` and :data:`NOMINAL_CAUSES` come from that registry, so a new
 cause module is hidden here without an edit.  ``none`` adds nothing.  Two effects
 are hidden together by setting each one's changed parameters on the same nominal
@@ -80,12 +81,19 @@ from ..diagnose import causes
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION", "LINEAR_ENCODER_RESOLUTION", "EXCITATIONS", "AXES", "TRAVEL",
-           "PAIRS", "compatible"]
+           "PAIRS", "compatible", "TORQUE_LIMIT", "TOP_SPEED"]
 
 #: Effects the generator hides without a nominal model (``none`` included), from the registry.
 HIDDEN_CAUSES = (causes.NONE,) + tuple(c.name for c in causes.candidates(nominal=False))
 #: Effects that only exist against a supplied nominal model.
 NOMINAL_CAUSES = causes.NOMINAL_ONLY
+
+#: Torque limit of the bench's drive, times the drawn Coulomb level Fc [-].
+TORQUE_LIMIT = 12.0
+#: Largest speed at which the bench sizes an effect growing with speed, in travel per second:
+#: the 95th percentile of |w| on its effect-free rotary records is 3.9-14.7 rad/s with the
+#: mixed excitation (median 7) and 3.1-7.1 rad/s in closed loop (10 records each) [-].
+TOP_SPEED = 6.0
 
 #: Load-side encoder count of the paper actuator [rad] (2000 counts/rev, n = 100).
 ENCODER_RESOLUTION = 2.0 * math.pi / (2000 * 100)
@@ -338,9 +346,15 @@ def _actuator(rng, axis, ts, duration, strength, sensors):
         res *= math.exp(rng.uniform(math.log(0.3), math.log(10.0)))
         process *= rng.uniform(0.3, 2.0)
         measured = rng.uniform(0.0, 0.03) * fc
+    # the fast tracking's peak speed is held to what the torque limit accelerates at 1 Hz, its
+    # middle frequency (_segment): a heavy linear axis moves slower than TOP_SPEED (measured:
+    # the 95th percentile of |w| is 0.5-1.6 x this top speed on effect-free linear records,
+    # 0.17-0.92 x TOP_SPEED alone)
+    top = min(TOP_SPEED * TRAVEL[axis],
+              0.5 * (TORQUE_LIMIT - 1.5) * fc / (jm + jl) / (2.0 * math.pi))
     act = causes.BenchActuator(motor_inertia=jm, link_inertia=jl, viscous=b, coulomb=fc,
                                sample_time=ts, duration=duration, encoder_resolution=res,
-                               travel=TRAVEL[axis], strength=strength, units=axis)
+                               travel=TRAVEL[axis], strength=strength, units=axis, top_speed=top)
     return act, process, measured
 
 
@@ -426,7 +440,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     n = int(round(duration / ts))
     actuator, noise_std, meas_std = _actuator(rng, axis, ts, duration, strength, sensors)
     b, fc = actuator.viscous, actuator.coulomb
-    tmax = 12.0 * fc
+    tmax = TORQUE_LIMIT * fc
     effects = [causes.inject(c, rng, actuator) for c in names]
     effect = _merge(dict(zip(names, effects)), actuator) if len(effects) > 1 else effects[0]
 

@@ -21,8 +21,8 @@ Examples
 ('none', 'stribeck', 'asymmetry')
 >>> get("position_ripple").params
 ('ripple_sin', 'ripple_cos')
->>> [c.name for c in candidates(nominal=False)][-1]
-'presliding'
+>>> sorted(set(CAUSES[1:]) - {c.name for c in candidates(nominal=False)})  # nominal only
+['friction_scale', 'inertia']
 """
 
 from __future__ import annotations

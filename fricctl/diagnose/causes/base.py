@@ -303,6 +303,10 @@ class BenchActuator:
     strength: float = 1.0
     """Factor on the size of the hidden effect (1: as drawn; 0.3: about a third of its torque),
     for records near the 10 % line [-]."""
+    top_speed: float | None = None
+    """The speed the bench's fastest excitation reaches with this actuator, at which an effect
+    growing with speed (drag) is sized [rad/s] ([m/s] on a linear axis); None: 6 x
+    :attr:`travel` per second."""
     units: str = "rotary"
     """``"rotary"`` or ``"linear"`` (labels of the models the bench returns)."""
 
@@ -312,6 +316,8 @@ class BenchActuator:
             object.__setattr__(self, name, v.real(name, getattr(self, name), positive=True))
         object.__setattr__(self, "link_inertia", v.real("link_inertia", self.link_inertia,
                                                           nonneg=True))
+        top = 6.0 * self.travel if self.top_speed is None else self.top_speed
+        object.__setattr__(self, "top_speed", v.real("top_speed", top, positive=True))
         v.choice("units", self.units, ("rotary", "linear"))
 
     @property
