@@ -140,10 +140,22 @@ def test_warnings_mark_the_model_file(tmp_path, capsys):
     if off:
         assert off[0] in m.provenance["offset"].note
     assert fig.stat().st_size > 10_000 and fig.read_bytes()[:4] == b"\x89PNG"
-    # the figure belongs to the default recipe only
-    assert main(["identify", str(path), "--recipe", "idim_ls", "--figure",
-                 str(tmp_path / "w.png")]) == 2
-    assert "only auto validates" in capsys.readouterr().err
+    # every recipe of a linear model is validated on held-out halves, and can plot it
+    w = tmp_path / "w.png"
+    assert main(["identify", str(path), "--recipe", "idim_ls", "--figure", str(w), "--json"]) == 0
+    ls = json.loads(capsys.readouterr().out)
+    assert w.read_bytes()[:4] == b"\x89PNG"
+    from fricctl.identify import idim_ls
+    from fricctl.identify.record import held_out_halves
+
+    held = held_out_halves(lambda r: idim_ls(r), run)
+    assert ls["held_out"]["simulation_fit_percent"] == pytest.approx(held.simulation_fit)
+    # a coarse encoder: the EMPS recipe's biased estimate replays the held-out half worse
+    assert held.simulation_fit < res["held_out"]["simulation_fit_percent"]
+    # not for a non-linear model
+    assert main(["identify", str(path), "--recipe", "plain", "--model", "stribeck",
+                 "--figure", str(tmp_path / "s.png")]) == 2
+    assert "linear model only" in capsys.readouterr().err
 
 
 def test_block_covariance_is_the_white_formula_for_white_noise_and_wider_for_coloured():

@@ -91,7 +91,7 @@ NOMINAL_CAUSES = causes.NOMINAL_ONLY
 #: Torque limit of the bench's drive, times the drawn Coulomb level Fc [-].
 TORQUE_LIMIT = 12.0
 #: Largest speed at which the bench sizes an effect growing with speed, in travel per second:
-#: the 95th percentile of |w| on its effect-free rotary records is 3.9-14.7 rad/s with the
+#: the 95th percentile of ``abs(w)`` on its effect-free rotary records is 3.9-14.7 rad/s with the
 #: mixed excitation (median 7) and 3.1-7.1 rad/s in closed loop (10 records each) [-].
 TOP_SPEED = 6.0
 

@@ -6,10 +6,10 @@ see :func:`fricctl.datasets.emps_file`).  ``--recipe auto`` (default) is
 :func:`fricctl.identify.identify_record`, the same fit as every diagnosis's baseline:
 the equation error on the record's own signals (low-pass at the band the motion
 reaches above the encoder's quantisation), refined by DIDIM on the record's torque
-replayed (no derivative of the encoder, no model of the controller); the two compared
-by their standard errors (residual summed over blocks), the more precise reported when
-they agree, DIDIM when they disagree; validated on held-out halves (each half
-identified alone, the other replayed with it; ``--no-validation`` skips it).  Linear
+replayed (no derivative of the encoder, no model of the controller), which is reported,
+with a warning when the two disagree beyond their standard errors; standard errors from
+the residual summed over blocks and a delete-a-block jackknife (the larger); validated
+on held-out blocks (each of four replayed with the estimate of the other three).  Linear
 models only (``--recipe plain --model stribeck`` for the Stribeck curve).
 
 Other recipes: ``plain`` estimates velocity and acceleration with the chosen
@@ -28,8 +28,10 @@ with standard errors in the IDIM-LS layout, or with ``--json`` one object:
 relative_error_percent, residual_rms, condition_number, solver_status, method,
 warnings, estimator, recipe, out`` (``auto`` adds ``equation_error``, ``didim``,
 ``cutoff_hz`` and ``held_out{simulation_fit_percent, equation_fit_percent, failure}``).
-``--figure FILE.png`` (``auto``) plots the held-out validation: the replayed
-position and the equation error's torque against the record's.
+Every recipe of a linear model is validated on held-out data (``auto`` on 4 blocks, the
+others on halves: each half fitted alone and the other replayed with it; ``held_out`` in the
+JSON, ``--no-validation`` skips it); ``--figure FILE.png`` plots it: the replayed position and
+the equation error's torque against the record's.
 
 ``--out MODEL.json`` writes the identified model (:class:`fricctl.plant.JointModel`,
 version 2) with each value's standard error in ``provenance``, the record's
@@ -66,7 +68,7 @@ def register(subparsers) -> None:
                    help="friction law (default coulomb_viscous: inertia, viscous, Coulomb, offset)")
     p.add_argument("--recipe", choices=_RECIPES, default="auto",
                    help="auto (default): equation error on the record's signals refined by "
-                        "DIDIM, chosen by their standard errors, validated on held-out halves; "
+                        "DIDIM on the replayed torque, jackknife stds, held-out validation; "
                         "plain: estimator + least squares; idim_ls: the EMPS benchmark's IDIM-LS "
                         "(Butterworth 100 Hz, decimation by 10); idim_iv: IDIM-LS with "
                         "instruments from the simulated model; didim: the simulation error "
@@ -75,9 +77,10 @@ def register(subparsers) -> None:
                    help="fit a constant torque offset (default: as the model says; "
                         "coulomb_viscous yes, asymmetric no)")
     p.add_argument("--no-validation", action="store_true",
-                   help="auto: skip the validation on held-out halves (two more fits)")
+                   help="skip the validation on held-out data (auto: and the jackknife; "
+                        "other recipes: two fits of half the record)")
     p.add_argument("--figure", type=Path, default=None, metavar="FILE.png",
-                   help="auto: plot the held-out validation (replayed position, equation-error "
+                   help="plot the held-out validation (replayed position, equation-error "
                         "torque)")
     p.add_argument("--controller", type=float, nargs=2, default=None, metavar=("KP", "KD"),
                    help="idim_iv/didim: the record's PD gains [N*m/rad, N*m*s/rad or N/m, "
@@ -132,6 +135,19 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
     return _flagged(m, result)
 
 
+def _fit_again(args, record, controller, estimator):
+    """The recipe of ``args`` on another record (a half, for the held-out validation)."""
+    from ..identify import didim, identify_run, idim_iv, idim_ls
+
+    if args.recipe == "idim_ls":
+        return idim_ls(record, model=args.model, offset=args.offset)
+    if args.recipe in _SIMULATING:
+        fit = idim_iv if args.recipe == "idim_iv" else didim
+        return fit(record, model=args.model, offset=args.offset, controller=controller)
+    return identify_run(record, model=args.model, estimator=estimator, offset=args.offset,
+                        border=50 if args.border is None else args.border)
+
+
 def _flagged(model, result):
     """The model with each warning in the provenance note of the values it concerns: a
     warning that starts with a parameter's name concerns that parameter, any other all."""
@@ -159,17 +175,18 @@ def run(args) -> int:
     from ..controllers import constant, pd_control
     from ..datasets import load_record
     from ..identify import LINEAR_MODELS, didim, identify_record, identify_run, idim_iv, idim_ls
+    from ..identify.record import held_out_halves
     from ._output import about, check_outputs, json_text
 
     check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
-    if args.recipe != "auto":
+    if args.model not in LINEAR_MODELS:
         given = [o for o, x in (("--no-validation", args.no_validation or None),
                                 ("--figure", args.figure)) if x is not None]
         if given:
-            raise ValueError(f"{', '.join(given)} has no effect with --recipe {args.recipe} "
-                             f"(only auto validates on held-out halves)")
+            raise ValueError(f"{', '.join(given)} has no effect with --model {args.model} (a "
+                             f"fit is validated on held-out data for a linear model only)")
     if args.recipe == "auto" and args.model not in LINEAR_MODELS:
         raise ValueError(f"--model {args.model} is not linear in its parameters: the auto recipe "
                          f"fits {' and '.join(LINEAR_MODELS)}; use --recipe plain")
@@ -208,18 +225,29 @@ def run(args) -> int:
             estimator = args.estimator or "butterworth_central"
             result = identify_run(record, model=args.model, estimator=estimator, offset=args.offset,
                                   border=50 if args.border is None else args.border)
+        held = None
+        if ident is None and args.model in LINEAR_MODELS and not args.no_validation:
+            held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
     for w in result.warnings:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
                          max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
+    if held is not None and held.failure:
+        print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
+              file=sys.stderr)
     if args.figure is not None:
-        from ..figures.identification import plot_held_out
+        from ..figures.identification import plot_held_out, plot_validation
         from ._output import save_figure
 
-        save_figure(plot_held_out(ident), args.figure, overwrite=args.force)  # atomic
+        fig = (plot_held_out(ident) if ident is not None else plot_validation(
+            held, result=result, title=f"{result.method} ({result.model}): each half "
+                                       f"replayed with the other half's estimate"))
+        save_figure(fig, args.figure, overwrite=args.force)  # atomic
     if args.json:
         out = result.as_dict() if ident is None else ident.as_dict()
+        if ident is None:
+            out["held_out"] = None if held is None else held.as_dict()
         out.update(estimator=estimator, recipe=args.recipe,
                    out=None if args.out is None else str(args.out))
         print(json_text(out))
@@ -228,6 +256,9 @@ def run(args) -> int:
               f"{'estimator ' + estimator if args.recipe == 'plain' else 'recipe ' + args.recipe}"
               + (f", low-pass at {ident.cutoff:.4g} Hz (the record's motion band)" if ident else ""))
         print(result.report() if ident is None else ident.report())
+        if held is not None and not held.failure:
+            print(f"Held-out halves: simulation fit (position) {held.simulation_fit:.2f} %, "
+                  f"equation-error fit {held.equation_fit:.2f} %")
         if args.figure is not None:
             print(f"figure written to {args.figure}")
         if args.out is not None:

@@ -67,7 +67,7 @@ from .signals import Signals, estimate_signals
 from .simulation import RecordLoop, simulate_record
 from .uncertainty import block_covariance
 
-__all__ = ["identify_record", "equation_error", "record_columns", "validate",
+__all__ = ["identify_record", "equation_error", "record_columns", "validate", "held_out_halves",
            "RecordIdentification", "Validation", "DISAGREEMENT_SIGMAS", "POOR_FIT_PERCENT",
            "POOR_INERTIA_RELATIVE_STD", "JACKKNIFE_BLOCKS"]
 
@@ -415,6 +415,40 @@ def validate(result: IdentificationResult, run) -> Validation:
                       torque_measured=tm, torque_predicted=tp)
 
 
+def held_out_halves(fit, run) -> Validation:
+    """Any recipe validated on held-out halves: ``fit(half)`` (a linear model's
+    :class:`IdentificationResult`) on each half, :func:`validate` on the other; both halves
+    together (NaN between them in the curves).  What ``fricctl identify`` reports for the
+    recipes other than the default (which uses :data:`JACKKNIFE_BLOCKS` blocks)."""
+    v.instance("run", run, Run, "a fricctl.datasets.Run")
+    n = run.n_samples
+    halves = ((0, n // 2), (n // 2, n))
+    try:
+        parts = [validate(fit(_piece(run, *halves[1 - k])), _piece(run, lo, hi))
+                 for k, (lo, hi) in enumerate(halves)]
+    except ValueError as err:
+        return _failed(str(err))
+    return _merged(parts)
+
+
+def _failed(reason: str) -> Validation:
+    e = np.zeros(0)
+    return Validation(simulation_fit=math.nan, equation_fit=math.nan, t=e, measured=e,
+                      simulated=e, torque_t=e, torque_measured=e, torque_predicted=e,
+                      failure=reason)
+
+
+def _merged(parts) -> Validation:
+    def cat(name):
+        return np.concatenate([x for p in parts for x in (getattr(p, name), [np.nan])])
+
+    return Validation(simulation_fit=_fit_percent(cat("measured"), cat("simulated")),
+                      equation_fit=_fit_percent(cat("torque_measured"), cat("torque_predicted")),
+                      t=cat("t"), measured=cat("measured"), simulated=cat("simulated"),
+                      torque_t=cat("torque_t"), torque_measured=cat("torque_measured"),
+                      torque_predicted=cat("torque_predicted"))
+
+
 def _folds(run: Run, model, offset, refine: bool, full: _Fit) -> tuple:
     """Delete each of :data:`JACKKNIFE_BLOCKS` blocks in turn: fit the rest (its pieces
     replayed together) and validate on the deleted block.  Returns the merged
@@ -440,23 +474,10 @@ def _folds(run: Run, model, offset, refine: bool, full: _Fit) -> tuple:
         thetas = [d[0] for d in done]
         parts = [d[1] for d in done]
     except ValueError as err:
-        e = np.zeros(0)
-        return Validation(simulation_fit=math.nan, equation_fit=math.nan, t=e, measured=e,
-                          simulated=e, torque_t=e, torque_measured=e, torque_predicted=e,
-                          failure=str(err)), None
+        return _failed(str(err)), None
     th = np.array(thetas)
     jack = np.sqrt((k - 1) / k * np.sum((th - th.mean(axis=0)) ** 2, axis=0))
-
-    def cat(name):
-        return np.concatenate([x for p in parts for x in (getattr(p, name), [np.nan])])
-
-    merged = Validation(simulation_fit=_fit_percent(cat("measured"), cat("simulated")),
-                        equation_fit=_fit_percent(cat("torque_measured"),
-                                                  cat("torque_predicted")),
-                        t=cat("t"), measured=cat("measured"), simulated=cat("simulated"),
-                        torque_t=cat("torque_t"), torque_measured=cat("torque_measured"),
-                        torque_predicted=cat("torque_predicted"))
-    return merged, jack
+    return _merged(parts), jack
 
 
 def _fit_percent(y, yhat) -> float:
