@@ -258,7 +258,9 @@ def paper_net(seed):
     digest = hashlib.sha256(b"".join(x.tobytes() for x in (pats.tm, pats.omega, pats.friction)))
     key = {"what": "chapter 09: the paper's net on EMPS patterns", "seed": seed, "hidden": 4,
            "restarts": RESTARTS, "max_patterns": MAX_PATTERNS, "patterns": digest.hexdigest()}
-    return cached_pipeline_net(key, train).net
+    # trained on EMPS, a linear axis: the net says so (a compensator checks it against the model)
+    net = cached_pipeline_net(key, train).net
+    return net.replace(metadata={**net.metadata, "units": "linear"})
 
 
 if est is not None:

@@ -170,15 +170,9 @@ class NNCompensator(Compensator):
 
     @property
     def units(self) -> str | None:
-        """The axis the network was trained on, as its metadata states it (``fricctl train``
-        and the network files write it); None for an estimator that does not say -- a net
-        trained in Python without metadata is not assumed rotary (chapter 9 trains one on
-        EMPS, a linear axis)."""
-        meta = getattr(self.estimator, "metadata", None)
-        if meta is not None:
-            kind = meta.get("units")
-        else:
-            kind = getattr(self.estimator, "units", None)
+        """The axis the network was trained on (:attr:`fricctl.nn.FrictionNet.units`); None
+        for an estimator that does not say."""
+        kind = getattr(self.estimator, "units", None)
         return kind if isinstance(kind, str) else None
 
     def __call__(self, tm, omega_hat):
