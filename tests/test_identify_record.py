@@ -253,3 +253,18 @@ def test_the_whole_grid_meets_the_targets():
                     if not within_targets(ident.parameters, truth):
                         bad.append((rate, counts, loop, seed, errors(ident.parameters, truth)))
     assert not bad, bad
+
+
+def test_figure_without_validation_is_refused_before_any_output(tmp_path, capsys):
+    # review finding: --figure --no-validation raised AttributeError (a traceback) after the
+    # model file was written
+    from fricctl.cli import main
+
+    run, _ = grid_record(500, 2000, "open", 3)
+    path = run.to_csv(tmp_path / "r.csv")
+    for recipe in ("auto", "idim_ls"):
+        assert main(["identify", str(path), "--recipe", recipe, "--no-validation", "--figure",
+                     str(tmp_path / "f.png"), "--out", str(tmp_path / "m.json")]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "cannot go with --no-validation" in err
+        assert not (tmp_path / "m.json").exists() and not (tmp_path / "f.png").exists()

@@ -181,6 +181,9 @@ def run(args) -> int:
     check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
+    if args.figure is not None and args.no_validation:
+        raise ValueError("--figure plots the held-out validation: it cannot go with "
+                         "--no-validation")
     if args.model not in LINEAR_MODELS:
         given = [o for o, x in (("--no-validation", args.no_validation or None),
                                 ("--figure", args.figure)) if x is not None]
@@ -230,19 +233,22 @@ def run(args) -> int:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
     for w in result.warnings:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
+    fig = None
+    if args.figure is not None:  # drawn before any file is written: a validation that failed
+        from ..figures.identification import plot_held_out, plot_validation  # leaves nothing
+
+        fig = (plot_held_out(ident) if ident is not None else plot_validation(
+            held, result=result, title=f"{result.method} ({result.model}): each half "
+                                       f"replayed with the other half's estimate"))
     if args.out is not None:
         identified_model(result, record, recipe=args.recipe,
                          max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
     if held is not None and held.failure:
         print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
               file=sys.stderr)
-    if args.figure is not None:
-        from ..figures.identification import plot_held_out, plot_validation
+    if fig is not None:
         from ._output import save_figure
 
-        fig = (plot_held_out(ident) if ident is not None else plot_validation(
-            held, result=result, title=f"{result.method} ({result.model}): each half "
-                                       f"replayed with the other half's estimate"))
         save_figure(fig, args.figure, overwrite=args.force)  # atomic
     if args.json:
         out = result.as_dict() if ident is None else ident.as_dict()

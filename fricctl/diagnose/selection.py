@@ -361,7 +361,9 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
                        for f in range(problem.sig.n_folds))
         trials[t.cause.name] = _Trial(fold_models=models, sim=simulate(models))
     pb = float(np.sum(state.sim.position_error ** 2))
-    sim_score = {n: (1.0 - float(np.sum(tr.sim.position_error ** 2)) / pb if pb > 0 else 0.0)
+    # the baseline's windows not simulated (NaN) or none at all (0): the simulation does not judge
+    sim_score = {n: (1.0 - float(np.sum(tr.sim.position_error ** 2)) / pb
+                     if math.isfinite(pb) and pb > 0 else math.nan)
                  for n, tr in trials.items()}
     rejected = {}
     for t in told:
