@@ -359,8 +359,7 @@ def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
                f"{POOR_INERTIA_RELATIVE_STD:g} %): the record's accelerations move the "
                f"replayed position little; excite the joint harder")
         s = fit.start
-        if result is not s and fit.refined is not None and not any(
-                a[0] == "inertia" for a in fit.apart):
+        if fit.refined is not None and not any(a[0] == "inertia" for a in fit.apart):
             msg += (f", or take the equation error's {s.estimates[i]:.5g} +- {s.std[i]:.2g} "
                     f"if the encoder is fine enough (it agrees within the standard errors)")
         out.append(msg)
