@@ -141,6 +141,9 @@ class Law:
     """Laws linear in coefficients: ``(w, symmetric) -> {name: column}``, the identification
     model's columns (``symmetric``: one coefficient for both directions, named without
     ``_pos``/``_neg``)."""
+    peak: Callable | None = None
+    """Position laws: ``(c) -> |term|`` at its worst over every position [N*m] (the ripple's
+    amplitude), for the top speed a drive torque can reach (:mod:`fricctl.plant.stability`)."""
     check: Callable | None = None
     """``(model) -> None``: raise ``ValueError`` when the model's coefficients cannot hold
     together for this law (e.g. LuGre without a Coulomb level)."""
@@ -154,6 +157,8 @@ class Law:
             raise ValueError(f"law {self.name}: a state law, and only one, declares a state")
         if self.role != "state" and (self.term is None or self.compiled is None):
             raise ValueError(f"law {self.name}: a {self.role} law declares its numpy and compiled term")
+        if (self.role == "position") != (self.peak is not None):
+            raise ValueError(f"law {self.name}: a position law, and only one, declares its peak")
         object.__setattr__(self, "field_names", tuple(c.name for c in self.coefficients))
 
     def values(self, model) -> dict:
