@@ -21,7 +21,8 @@ of motion +1/-1, ``tm`` the transmitted torque, ``q`` position, ``t`` time):
     any breakaway-only term; multiplied by the scale.  A state law turns the level ``g`` into
     presliding dynamics.
 ``"position"``
-    a torque of position added as it is (the position ripple: not friction, not scaled).
+    a torque of position added as it is (the position ripple, the position load: not
+    friction, not scaled); it declares its ``peak``, its largest magnitude.
 ``"scale"``
     the factor of every friction term (``scale*(1 + drift*t)``); one law has this role.
 ``"state"``
