@@ -2,7 +2,8 @@
 
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods
 ``P`` of :data:`CYCLES`: the record's travel ``span`` (filtered position, sliding samples)
-covers ``span/P`` = 1/16 .. 1.9 periods of the load; then a finer grid (:data:`FINE`) around
+covers ``span/P`` = 1/16 .. 1.9 periods of the load (steps of 0.1 from 0.3); then a finer
+grid (:data:`FINE`, steps of 0.01) around
 the best of them on the training residual of the model as it stands (per block left out,
 again after each named cause).  Bench: ``m*g*r*sin(q/n + phi)``,
 gravity on an off-centre link behind a final ratio ``n`` = 4 .. 8 (period 25 .. 50 rad),
@@ -42,11 +43,11 @@ from .base import Cause, coulomb_level
 #: Periods of the load the variants try first, as cycles over the record's travel (span/P):
 #: long waves (a spring, a cable: a line and a curvature over the travel) to 1.9 cycles
 #: (gravity over about two revolutions); two or more cycles are the position ripple's.
-CYCLES = (1 / 16, 1 / 11, 1 / 8, 1 / 5.6, 1 / 4, *np.round(np.arange(0.30, 1.9001, 0.05), 2))
+CYCLES = (1 / 16, 1 / 11, 1 / 8, 1 / 5.6, 1 / 4, *np.round(np.arange(0.3, 1.9001, 0.1), 2))
 #: The finer grid around the best of :data:`CYCLES` on the training residual [cycles]: the
 #: wave's phase at the ends of the travel then misses by at most pi*0.005 rad (1.6 % of the
-#: amplitude; the coarse grid's 8 % left a residual a ripple took up).
-FINE = (-0.04, -0.03, -0.02, -0.01, 0.01, 0.02, 0.03, 0.04)
+#: amplitude; a grid of 0.05 cycle, 8 %, left a residual a ripple took up).
+FINE = (-0.05, -0.04, -0.03, -0.02, -0.01, 0.01, 0.02, 0.03, 0.04, 0.05)
 #: Most cycles over the travel a load may have (the ripple's periodogram starts at 2) [-].
 MAX_CYCLES = 1.95
 #: Least share of the residual a constant torque leaves that the load's shape over the travel
@@ -83,23 +84,46 @@ def _variant(base, cycles, span):
     return made[key]
 
 
+def _best_cycles(base, span) -> dict:
+    """Per block left out (and None: all data), the entry of :data:`CYCLES` that fits the
+    residual of the model as it stands best on the training blocks (computed once per step:
+    per-block normal equations, the training sums the total less the block's)."""
+    sig = base.sig
+    r_all = base.current_residual
+    made = _MADE.setdefault(base.sig, {})
+    hit = made.get(("best", id(r_all)))
+    if hit is not None:
+        return hit[1]
+    m = sig.moving
+    folds, r = sig.folds[m], r_all[m]
+    nf = sig.n_folds
+    fit = []
+    for c in CYCLES:
+        x = _variant(base, c, span).extra[m]
+        prods = (x[:, 0] * x[:, 0], x[:, 0] * x[:, 1], x[:, 1] * x[:, 1], x[:, 0] * r, x[:, 1] * r)
+        per = np.array([np.bincount(folds, weights=p, minlength=nf)[:nf] for p in prods])
+        fit.append(np.column_stack([per.sum(axis=1)[:, None] - per, per.sum(axis=1)]))
+    best = {}
+    for j, fold in enumerate([*range(nf), None]):
+        gain = []
+        for sums in fit:  # r'x (x'x)^-1 x'r: what the two columns remove of the residual
+            a, b, d, u, w = sums[:, j]
+            det = a * d - b * b
+            gain.append((d * u * u - 2 * b * u * w + a * w * w) / det if det > 0 else -np.inf)
+        best[fold] = CYCLES[int(np.argmax(gain))]
+    made[("best", id(r_all))] = (r_all, best)  # the array kept: its id stays its own
+    return best
+
+
 def _variants(base, fold):
     """:data:`CYCLES`, and :data:`FINE` around the one that fits the residual of the model
     as it stands best on the training blocks."""
-    sig = base.sig
-    lo, hi = _travel(sig)
+    lo, hi = _travel(base.sig)
     span = hi - lo
     if not span > 0:
         return []
     coarse = [_variant(base, c, span) for c in CYCLES]
-    rows = sig.moving & (sig.folds != fold) if fold is not None else sig.moving
-    r = base.current_residual[rows]
-
-    def sse(v):
-        x = v.extra[rows]
-        return float(np.sum((r - x @ np.linalg.lstsq(x, r, rcond=None)[0]) ** 2))
-
-    best = CYCLES[int(np.argmin([sse(v) for v in coarse]))]
+    best = _best_cycles(base, span)[fold]
     return coarse + [_variant(base, best + d, span) for d in FINE if 0 < best + d <= MAX_CYCLES]
 
 
