@@ -3,11 +3,10 @@
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods
 ``P`` of :data:`CYCLES`: the record's travel ``span`` (filtered position, sliding samples)
 covers ``span/P`` = 1/16 .. 1.9 periods of the load (steps of 0.1 from 0.3); then a finer
-grid (:data:`FINE`, steps of 0.01) around
-the best of them on the training residual of the model as it stands (per block left out,
-again after each named cause).  Bench: ``m*g*r*sin(q/n + phi)``,
-gravity on an off-centre link behind a final ratio ``n`` = 4 .. 8 (period 25 .. 50 rad),
-``m*g*r`` = 0.3 .. 0.8 Fc, random phase.
+grid (:data:`FINE`, steps of 0.01) around the best of them on the training residual of the
+model as it stands (per block left out, again after each named cause).
+Bench: ``m*g*r*sin(q/n + phi)``, gravity on an off-centre link behind a final ratio ``n`` =
+4 .. 8 (period 25 .. 50 rad), ``m*g*r`` = 0.3 .. 0.8 Fc, random phase.
 
 Notes
 -----
@@ -18,9 +17,9 @@ axis at ``span/2`` and a load periodic within the travel stays the ripple's.  On
 of a period from ``span/1.9`` up is gravity on a link over 1-2 revolutions *exactly*
 (``m*g*r`` and the period are the fitted amplitude and period; a cubic in the position
 normalised to the span leaves 1-8 % of the variance of a sine over one period, 18-63 % over
-1.5 periods and 71-94 % over two, by the phase), and at long periods it is a line with a curvature over
-the travel (a spring, a cable); two coefficients per period keep its held-out variance as
-low as the ripple's.  It is bounded outside the travel (a polynomial is not), so the
+1.5 periods and 71-94 % over two, by the phase), and at long periods it is a line with a
+curvature over the travel (a spring, a cable); two coefficients per period keep its held-out
+variance as low as the ripple's.  It is bounded outside the travel (a polynomial is not), so the
 extended model re-simulates and travels beyond the record without running away.
 
 What it does not tell: a constant torque (its long-period cosine is one) -- the
@@ -43,7 +42,7 @@ from .base import Cause, coulomb_level
 #: Periods of the load the variants try first, as cycles over the record's travel (span/P):
 #: long waves (a spring, a cable: a line and a curvature over the travel) to 1.9 cycles
 #: (gravity over about two revolutions); two or more cycles are the position ripple's.
-CYCLES = (1 / 16, 1 / 11, 1 / 8, 1 / 5.6, 1 / 4, *np.round(np.arange(0.3, 1.9001, 0.1), 2))
+CYCLES = (1 / 16, 1 / 11, 1 / 8, 1 / 5.6, 1 / 4, *(round(0.3 + 0.1 * k, 2) for k in range(17)))
 #: The finer grid around the best of :data:`CYCLES` on the training residual [cycles]: the
 #: wave's phase at the ends of the travel then misses by at most pi*0.005 rad (1.6 % of the
 #: amplitude; a grid of 0.05 cycle, 8 %, left a residual a ripple took up).
@@ -152,8 +151,9 @@ def _evidence(base, term, extended):
             f"the Coulomb level), {f[0]:+.3g} {u.torque} at the low end, {f[-1]:+.3g} at the high "
             f"end, largest {f.max():+.3g} at q = {q[f.argmax()]:.3g}, smallest {f.min():+.3g} at "
             f"q = {q[f.argmin()]:.3g} {u.position}; fitted {fr.position_load_amplitude:.3g} "
-            f"{u.torque} x sin(2*pi*q/{fr.position_load_period:.4g} + "
-            f"{fr.position_load_phase:.3g}) (gravity: m*g*r = the amplitude, period "
+            f"{u.torque} x sin(2*pi*q/{fr.position_load_period:.4g} "
+            f"{'-' if fr.position_load_phase < 0 else '+'} {abs(fr.position_load_phase):.3g}) "
+            f"(gravity: m*g*r = the amplitude, period "
             f"{fr.position_load_period / (2 * math.pi):.3g} x 2*pi)")
 
 
