@@ -58,7 +58,7 @@ delay, backward difference velocity, quantised encoder).
 
 Notes
 -----
-Left out: a position-dependent inertia or gravity; sub-sample delays (the bench's
+Left out: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
 delay is whole samples); more than two effects at once.
 """
 

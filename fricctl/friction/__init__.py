@@ -23,7 +23,8 @@ declares: :mod:`fricctl.friction.law`), whose public class is importable from he
 contribution), :class:`Stribeck` (exponential decay of the excess with speed),
 :class:`LoadDependent` (friction growing with the transmitted torque ``|Tm|``),
 :class:`PositionRipple` (a torque periodic in position; not friction, not dissipative, but
-part of the resistive torque the joint sees), presliding laws with a state such as
+part of the resistive torque the joint sees), :class:`PositionLoad` (a smooth load of position
+over the travel: gravity on an off-centre link, a spring; not friction either), presliding laws with a state such as
 :class:`LuGre` (they turn the Coulomb + Stribeck level into bristle dynamics), the
 model-level ``scale`` and ``drift`` (overall friction level, and its steady change in time:
 wear, warm-up), and whatever else :data:`LAWS` holds.  The numpy evaluation

@@ -21,7 +21,8 @@ of motion +1/-1, ``tm`` the transmitted torque, ``q`` position, ``t`` time):
     any breakaway-only term; multiplied by the scale.  A state law turns the level ``g`` into
     presliding dynamics.
 ``"position"``
-    a torque of position added as it is (the position ripple: not friction, not scaled).
+    a torque of position added as it is (the position ripple, the position load: not
+    friction, not scaled); it declares its ``peak``, its largest magnitude.
 ``"scale"``
     the factor of every friction term (``scale*(1 + drift*t)``); one law has this role.
 ``"state"``
@@ -141,6 +142,9 @@ class Law:
     """Laws linear in coefficients: ``(w, symmetric) -> {name: column}``, the identification
     model's columns (``symmetric``: one coefficient for both directions, named without
     ``_pos``/``_neg``)."""
+    peak: Callable | None = None
+    """Position laws: ``(c) -> |term|`` at its worst over every position [N*m] (the ripple's
+    amplitude), for the top speed a drive torque can reach (:mod:`fricctl.plant.stability`)."""
     check: Callable | None = None
     """``(model) -> None``: raise ``ValueError`` when the model's coefficients cannot hold
     together for this law (e.g. LuGre without a Coulomb level)."""
@@ -154,6 +158,8 @@ class Law:
             raise ValueError(f"law {self.name}: a state law, and only one, declares a state")
         if self.role != "state" and (self.term is None or self.compiled is None):
             raise ValueError(f"law {self.name}: a {self.role} law declares its numpy and compiled term")
+        if (self.role == "position") != (self.peak is not None):
+            raise ValueError(f"law {self.name}: a position law, and only one, declares its peak")
         object.__setattr__(self, "field_names", tuple(c.name for c in self.coefficients))
 
     def values(self, model) -> dict:

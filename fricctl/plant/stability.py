@@ -94,14 +94,16 @@ def speed_bound(friction: FrictionModel, torque: float | None, omega0: float = 0
     """The largest speed a joint reaches from ``omega0`` under drive torques up to ``torque`` [rad/s].
 
     Friction grows with speed while sliding, so the joint cannot outrun the speed where its
-    sliding friction (with the position ripple at its worst) equals the largest drive torque;
+    sliding friction (with the position torques at their worst) equals the largest drive torque;
     a run that starts faster only slows down.  None when ``torque`` is unknown (None) or the
     friction never reaches it (no rate law: then no law's slope depends on speed).
     """
     w0 = abs(v.real("omega0", omega0))
     if torque is None:
         return None
-    need = abs(v.real("torque", torque)) + friction.ripple_amplitude
+    # the position laws (ripple, load) at their worst push the joint on
+    need = abs(v.real("torque", torque)) + sum(law.peak(law.values(friction))
+                                               for law in LAWS.values() if law.peak is not None)
 
     def sliding(w):  # the weaker direction's sliding friction at speed(s) w, ripple left out
         return np.minimum(np.abs(friction.torque(w) - friction.ripple(0.0)),

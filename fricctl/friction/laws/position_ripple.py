@@ -62,5 +62,5 @@ LAW = Law(
         Coefficient(name="ripple_period", unit="rad", combine="replace", doc="period in position"),
         Coefficient(name="ripple_phase", unit="rad", lower=-math.inf, combine="replace",
                     doc="phase at q = 0")),
-    term=term, compiled=compiled, check=check,
+    term=term, compiled=compiled, check=check, peak=lambda c: c["ripple_amplitude"],
 )

@@ -1,0 +1,109 @@
+"""The position_load cause (``fricctl/diagnose/causes/position_load.py``) on the virtual bench:
+named where the load hides, not where a ripple or a constant does, and fitted close to the truth.
+
+Seeds ``[2121, i]`` (the load), ``[2122, i]`` (gravity over many revolutions), fixed before the
+rates were measured.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from fricctl.bench.hidden_effects import ENCODER_RESOLUTION, hidden_effect_record
+from fricctl.datasets import Run
+from fricctl.diagnose import causes, diagnose
+from fricctl.diagnose.causes import Baseline, BenchActuator, Term
+from fricctl.diagnose.causes.position_load import MIN_SHAPE_SHARE
+from fricctl.diagnose.signals import estimate_signals
+from fricctl.friction import Coulomb, PositionLoad, PositionRipple, Viscous
+
+
+def _load(fr, q):
+    return fr.position_load_amplitude * np.sin(2 * np.pi * q / fr.position_load_period
+                                               + fr.position_load_phase)
+
+
+def test_hidden_load_is_named_on_most_seeds():
+    # the issue's target for a new cause hidden alone: named (exactly) on >= 85 % of records;
+    # measured 8 of 8 on these seeds (travels of 0.35-1.4 load periods)
+    named = []
+    for i in range(8):
+        rec = hidden_effect_record(np.random.default_rng([2121, i]), cause="position_load")
+        named.append(diagnose(rec.run, rec.nominal).causes == ("position_load",))
+    assert sum(named) >= 7, named
+
+
+def test_fitted_load_follows_the_true_one_over_the_travel():
+    # the extended model's load along the record's travel against the hidden one: within 5 % of
+    # the true amplitude RMS (a seeded noisy recovery; measured 0.09 %), the period within 5 %
+    # (measured 0.8 %)
+    rec = hidden_effect_record(np.random.default_rng([2121, 0]), cause="position_load")
+    d = diagnose(rec.run, rec.nominal)
+    assert d.causes == ("position_load",)
+    q = np.linspace(rec.run.position.min(), rec.run.position.max(), 500)
+    truth, fit = rec.truth.friction, d.extended.friction
+    err = _load(fit, q) - _load(truth, q)
+    assert np.sqrt(np.mean(err ** 2)) < 0.05 * truth.position_load_amplitude
+    assert fit.position_load_period == pytest.approx(truth.position_load_period, rel=0.05)
+
+
+def _gravity_as_ripple(name, rng, act, *, _inject=causes.inject):
+    """Gravity on the joint's own link, m*g*r*sin(q + phi): period 2*pi, hidden as the ripple
+    it is on a travel of two revolutions or more."""
+    if name != "position_ripple":
+        return _inject(name, rng, act)
+    fc = act.coulomb
+    mag = dict(amplitude=rng.uniform(0.3, 0.8) * fc, period=2 * math.pi,
+               phase=rng.uniform(0, 2 * math.pi))
+    return act.rigid(magnitude=mag, friction=act.friction() + PositionRipple(**mag),
+                     breakaway=fc + mag["amplitude"])
+
+
+def test_gravity_over_many_revolutions_stays_a_ripple(monkeypatch):
+    # the independent bench's gravity over 5-14 revolutions was named position_ripple with
+    # period 2*pi, which is right: a load periodic within the travel is a ripple, and the
+    # load's periods start above half the travel
+    monkeypatch.setattr(causes, "inject", _gravity_as_ripple)
+    for i in range(3):
+        rec = hidden_effect_record(np.random.default_rng([2122, i]), cause="position_ripple")
+        assert np.ptp(rec.run.position) > 2 * 2 * math.pi  # two revolutions or more
+        d = diagnose(rec.run, rec.nominal)
+        assert d.causes == ("position_ripple",), d.report()
+        assert d.extended.friction.ripple_period == pytest.approx(2 * math.pi, rel=0.02)
+
+
+def test_bench_ripple_stays_a_ripple():
+    rec = hidden_effect_record(np.random.default_rng([2122, 10]), cause="position_ripple")
+    assert diagnose(rec.run, rec.nominal).causes == ("position_ripple",)
+
+
+def test_a_constant_over_the_travel_is_not_a_load():
+    # a constant torque (an offset) against the nominal model: the longest wave fits it as well
+    # as a constant does, so its shape removes nothing of what a constant leaves -> not told
+    rec = hidden_effect_record(np.random.default_rng([2121, 50]), cause="none", duration=10.0,
+                               nominal=True)
+    off = 0.3 * rec.nominal.friction.coulomb_pos
+    shifted = Run(t=rec.run.t, torque=rec.run.torque + off,
+                                position=rec.run.position, reference=rec.run.reference,
+                                units=rec.run.units, source="offset added")
+    base = Baseline(estimate_signals(shifted, 8), rec.nominal, None)
+    cause = causes.get("position_load")
+    lo, hi = base.sig.qf.min(), base.sig.qf.max()
+    reason = cause.identifiable(base, Term(h=16 * (hi - lo), coef=np.array([0.0, off])))
+    assert reason is not None and "constant" in reason
+    assert MIN_SHAPE_SHARE == pytest.approx(1 - 0.9 ** 2)  # the selection's 10 % RMS line
+
+
+def test_injection_is_gravity_behind_a_ratio():
+    # the bench's draw (module docstring): m*g*r 0.3-0.8 Fc, period 2*pi*(4..8), on the baseline
+    act = BenchActuator(motor_inertia=3e-3, link_inertia=2e-3, viscous=0.017, coulomb=0.14,
+                        sample_time=0.002, duration=20.0, encoder_resolution=ENCODER_RESOLUTION)
+    for seed in range(20):
+        inj = causes.inject("position_load", np.random.default_rng(seed), act)
+        fr = inj.truth.friction
+        assert 0.3 * 0.14 <= fr.position_load_amplitude <= 0.8 * 0.14
+        assert 4 * 2 * math.pi <= fr.position_load_period <= 8 * 2 * math.pi
+        load = PositionLoad(fr.position_load_amplitude, fr.position_load_period,
+                            fr.position_load_phase)
+        assert fr == Viscous(0.017) + Coulomb(0.14) + load
