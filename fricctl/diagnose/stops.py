@@ -26,7 +26,8 @@ The rule, in the record's own terms
 3. **At an extreme, again and again.**  The abrupt stops whose position lies within
    :data:`TOLERANCE` counts of the record's largest (smallest) reading are impacts on the
    upper (lower) stop; a side with at least :data:`MIN_IMPACTS` of them has a stop, at
-   that extreme reading.
+   that extreme reading, and so has a side hit once by a stop :data:`LONE` times beyond
+   the drive's braking (more violent than anything a drive without a stop shows).
 4. **Every contact.**  Once a stop is found, every arrival at it (a reading within
    :data:`TOLERANCE` counts, coming from inside) is a contact, abrupt or not (a slow
    arrival is an impact the limit of step 1 cannot tell from the drive's own braking);
@@ -35,8 +36,8 @@ The rule, in the record's own terms
 
 Notes
 -----
-Left out: a stop reached only once (step 3 wants a repetition: one abrupt stop at the
-extreme could be a backlash pick-up or an unexplained jolt), a stop whose contact
+Left out: a stop reached only once below :data:`LONE` (step 3 wants a repetition: one
+abrupt stop at the extreme could be a backlash pick-up or an unexplained jolt), a stop whose contact
 position moves by more than :data:`TOLERANCE` counts between impacts (a soft stop
 penetrated by more or less depending on the speed), a stop inside the record's range (a
 limit the joint passes is not a stop), and impacts slower than the drive's own braking on
@@ -56,7 +57,7 @@ from .._json import json_safe
 from ..datasets import Run
 from .signals import estimate_signals
 
-__all__ = ["EndStops", "end_stops", "MARGIN", "TOLERANCE", "MIN_IMPACTS", "TORQUE_REACH", "TRIM"]
+__all__ = ["EndStops", "end_stops", "MARGIN", "TOLERANCE", "MIN_IMPACTS", "TORQUE_REACH", "TRIM", "LONE"]
 
 #: An abrupt stop changes the velocity by more than this many times what the recorded torque
 #: and the fitted friction can change it over the same two samples [-].
@@ -66,6 +67,10 @@ MARGIN = 3.0
 TOLERANCE = 2
 #: Abrupt stops at the same extreme needed to call it a stop [-].
 MIN_IMPACTS = 2
+#: A side hit only once is a stop when that one abrupt stop takes this many times more
+#: velocity than torque and friction can (ten times :data:`MARGIN`; no record without a
+#: stop, bench or EMPS, came within a factor 30 of it) [-].
+LONE = 30.0
 #: Samples either side of an abrupt stop over which the largest recorded torque is taken
 #: (a torque that acts a few samples late stays inside) [samples].
 TORQUE_REACH = 3
@@ -211,13 +216,13 @@ def end_stops(run: Run) -> EndStops:
         hit = k[sel][ratio[k[sel]] > MARGIN]
         # one impact is a run of abrupt samples a few samples apart
         events = hit[np.concatenate([[True], np.diff(hit) > 2 * TORQUE_REACH])] if hit.size else hit
-        if events.size >= MIN_IMPACTS:
+        if events.size >= MIN_IMPACTS or (events.size and ratio[events].max() >= LONE):
             sides.append(side)
             positions.append(extreme)
     if not sides:
         return _none(n, inertia, f"no end stop: no {MIN_IMPACTS} abrupt stops (velocity change "
-                                 f"> {MARGIN:g}x what torque and friction can do) at either "
-                                 f"extreme of the positions")
+                                 f"> {MARGIN:g}x what torque and friction can do), nor one "
+                                 f"> {LONE:g}x, at either extreme of the positions")
     mask = np.zeros(n, bool)
     impacts, abrupt, ratios = [], [], []
     for side, stop in zip(sides, positions):
