@@ -71,8 +71,9 @@ import numpy as np
 
 from .. import _validate as v
 from ..datasets import Run
-from ..plant import JointModel
+from ..plant import JointModel, RigidJoint
 from ..simulate import Schedule, simulate_schedule
+from .end_stops import simulate_with_stops
 # The bench reads the cause registry: each cause module says how the bench hides it.
 # Layering: this generator is the diagnosis's test bench and sits beside it, above
 # fricctl.diagnose (which never imports fricctl.bench); fricctl.bench.experiments does not
@@ -126,6 +127,12 @@ class HiddenEffectRecord:
     effect_free : JointModel or None
         The true actuator without the hidden effects (ground truth, also when ``nominal``
         is None): with :attr:`truth` it tells how much each effect weighs on the record.
+    stops : tuple of float
+        Positions of the ideal end stops the joint hit (``end_stops`` of
+        :func:`hidden_effect_record`; ground truth), lower first; ``()`` when none.
+    impacts : ndarray of int
+        Samples at which the joint arrived on a stop with speed (first sample of each
+        contact; ground truth); empty when none.
     """
 
     run: Run
@@ -136,6 +143,8 @@ class HiddenEffectRecord:
     truth: JointModel
     excitation: tuple = ()
     effect_free: JointModel | None = None
+    stops: tuple = ()
+    impacts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
 
     def weights(self, folds: int = 8) -> dict:
         """How much each hidden effect weighs on this record: per cause, the share of the
@@ -362,7 +371,7 @@ def _actuator(rng, axis, ts, duration, strength, sensors):
 def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: float = 40.0,
                          sample_time: float = 0.002, nominal: bool = False, noise: bool = True,
                          axis: str = "rotary", excitation: str = "mixed", strength: float = 1.0,
-                         sensors: str = "fixed") -> HiddenEffectRecord:
+                         sensors: str = "fixed", end_stops: float = 0.0) -> HiddenEffectRecord:
     """Simulate one record with hidden effects (one drawn at random, or the ones named).
 
     Parameters
@@ -397,6 +406,16 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         The axis's default encoder and process noise (1-3 % of Fc), or drawn as they come:
         encoder count 0.3-10 x the default, process noise 0.3-6 % of Fc, and white noise of
         0-3 % of Fc on the *recorded* torque (a current measurement).
+    end_stops : float
+        0 (default): no stops.  Else, 0.02 .. 0.45: ideal rigid end stops
+        (:mod:`fricctl.bench.end_stops`) where the stop-free record spends this fraction of
+        its time beyond each (its quantiles; a stop kept 5 % of the travel clear of the
+        start), and the record simulated again with them (no draw added: a seed draws what
+        it draws without stops).  Joints with a
+        spring or a friction state are refused (the stop is idealised on a rigid joint).
+        The record says where the stops are and when the joint hit them (:attr:`stops`,
+        :attr:`impacts`); its ``causes`` are the hidden causes (``end_stop`` is not a cause
+        of the registry: :func:`fricctl.diagnose.stops.end_stops` detects it).
 
     Returns
     -------
@@ -425,6 +444,9 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     kinds = EXCITATIONS[v.choice("excitation", excitation, tuple(EXCITATIONS))]
     strength = v.real("strength", strength, low=0.05, high=2.0)
     sensors = v.choice("sensors", sensors, ("fixed", "drawn"))
+    end_stops = v.real("end_stops", end_stops, nonneg=True)
+    if end_stops and not 0.02 <= end_stops <= 0.45:
+        raise ValueError(f"end_stops must be 0 or in [0.02, 0.45], got {end_stops:g}")
     if cause is None:
         pool = (causes.NONE,) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
         cause = str(rng.choice(pool))
@@ -457,6 +479,23 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
                             noise=torque_noise)
     if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
+    stops, impacts = (), np.zeros(0, dtype=int)
+    if end_stops:  # stops where the stop-free motion spends `end_stops` of its time beyond
+        # each, the start (0) kept 5 % of the travel inside; the loop run again with them
+        lo, hi = (float(x) for x in np.quantile(sim.q, [end_stops, 1.0 - end_stops]))
+        lo, hi = min(lo, -0.05 * (hi - lo)), max(hi, 0.05 * (hi - lo))
+        if not isinstance(effect.joint, RigidJoint) or effect.joint.friction.state_law is not None:
+            raise ValueError(f"end_stops: the bench's ideal stop is simulated on a rigid joint "
+                             f"without a friction state, not with {names}")
+        sim = simulate_with_stops(
+            effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
+                                   segment_start=start),
+            sample_time=ts, max_torque=tmax, encoder_resolution=actuator.encoder_resolution,
+            substeps=sim.info.substeps, delay=int(effect.delay), noise=torque_noise,
+            lower=lo, upper=hi)
+        impacts = sim.impacts
+        stops = tuple(lim for side, lim in ((-1, sim.lower), (1, sim.upper))
+                      if np.any(sim.impact_side == side))
     recorded = sim.torque_motor
     if meas_std > 0:
         recorded = recorded + rng.normal(0.0, meas_std, n) * (1.0 if noise else 0.0)
@@ -465,4 +504,5 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     ordered = tuple(c for c in causes.CAUSES if c in names)
     return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,
                               cause=ordered[0], causes=ordered, magnitude=effect.magnitude,
-                              truth=effect.truth, excitation=segs, effect_free=effect.nominal)
+                              truth=effect.truth, excitation=segs, effect_free=effect.nominal,
+                              stops=stops, impacts=impacts)
