@@ -145,11 +145,20 @@ SUFFIXES = {
     ("time", "linear"): {"s": 1.0, "ms": 1e-3},
     ("frequency", "rotary"): {"Hz": 1.0},
     ("frequency", "linear"): {"Hz": 1.0},
+    ("velocity", "rotary"): {"rad/s": 1.0, "deg/s": math.pi / 180.0, "rpm": math.pi / 30.0},
+    ("velocity", "linear"): {"m/s": 1.0, "mm/s": 1e-3},
+    ("viscous", "rotary"): {"N*m*s/rad": 1.0, "Nms/rad": 1.0, "mN*m*s/rad": 1e-3,
+                            "N*m/rpm": 30.0 / math.pi},
+    ("viscous", "linear"): {"N*s/m": 1.0, "Ns/m": 1.0},
+    ("inertia", "rotary"): {"kg*m^2": 1.0, "kgm2": 1.0, "g*cm^2": 1e-7},
+    ("inertia", "linear"): {"kg": 1.0, "g": 1e-3},
 }
 
 #: What each SI unit is called in a message (a reader who typed 'degs' learns the default).
 _UNIT_NAMES = {"rad": "radians", "m": "metres", "N*m": "newton metres", "N": "newtons",
-               "s": "seconds", "Hz": "hertz"}
+               "s": "seconds", "Hz": "hertz", "rad/s": "radians per second",
+               "m/s": "metres per second", "N*m*s/rad": "N*m*s/rad", "N*s/m": "N*s/m",
+               "kg*m^2": "kg*m^2", "kg": "kilograms"}
 
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S*)\s*")
 
@@ -161,8 +170,9 @@ def parse_quantity(text: str, quantity: str, kind: str = "rotary") -> float:
     ----------
     text : str
         ``"0.35"`` (already in the SI unit), ``"20deg"``, ``"5 mm"``, ``"0.2N*m"``.
-    quantity : {"position", "torque", "time", "frequency"}
-        What the number is (angle or displacement for ``"position"``).
+    quantity : {"position", "torque", "time", "frequency", "velocity", "viscous", "inertia"}
+        What the number is (angle or displacement for ``"position"``; force for a linear
+        ``"torque"``, mass for a linear ``"inertia"``).
     kind : {"rotary", "linear"}
         Axis kind: a rotary position is in [rad] (``rad``, ``mrad``, ``deg`` accepted), a
         linear one in [m] (``m``, ``cm``, ``mm``, ``um``).

@@ -1,6 +1,7 @@
 """``fricctl model new/show`` (issue 25: your motor by its numbers) and the model file's page."""
 
 import json
+import math
 import re
 import subprocess
 import sys
@@ -47,12 +48,36 @@ def test_model_new_writes_what_the_numbers_say(tmp_path, capsys):
     (["--inertia", "-1"], "inertia"),
     (["--inertia", "0.01", "--viscous", "nan"], "--viscous"),
     (["--inertia", "0.01", "--units", "linear", "--encoder-counts", "100"], "linear axis"),
+    (["--inertia", "0.01", "--sample-time", "2min"], "--sample-time: unknown unit 'min'"),
+    (["--inertia", "0.01", "--coulomb", "0.1N"], "accepted units: N*m"),  # a force on a joint
+    (["--inertia", "0.01", "--offset", "infN*m"], "--offset"),
 ])
 def test_model_new_refuses_in_one_line(tmp_path, args, message):
     proc = subprocess.run([sys.executable, "-m", "fricctl", "model", "new", *args, "--out",
                            str(tmp_path / "m.json")], capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and message in proc.stderr
     assert not (tmp_path / "m.json").exists()
+
+
+def test_model_new_takes_numbers_with_their_units(tmp_path):
+    # a datasheet's numbers as printed: each converted to the SI unit the file holds
+    out = tmp_path / "units.json"
+    assert main(["model", "new", "--inertia", "30g*cm^2", "--viscous", "0.06N*m/rpm",
+                 "--coulomb", "150mN*m", "--static", "0.2", "--stribeck-velocity", "5deg/s",
+                 "--sample-time", "2ms", "--encoder-resolution", "0.01deg", "--out", str(out)]) == 0
+    m = JointModel.load(out)
+    assert m.inertia == pytest.approx(3e-6, rel=1e-12)
+    assert m.viscous == pytest.approx(0.06 * 30 / math.pi, rel=1e-12)
+    assert m.friction.coulomb_pos == pytest.approx(0.15, rel=1e-12)
+    assert m.friction.stribeck_velocity == pytest.approx(5 * math.pi / 180, rel=1e-12)
+    assert m.sample_time == pytest.approx(0.002, rel=1e-12)
+    assert m.encoder_resolution == pytest.approx(0.01 * math.pi / 180, rel=1e-12)
+    lin = tmp_path / "linear.json"  # the axis decides: mass in kg, force in N, lengths in m
+    assert main(["model", "new", "--units", "linear", "--inertia", "95kg", "--viscous", "203Ns/m",
+                 "--coulomb", "20N", "--offset=-3.2N", "--encoder-resolution", "0.05um", "--out", str(lin)]) == 0
+    m = JointModel.load(lin)
+    assert (m.inertia, m.viscous, m.friction.coulomb_pos, m.offset) == (95.0, 203.0, 20.0, -3.2)
+    assert m.encoder_resolution == pytest.approx(5e-8, rel=1e-12)
 
 
 def test_model_without_action_and_existing_output(tmp_path, capsys):

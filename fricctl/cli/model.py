@@ -7,8 +7,11 @@ recorded with its provenance (``--source-of`` says where they come from: datashe
 default), every value not given is left out (zero friction terms, unknown encoder and torque
 limit).  Per-direction values: ``--coulomb-neg``/``--viscous-neg`` (positive magnitudes);
 the breakaway level ``--static`` (Fs >= Fc) with ``--stribeck-velocity``; any other
-coefficient of a registered friction law as ``--friction NAME=VALUE`` (repeatable).  SI
-units on the load side: N*m, rad, kg*m^2 (``--units linear``: N, m, kg).
+coefficient of a registered friction law as ``--friction NAME=VALUE`` (repeatable).  A bare
+number is in the SI unit on the load side: N*m, rad, kg*m^2 (``--units linear``: N, m, kg);
+a number may carry its unit (``--sample-time 2ms``, ``--coulomb 150mN*m``,
+``--stribeck-velocity 5deg/s``, ``--encoder-resolution 0.01deg``; the accepted ones are in
+:data:`fricctl.units.SUFFIXES`).
 
 ``fricctl model show my.json`` prints every value with its unit and provenance, the
 breakaway level and the linear viscous model's time constant; ``--json`` prints the file's
@@ -28,27 +31,27 @@ def register(subparsers) -> None:
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=type(p))
     new = sub.add_parser("new", help="write a model file from numbers")
-    new.add_argument("--inertia", type=float, required=True,
+    new.add_argument("--inertia", type=str, required=True,
                      help="total inertia I [kg*m^2] (linear: mass [kg])")
-    new.add_argument("--viscous", type=float, default=0.0, help="viscous coefficient b [N*m*s/rad]")
-    new.add_argument("--viscous-neg", type=float, default=None,
+    new.add_argument("--viscous", type=str, default=0.0, help="viscous coefficient b [N*m*s/rad]")
+    new.add_argument("--viscous-neg", type=str, default=None,
                      help="b for negative velocity if it differs [N*m*s/rad]")
-    new.add_argument("--coulomb", type=float, default=0.0, help="Coulomb level Fc [N*m]")
-    new.add_argument("--coulomb-neg", type=float, default=None,
+    new.add_argument("--coulomb", type=str, default=0.0, help="Coulomb level Fc [N*m]")
+    new.add_argument("--coulomb-neg", type=str, default=None,
                      help="Fc for negative velocity if it differs (a magnitude) [N*m]")
-    new.add_argument("--static", type=float, default=None,
+    new.add_argument("--static", type=str, default=None,
                      help="breakaway level Fs >= Fc [N*m] (needs --stribeck-velocity)")
-    new.add_argument("--stribeck-velocity", type=float, default=None,
+    new.add_argument("--stribeck-velocity", type=str, default=None,
                      help="Stribeck velocity vs of the fall from Fs to Fc [rad/s]")
     new.add_argument("--friction", action="append", default=[], metavar="NAME=VALUE",
                      help="any other coefficient of fricctl.friction.FrictionModel (repeatable)")
-    new.add_argument("--offset", type=float, default=0.0, help="constant resistive torque [N*m]")
-    new.add_argument("--sample-time", type=float, default=None, help="controller's Ts [s]")
-    new.add_argument("--encoder-resolution", type=float, default=None,
+    new.add_argument("--offset", type=str, default=0.0, help="constant resistive torque [N*m]")
+    new.add_argument("--sample-time", type=str, default=None, help="controller's Ts [s]")
+    new.add_argument("--encoder-resolution", type=str, default=None,
                      help="one encoder count [rad] (linear: [m])")
     new.add_argument("--encoder-counts", type=float, default=None,
                      help="counts per revolution on the load side (instead of the resolution)")
-    new.add_argument("--max-torque", type=float, default=None, help="torque limit +-Tmax [N*m]")
+    new.add_argument("--max-torque", type=str, default=None, help="torque limit +-Tmax [N*m]")
     new.add_argument("--units", choices=("rotary", "linear"), default="rotary")
     new.add_argument("--source-of", choices=("datasheet", "measured", "identified", "assumption"),
                      default="datasheet", help="where the numbers come from (provenance)")
@@ -65,6 +68,30 @@ def register(subparsers) -> None:
 
 def _no_action(args) -> int:
     raise ValueError("an action is required: new or show (see fricctl model --help)")
+
+
+#: The options that take a quantity, by argparse dest: what each is (:func:`fricctl.units.parse_quantity`).
+QUANTITIES = {"inertia": "inertia", "viscous": "viscous", "viscous_neg": "viscous",
+              "coulomb": "torque", "coulomb_neg": "torque", "static": "torque",
+              "offset": "torque", "max_torque": "torque", "stribeck_velocity": "velocity",
+              "sample_time": "time", "encoder_resolution": "position"}
+
+
+def _quantities(args) -> None:
+    """Each quantity option's text (``2ms``, ``0.15``) converted to its SI value in place, by
+    the axis of ``--units``; a wrong unit or a non-number names the option."""
+    from ..units import parse_quantity
+
+    for dest, quantity in QUANTITIES.items():
+        text = getattr(args, dest)
+        if isinstance(text, str):
+            try:
+                value = parse_quantity(text, quantity, args.units)
+            except ValueError as err:
+                raise ValueError(f"--{dest.replace('_', '-')}: {err}") from None
+            if not math.isfinite(value):
+                raise ValueError(f"--{dest.replace('_', '-')} must be finite, got {text!r}")
+            setattr(args, dest, value)
 
 
 def _number(option: str, x, *, positive=False) -> float:
@@ -123,6 +150,7 @@ def run_new(args) -> int:
     from ._output import check_outputs
 
     check_outputs({"--out": args.out}, [], force=args.force)
+    _quantities(args)
     fr = _friction(args)
     if args.encoder_resolution is not None and args.encoder_counts is not None:
         raise ValueError("give --encoder-resolution or --encoder-counts, not both")
