@@ -53,7 +53,9 @@ Modules
   continuous and sampled-data loops (:class:`LinearLoop`, :func:`sampled_loop`)
   and their responses (:class:`SampledResponse`, :func:`linear_response`);
 * :mod:`~fricctl.design.gains` -- :func:`design_p` and :func:`design_pd`;
-* :mod:`~fricctl.design.paper` -- the paper's designs and :func:`design_table`.
+* :mod:`~fricctl.design.paper` -- the paper's designs and :func:`design_table`;
+* :mod:`~fricctl.design.describing` -- the limit cycle of an over-compensating Coulomb
+  compensation on the sampled loop, by a describing function (:func:`coulomb_limit_cycle`).
 
 Dependencies: :mod:`fricctl.params`, numpy, scipy, python-control (which imports
 matplotlib on import: this package is the one non-plotting part that loads it).
@@ -61,6 +63,7 @@ matplotlib on import: this package is the one non-plotting part that loads it).
 
 from __future__ import annotations
 
+from .describing import LimitCycle, coulomb_limit_cycle
 from .gains import WARN_TOLERANCE, design_p, design_pd
 from .loops import LinearLoop, SampledResponse, linear_response, plant_tf, sampled_loop
 from .paper import PAPER_DESIGN_SPECS, design_table, paper_designs
@@ -92,4 +95,6 @@ __all__ = [
     "linear_response",
     "paper_designs",
     "design_table",
+    "LimitCycle",
+    "coulomb_limit_cycle",
 ]
