@@ -387,6 +387,14 @@ def test_fig16_aged_actuator(figs, claims, network):
     assert cr.stuck[-1] and cr.friction_est[-1] == 0.0 and r.torque_sign_changes["Coulomb"] == 0
     c = claims["fig16-coulomb"]
     assert not c.passed and "sign(omega_hat)" in c.note
+    # the describing function says why on this loop: no cycle at s*Fc against 0.95*Fc, and at
+    # the breakaway level a cycle whose pull stays below the breakaway (the joint sticks)
+    from fricctl.design import LinearLoop, coulomb_limit_cycle
+
+    assert "predicts no cycle" in c.note and "the joint sticks at its first turning point" in c.note
+    cyc = coulomb_limit_cycle(LinearLoop.of(r.design), compensation=r.scale * P.static,
+                              coulomb=r.friction_scale * P.coulomb, static=r.friction_scale * P.static)
+    assert not cyc.sustained and f"{cyc.frequency:.2f} Hz" in c.note
 
 
 def test_fig17_small_step(figs, claims, network):

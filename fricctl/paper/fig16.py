@@ -30,6 +30,7 @@ class Fig16Result(LinkFigure):
     design : the PD design with the link
     step : reference step [rad]
     friction_scale : true friction of the aged actuator / nominal [-] (assumption)
+    scale : compensation scale s of the NN and Coulomb runs [-]
     steady_state_error : per run, mean r - q over the last 0.5 s [rad]
     reference_crossings : per run, sign changes of r - q after the step [-]
     torque_sign_changes : per run, sign changes of Tm over the last 0.5 s [-]
@@ -42,6 +43,8 @@ class Fig16Result(LinkFigure):
     steady_state_error: dict
     reference_crossings: dict
     torque_sign_changes: dict
+    scale: float = AGED_SCALE
+    """Compensation scale s of the NN and Coulomb runs [-]."""
 
 
 def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0,
@@ -57,7 +60,7 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0,
         steady_state_error={k: r.steady_state_error(SS_WINDOW) for k, r in runs.items()},
         reference_crossings={k: sign_changes(r.error[r.t > 0], tol=tol) for k, r in runs.items()},
         torque_sign_changes={k: sign_changes(r.torque_motor[last_window(r)]) for k, r in runs.items()},
-        wind_up=wind_up(runs[f"NN x {scale:g}"]), coast=coast_test.run(net))
+        wind_up=wind_up(runs[f"NN x {scale:g}"]), coast=coast_test.run(net), scale=scale)
 
 
 def _oscillates(r: Fig16Result, key: str) -> bool:
@@ -79,6 +82,33 @@ def claim_fig16_nn(r: Fig16Result, params=None) -> Claim:
         "(see 'why' below)."), (r.wind_up, r.coast.decay))
 
 
+def describing_function_note(r: Fig16Result, params=None) -> str:
+    """What a describing function (:func:`fricctl.design.coulomb_limit_cycle`) predicts on the
+    figure's sampled PD loop: at the run's Coulomb level, and at the breakaway level the paper
+    compensated with (both times s), against the aged bench's friction."""
+    from ..design import LinearLoop, coulomb_limit_cycle
+    from ..params import paper_actuator
+
+    p = paper_actuator() if params is None else params
+    s = r.scale
+    loop = LinearLoop.of(r.design)
+    fc, fs = r.friction_scale * p.coulomb, r.friction_scale * p.static
+    parts = []
+    for what, level in (("at this run's level", s * p.coulomb), ("at the breakaway level the paper "
+                                                                  "compensated with", s * p.static)):
+        cyc = coulomb_limit_cycle(loop, compensation=level, coulomb=fc, static=fs)
+        if cyc is None:
+            parts.append(f"{what} ({level:.3f} N*m against Coulomb friction {fc:.3f} N*m) it "
+                         f"predicts no cycle")
+        else:
+            parts.append(f"{what} ({level:.3f} N*m) a cycle of {deg(cyc.amplitude):.2f} deg at "
+                         f"{cyc.frequency:.2f} Hz, whose pull Kp*A = {cyc.pull:.3f} N*m "
+                         + ("exceeds" if cyc.sustained else "stays below")
+                         + f" the breakaway level {fs:.3f} N*m"
+                         + ("" if cyc.sustained else ": the joint sticks at its first turning point"))
+    return " A describing function on this loop (fricctl.design.coulomb_limit_cycle): " + "; ".join(parts) + "."
+
+
 def claim_fig16_coulomb(r: Fig16Result, params=None) -> Claim:
     k = "Coulomb"
     ok = _oscillates(r, k)
@@ -95,7 +125,8 @@ def claim_fig16_coulomb(r: Fig16Result, params=None) -> Claim:
         note="" if ok else "Fc*sign(omega_hat) is zero while the encoder reads no motion, so once the joint "
         "sticks the compensation vanishes and nothing drives a limit cycle: the joint overshoots (the "
         "braking Coulomb term is cancelled while moving) and stays stuck. Chatter needs a velocity "
-        "estimate that is noisy at rest (noise, a finer encoder, a different estimator)." + closer)
+        "estimate that is noisy at rest (noise, a finer encoder, a different estimator)."
+        + describing_function_note(r, params) + closer)
 
 
 def claim_fig16_none(r: Fig16Result, params=None) -> Claim:
