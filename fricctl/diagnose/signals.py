@@ -15,13 +15,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
+from .._jit import jit
 from ..friction import FrictionModel
 from ..identify.signals import (BAND_MARGIN, MAX_CUTOFF, SAMPLE_TIME_RANGE, Signals, centred,
                                 delay_in_samples, delayed, estimate_signals, motion_band)
 from ..plant import JointModel
 
 __all__ = ["Signals", "TorquePrediction", "estimate_signals", "centred", "delayed",
-           "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
+           "delay_in_samples", "motion_band", "load_acceleration", "backlash_load",
+           "BacklashLoad", "friction_columns", "predict",
            "BAND_MARGIN", "MAX_CUTOFF", "SAMPLE_TIME_RANGE"]
 
 
@@ -38,6 +40,68 @@ def load_acceleration(sig: Signals, wl: float, zeta: float) -> np.ndarray:
     ql = signal.lfilter(bz, az, sig.qf - sig.qf[0]) + sig.qf[0]
     vl = np.gradient(ql, sig.ts)
     return np.gradient(vl, sig.ts)
+
+
+@jit
+def _backlash_load(qm, wm, am, ts, half):
+    """The load behind a dead band of half-width ``half`` driven by the motor motion
+    (qm, wm, am), rigid plastic contact, no load-side force but the contact's."""
+    n = qm.size
+    ql = np.empty(n)
+    wl = np.empty(n)
+    side = np.zeros(n)
+    q, w, c = qm[0], wm[0], 0.0
+    for k in range(n):
+        if k > 0:
+            if c != 0.0 and c * am[k] < 0.0:
+                c = 0.0  # the contact would have to pull: the load leaves the face
+            if c == 0.0:
+                q = q + w * ts  # the load coasts across the gap
+                d = qm[k] - q
+                if d >= half:
+                    c = 1.0
+                elif d <= -half:
+                    c = -1.0
+            if c != 0.0:  # in contact (or picked up now, a plastic impact): it follows
+                q = qm[k] - c * half
+                w = wm[k]
+        ql[k] = q
+        wl[k] = w
+        side[k] = c
+    return ql, wl, side
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class BacklashLoad:
+    """A load behind a dead band, driven by the measured motion (:func:`backlash_load`)."""
+
+    acceleration: np.ndarray
+    """Load acceleration along the record (impacts as one-sample velocity steps) [rad/s^2]."""
+    side: np.ndarray
+    """+1 / -1: in contact on the forward / backward face; 0: crossing the gap [-]."""
+
+    @property
+    def crossings(self) -> int:
+        """How many times the load left one face and was picked up by the other."""
+        faces = self.side[self.side != 0]
+        return int(np.count_nonzero(np.diff(faces) != 0)) if faces.size > 1 else 0
+
+
+def backlash_load(sig: Signals, gap: float) -> BacklashLoad:
+    """The load behind a dead band of total width ``gap`` [rad] driven by the record's motion.
+
+    The contact is rigid and plastic (a contact resonance above the band the record
+    resolves, the impact's energy lost): in contact the load follows the motor; the contact
+    holds while the motor's acceleration points the way the face pushes (the load has no
+    force of its own: friction is on the motor side), else the load leaves the face and
+    coasts at its speed until the motor's face (either one) meets it again, where it takes
+    the motor's speed.  The record starts with the load in the middle of the gap.
+    """
+    wm = np.gradient(sig.qf, sig.ts)
+    am = np.gradient(wm, sig.ts)
+    ql, wl, side = _backlash_load(np.ascontiguousarray(sig.qf, dtype=float), wm, am,
+                                  float(sig.ts), 0.5 * float(gap))
+    return BacklashLoad(acceleration=np.gradient(wl, sig.ts), side=side)
 
 
 def friction_columns(sig: Signals, fr: FrictionModel, tm_joint) -> np.ndarray:
@@ -82,7 +146,10 @@ def predict(model: JointModel, sig: Signals) -> TorquePrediction:
     target = sig.filt(u)
     pred = (model.inertia * sig.a + sig.filt(friction_columns(sig, model.friction, u))
             + model.offset * sig.filt(np.ones(u.size)))
-    if model.elastic:
+    if model.backlash > 0:  # the contact taken as rigid (above the band): backlash_load
+        jl = model.load_inertia
+        pred = pred + jl * (sig.filt(backlash_load(sig, model.backlash).acceleration) - sig.a)
+    elif model.elastic:
         jl = model.load_inertia
         wl = math.sqrt(model.stiffness / jl)
         zeta = model.damping / (2 * math.sqrt(model.stiffness * jl))

@@ -1,0 +1,187 @@
+"""Backlash: a dead band between motor and load (gear play, a loose coupling).
+
+What it does to a record: while the motor pushes the load through one face, the joint
+moves as one inertia.  When the torque the load needs reverses (the motor's acceleration
+changes sign), the load leaves the face and coasts; the motor crosses the gap alone, with
+only its own inertia accelerated, and picks the load up on the other face with an impact
+(the load takes the motor's speed in a moment).  A rigid model sees the whole inertia all
+the time: after every reversal its torque is too large, then the impact jolts the motion.
+
+Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load behind a dead band
+of total width ``g`` driven by the measured motion (:func:`~fricctl.diagnose.signals.backlash_load`:
+rigid plastic contact, the load free inside the gap), for gaps on a log grid (8 per decade)
+from :data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, refined
+around the best; coefficient: the load inertia behind the gap (>= 0; at most
+:data:`MAX_LOAD_SHARE` of the total inertia fitted with it).  The extension sets the gap,
+the load inertia and a stiff contact (:func:`contact`: rigid within the band the record
+resolves), which the re-simulation integrates.  Cannot be told when the gap is below
+:data:`MIN_COUNTS` encoder counts or at the end of the grid, when the load share reaches its
+bound, or when the record crosses the gap fewer than :data:`MIN_CROSSINGS` times.
+Bench: gap 0.6 .. 1.5 deg x ``act.travel`` (rad on a rotary joint; on a linear axis the
+same multiple of its travel unit) x strength, link 0.5 .. 1.5 x actuator inertia (behind the
+gap), contact resonance 150 .. 400 Hz with damping ratio 0.3 .. 0.7.
+
+Notes
+-----
+The regressor's contact is rigid and plastic; a springy contact (restitution) bounces the
+load across the gap again after an impact, which it does not model.  A load with friction of
+its own (on the load side) would not coast; the bench has none.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from ...plant import FlexibleJoint, JointModel
+from ..signals import backlash_load
+from .base import Cause, Injection
+
+#: Largest share of the inertia a fitted load behind the gap may hold [-].
+MAX_LOAD_SHARE = 0.95
+#: Smallest gap a record can tell, in encoder counts (below it the crossing's position is
+#: quantisation) [-].
+MIN_COUNTS = 4.0
+#: Fewest gap crossings a record must show for a gap to be told [-].
+MIN_CROSSINGS = 6
+#: Gaps per decade of the grid [-].
+PER_DECADE = 8
+#: The contact's coupled resonance as a share of the sample rate: above the band the record
+#: resolves (at most a quarter of the sample rate), so that it acts rigid there, and within
+#: what RK4's default sub-steps of the elastic joint integrate [-].
+CONTACT_RESONANCE = 0.4
+#: Damping ratio of the fitted contact: a nearly plastic impact, as the regressor assumes [-].
+CONTACT_DAMPING = 0.7
+
+
+def _counts(sig) -> float:
+    """One encoder count of the record (its smallest position step) [rad]."""
+    return sig.resolution if sig.resolution > 0 else 1e-6 * float(np.ptp(sig.qf))
+
+
+def _bounds(sig) -> tuple:
+    lo = MIN_COUNTS * _counts(sig)
+    hi = 0.25 * float(np.ptp(sig.qf))
+    return lo, hi
+
+
+def _variant(base, gap):
+    sig = base.sig
+    col = sig.filt(backlash_load(sig, gap).acceleration) - sig.a
+    return base.variant(float(gap), col, (1,))
+
+
+def _variants(base, fold):
+    lo, hi = _bounds(base.sig)
+    if not hi > lo:
+        return []
+    n = int(np.floor(PER_DECADE * np.log10(hi / lo))) + 1
+    return [_variant(base, g) for g in lo * 10.0 ** (np.arange(n) / PER_DECADE)]
+
+
+def _refine(base, variants):
+    """Four gaps between the best grid gap (largest drop of the residual's sum of squares
+    on all data, one coefficient >= 0) and each neighbour."""
+    if len(variants) < 2:
+        return list(variants)
+
+    def drop(v):
+        x = v.extra[:, 0][base.sig.moving]
+        y = base.current_residual[base.sig.moving]
+        c = max(float(x @ y) / max(float(x @ x), 1e-300), 0.0)
+        return c * float(x @ y)
+
+    best = max(variants, key=drop).h
+    step = 10.0 ** (1.0 / PER_DECADE)
+    out = list(variants)
+    for k in (-0.5, -0.25, 0.25, 0.5):
+        out.append(_variant(base, best * step ** k))
+    return out
+
+
+def contact(model: JointModel, jl: float, sample_time: float) -> tuple:
+    """Stiffness and damping of a stiff contact between the motor side (``inertia - jl``)
+    and a load ``jl``: coupled resonance at :data:`CONTACT_RESONANCE` of the sample rate,
+    damping ratio :data:`CONTACT_DAMPING` ([N*m/rad], [N*m*s/rad])."""
+    jm = model.inertia - jl
+    wc = 2 * math.pi * CONTACT_RESONANCE / sample_time
+    mu = jm * jl / (jm + jl)  # the reduced inertia the contact's mode moves
+    k = wc * wc * mu
+    return k, 2 * CONTACT_DAMPING * math.sqrt(k * mu)
+
+
+def _extend(model, term, base):
+    gap = float(term.h)
+    jl = min(max(float(term.coef[0]), 1e-12), MAX_LOAD_SHARE * model.inertia)
+    k, d = contact(model, jl, base.sig.ts)
+    return replace(model, load_inertia=jl, stiffness=k, damping=d, backlash=gap)
+
+
+def _identifiable(base, term):
+    sig = base.sig
+    gap = float(term.h)
+    jl = float(term.coef[0])
+    total = term.extended.inertia if term.extended is not None else base.inertia
+    count = _counts(sig)
+    lo, hi = _bounds(sig)
+    if gap < (MIN_COUNTS - 1e-9) * count:
+        return (f"the fitted gap ({gap / count:.3g} encoder counts) is below the "
+                f"{MIN_COUNTS:g} counts the encoder resolves")
+    if gap >= hi / 10.0 ** (0.5 / PER_DECADE):
+        return (f"the fitted gap ({gap:.3g} {base.labels.position}) is at the end of the "
+                f"gaps this record's travel tells (a quarter of it)")
+    if jl >= 0.999 * MAX_LOAD_SHARE * total:
+        return (f"the load behind the gap takes {100 * MAX_LOAD_SHARE:.0f} % of the inertia "
+                f"(its bound): the term smooths the acceleration instead of resolving a gap")
+    crossings = backlash_load(sig, gap).crossings
+    if crossings < MIN_CROSSINGS:
+        return (f"the record crosses the fitted gap {crossings} times (fewer than "
+                f"{MIN_CROSSINGS}): too few reversals of the load torque to tell a gap")
+    return None
+
+
+def _evidence(base, term, extended):
+    sig, u = base.sig, base.labels
+    gap = extended.backlash
+    load = backlash_load(sig, gap)
+    inside = float(np.mean(load.side[sig.moving] == 0)) if sig.moving.any() else 0.0
+    size = (f"{math.degrees(gap):.3g} deg ({gap:.3g} rad)" if u.position == "rad"
+            else f"{gap:.3g} {u.position}")
+    jl = extended.load_inertia
+    return (f"fitted dead band {size}, {gap / _counts(sig):.0f} encoder counts, crossed "
+            f"{load.crossings} times in the record ({100 * inside:.0f} % of the sliding samples "
+            f"inside the gap, the motor alone); load behind the gap {jl:.3g} "
+            f"{u.inertia} ({100 * jl / extended.inertia:.0f} % of the inertia)")
+
+
+def _inject(rng, act):
+    jm = act.motor_inertia
+    jl = rng.uniform(0.5, 1.5) * jm
+    act = replace(act, link_inertia=jl)  # the link is redrawn: it now sits behind the gap
+    gap = math.radians(rng.uniform(0.6, 1.5)) * act.travel * act.strength
+    fc = rng.uniform(150.0, 400.0)
+    mu = jm * jl / (jm + jl)
+    kst = (2 * math.pi * fc) ** 2 * mu
+    zeta = rng.uniform(0.3, 0.7)
+    dmp = 2 * zeta * math.sqrt(kst * mu)
+    friction = act.friction()
+    return Injection(
+        joint=FlexibleJoint(motor_inertia=jm, load_inertia=jl, stiffness=kst, damping=dmp,
+                            friction=friction, backlash=gap),
+        truth=JointModel(inertia=jm + jl, friction=friction, load_inertia=jl, stiffness=kst,
+                         damping=dmp, backlash=gap, units=act.units),
+        nominal=act.nominal(), breakaway=act.coulomb, substeps=10,
+        magnitude=dict(backlash=gap, backlash_deg=math.degrees(gap / act.travel),
+                       motor_inertia=jm, load_inertia=jl, contact_stiffness=kst,
+                       contact_damping=dmp, contact_resonance_hz=fc))
+
+
+CAUSE = Cause(
+    name="backlash", order=140,
+    physical="a dead band between motor and load: the motor crosses it alone after each "
+             "reversal and picks the load up with an impact",
+    changes=("load_inertia", "stiffness", "damping", "backlash"),
+    params=("load_inertia",), variants=_variants, extend=_extend, evidence=_evidence,
+    identifiable=_identifiable, refine=_refine, inject=_inject)
