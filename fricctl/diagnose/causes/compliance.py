@@ -58,22 +58,6 @@ def _resonance(inertia, jl, wl) -> float:
     return wl * math.sqrt(1.0 + jl / jm) / (2 * math.pi)
 
 
-def _drop(base, col) -> float:
-    """Share of the current residual's sum of squares (sliding samples, all data) that one
-    column removes with a coefficient >= 0, the baseline's columns refitted with it in fit
-    mode [-]."""
-    m = base.sig.moving
-    y = base.current_residual[m]
-    x = np.asarray(col, dtype=float)[m]
-    if base.fit_mode:  # what the baseline's columns cannot already carry
-        b = base.columns[m]
-        x = x - b @ np.linalg.lstsq(b, x, rcond=None)[0]
-    xy, xx, yy = float(x @ y), float(x @ x), float(y @ y)
-    if not (xy > 0 and xx > 0 and yy > 0):
-        return 0.0
-    return xy * xy / (xx * yy)
-
-
 def _stays_a_spring(base, term) -> str | None:
     """None when the spring stays a spring where the load torque reverses, else why not.
 
@@ -86,11 +70,12 @@ def _stays_a_spring(base, term) -> str | None:
     """
     sig = base.sig
     wl, zeta = term.h
-    spring = _drop(base, sig.filt(load_acceleration(sig, wl, zeta)) - sig.a)
+    y = base.current_residual
+    spring = _backlash.drop_share(base, sig.filt(load_acceleration(sig, wl, zeta)) - sig.a, y)
     rivals = base.variants(_backlash.CAUSE, None)
     if not rivals:
         return None
-    drops = [_drop(base, v.extra[:, 0]) for v in rivals]
+    drops = [_backlash.drop_share(base, v.extra[:, 0], y) for v in rivals]
     best = int(np.argmax(drops))
     gap, e = rivals[best].h
     if not drops[best] >= spring:
