@@ -13,6 +13,7 @@ Model file format (JSON, version 2)
      "delay": 0.0,                            # torque acts this much later [s]
      "load_inertia": 0.0, "stiffness": 0.0, "damping": 0.0,     # elastic joint (Eq. 1)
      "backlash": 0.0,                         # dead band motor-load, total width [rad] or [m]
+                                              # (needs the elastic joint; written when > 0)
      "sample_time": 0.001,                    # Ts of the controller [s], or null
      "encoder_resolution": 5e-08,             # one count [rad] or [m], or null
      "max_torque": null,                      # saturation +-Tmax [N*m] or [N], null = unknown
@@ -408,10 +409,13 @@ class JointModel:
     # ------------------------------------------------------------------ file
     def as_dict(self) -> dict:
         """The JSON file content (format ``fricctl.joint_model``, version 2)."""
+        # backlash is written only when there is one: files of joints without keep the
+        # content they had before the key existed (and stay readable by older versions)
+        gap = {"backlash": self.backlash} if self.backlash > 0 else {}
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "units": self.units,
                 "inertia": self.inertia, "friction": self.friction.changed(),
                 "offset": self.offset, "delay": self.delay, "load_inertia": self.load_inertia,
-                "stiffness": self.stiffness, "damping": self.damping, "backlash": self.backlash,
+                "stiffness": self.stiffness, "damping": self.damping, **gap,
                 "sample_time": self.sample_time, "encoder_resolution": self.encoder_resolution,
                 "max_torque": self.max_torque, "source": self.source,
                 "provenance": {k: p.as_dict() for k, p in self.provenance.items()}}
