@@ -320,8 +320,9 @@ PAIRS = tuple((a, b) for i, a in enumerate(HIDDEN_CAUSES[1:]) for b in HIDDEN_CA
 
 
 def _full_dict(model: JointModel) -> dict:
-    """The model file's content with every friction coefficient (the file writes the changed ones)."""
-    return {**model.as_dict(), "friction": model.friction.as_dict()}
+    """The model file's content with every friction coefficient and the backlash (the file
+    writes the changed ones and a backlash only when there is one)."""
+    return {**model.as_dict(), "backlash": model.backlash, "friction": model.friction.as_dict()}
 
 
 def _merge(effects: dict, actuator):
