@@ -2,7 +2,9 @@
 and the compliance's test that a spring stays a spring where the load torque reverses.
 
 Seeds: ``[2031, i]`` for the fast cases (chosen once, before looking at their results);
-the rate sweep (``slow``) uses ``[2032, i]``, never run while the cause was built.
+the rate sweep (``slow``) uses ``[2032, i]``, never run while the cause was built; the
+independent bench (``tests/test_diagnose_independent.py``, its own integrator, contact and
+loop) ``[31, 40 + i]`` (its exploration used ``[34, i]``).
 """
 
 import math
@@ -16,7 +18,8 @@ from fricctl.diagnose.causes import REGISTRY, Baseline, Term
 from fricctl.diagnose.causes import backlash as backlash_cause
 from fricctl.diagnose.causes import compliance as compliance_cause
 from fricctl.diagnose.crossval import Problem, full_fit
-from fricctl.diagnose.signals import backlash_load, contact_damping_ratio, estimate_signals, restitution
+from fricctl.diagnose.signals import (backlash_load, contact_damping_ratio, estimate_signals,
+                                      restitution)
 from fricctl.friction import Coulomb, FrictionModel, Viscous
 from fricctl.plant import FlexibleJoint, JointModel
 
@@ -197,3 +200,20 @@ def test_backlash_rate():
 def test_no_cause_on_effect_free_records():
     named = _sweep("none", SWEEP[::3], 100)
     assert all(c == ("none",) for c in named), named
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("i", range(4))
+def test_backlash_on_the_independent_bench(i):
+    # the second simulator's dead band (LSODA, smoothed friction, a cascade loop, gap
+    # 0.5-1.5 deg x travel, contact 200-600 Hz): named, no spring invented, the gap within
+    # 30 % (measured 0.2-24 % on the exploration seeds [34, 0-5]: bouncing contacts, damping
+    # ratio 0.21-0.23, gave the 10.5 and 24 %, the gap read short; the scan is plastic)
+    from test_diagnose_independent import simulate_record
+
+    run, p = simulate_record([31, 40 + i], effects=("backlash",),
+                             axis=("rotary", "linear")[i % 2],
+                             sample_time=(0.001, 0.002)[(i // 2) % 2], duration=20.0)
+    d = diagnose(run)
+    assert d.causes == ("backlash",), d.report()
+    assert d.extended.backlash == pytest.approx(p.effects["backlash"]["gap"], rel=0.30)

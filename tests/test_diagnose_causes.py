@@ -28,7 +28,8 @@ from fricctl.plant import JointModel
 
 NAMES = tuple(REGISTRY)
 #: Every key JointModel.parameters() can have.
-MODEL_PARAMETERS = ({"inertia", "offset", "delay", "load_inertia", "stiffness", "damping", "backlash"}
+MODEL_PARAMETERS = ({"inertia", "offset", "delay", "load_inertia", "stiffness", "damping",
+                     "backlash"}
                     | {f.name for f in fields(FrictionModel)})
 
 

@@ -8,8 +8,9 @@ only its own inertia accelerated, and picks the load up on the other face with a
 the time: after every reversal its torque is too large, then the impact jolts the motion.
 
 Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load behind a dead band
-of total width ``g`` driven by the measured motion (:func:`~fricctl.diagnose.signals.backlash_load`:
-rigid contact, the load free inside the gap), for gaps around the best peaks of a fine scan (:func:`scan`: 40 per decade from
+of total width ``g`` driven by the measured motion
+(:func:`~fricctl.diagnose.signals.backlash_load`: rigid contact, the load free inside the
+gap), for gaps around the best peaks of a fine scan (:func:`scan`: 40 per decade from
 :data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, plastic contact),
 the best also with the restitutions of :data:`RESTITUTIONS` (a contact that bounces the load
 back into the gap); hyper-parameter ``(gap, restitution)``;
