@@ -89,7 +89,7 @@ def test_generator_is_seeded_and_validates():
     np.testing.assert_array_equal(a.run.position, b.run.position)
     assert a.run.n_samples == 5000
     with pytest.raises(ValueError, match="cause"):
-        hidden_effect_record(np.random.default_rng(0), cause="backlash")
+        hidden_effect_record(np.random.default_rng(0), cause="cogging")
     with pytest.raises(ValueError, match="duration"):
         hidden_effect_record(np.random.default_rng(0), duration=5.0)
     with pytest.raises(ValueError, match="Generator"):

@@ -28,7 +28,8 @@ from fricctl.plant import JointModel
 
 NAMES = tuple(REGISTRY)
 #: Every key JointModel.parameters() can have.
-MODEL_PARAMETERS = ({"inertia", "offset", "delay", "load_inertia", "stiffness", "damping"}
+MODEL_PARAMETERS = ({"inertia", "offset", "delay", "load_inertia", "stiffness", "damping",
+                     "backlash"}
                     | {f.name for f in fields(FrictionModel)})
 
 
@@ -56,8 +57,8 @@ def test_registry_order_and_names():
     assert causes.physical("none").startswith("no cause of the list improves")
     with pytest.raises(ValueError, match="no cause 'none'"):
         causes.get("none")
-    with pytest.raises(ValueError, match="backlash"):
-        causes.get("backlash")
+    with pytest.raises(ValueError, match="cogging"):
+        causes.get("cogging")
 
 
 def test_none_injects_nothing():

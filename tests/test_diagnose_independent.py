@@ -18,6 +18,10 @@ What differs from the package's bench, on purpose:
 * the excitation: multisine and pulse torques, S-curve moves, slow sweeps, holding
   position against load steps.
 
+A dead band between motor and load (``effects=("backlash",)``: the compliant joint with the
+spring acting beyond the gap and pushing only) can be hidden too; it is left out of
+:data:`EFFECTS` so that the records drawn from that list stay as they were.
+
 Magnitudes are drawn from this module's own ranges.  Seeds: ``[31, i]`` (tests);
 the benchmark uses ``[32, i]``.
 """
@@ -82,6 +86,10 @@ def draw_plant(rng, axis: str, effects: tuple) -> Plant:
                                 zeta=rng.uniform(0.03, 0.1))
         elif e == "presliding":
             p.effects[e] = dict(counts=rng.uniform(8.0, 25.0))
+        elif e == "backlash":  # not in EFFECTS: hidden only where a test asks for it
+            p.effects[e] = dict(gap=math.radians(rng.uniform(0.5, 1.5)) * p.travel,
+                                share=rng.uniform(0.3, 0.6), hz=rng.uniform(200.0, 600.0),
+                                zeta=rng.uniform(0.2, 0.6))
     return p
 
 
@@ -158,7 +166,8 @@ def _piece_smooth(p, state, u, t0, t1, duration):
     """Compliant joint (motor + load on a spring, encoder on the motor) or Dahl presliding,
     with a smoothed friction; LSODA."""
     eps = 1e-4 * p.travel
-    comp = p.effects.get("compliance")
+    comp = p.effects.get("compliance") or p.effects.get("backlash")
+    gap = p.effects["backlash"]["gap"] if "backlash" in p.effects else 0.0
     dahl = p.effects.get("presliding")
 
     def rhs(t, x):
@@ -178,6 +187,10 @@ def _piece_smooth(p, state, u, t0, t1, duration):
         k = (2 * math.pi * comp["hz"]) ** 2 / (1 / jm + 1 / jl)
         d = 2 * comp["zeta"] * math.sqrt(k * jl)
         spring = k * (qm - ql) + d * (wm - wl)
+        if gap > 0:  # a dead band: contact torque on the deflection beyond the gap, pushing only
+            x, h = qm - ql, 0.5 * gap
+            spring = (max(k * (x - h) + d * (wm - wl), 0.0) if x > h else
+                      min(k * (x + h) + d * (wm - wl), 0.0) if x < -h else 0.0)
         return [wm, (u - _ripple(p, qm) - fr - spring) / jm, wl, spring / jl, dz]
     sol = solve_ivp(rhs, (t0, t1), state, method="LSODA", rtol=1e-8,
                     atol=1e-11 * max(p.travel, 1e-9) + 1e-12)
@@ -205,7 +218,7 @@ def simulate_record(seed, *, effects: tuple = (), axis: str = "rotary",
     kpos = wv / rng.uniform(5.0, 8.0)
     alpha = math.exp(-2 * math.pi * min(0.2 / ts, 200.0) * ts)
     delay = p.effects.get("time_delay", {}).get("samples", 0.0)
-    smooth = "compliance" in p.effects or "presliding" in p.effects
+    smooth = bool({"compliance", "presliding", "backlash"} & set(p.effects))
     state = [0.0, 0.0, 0.0, 0.0, 0.0] if smooth else (0.0, 0.0, True)
     q_meas = np.empty(n)
     applied = np.zeros(n + 2)  # the torque acting over [t_k, t_k+1): computed at k-1

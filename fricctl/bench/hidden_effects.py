@@ -303,8 +303,15 @@ def compatible(first: str, second: str) -> bool:
     """True when the bench can hide ``first`` and ``second`` together: two different causes
     acting on disjoint model parameters (LuGre bristles exist on the rigid joint only)."""
     a, b = causes.get(first), causes.get(second)
+
+    def elastic(c):  # the injection puts a load behind a spring or a gap
+        return "load_inertia" in c.changes
+
+    def bristles(c):  # the injection gives the friction a presliding state
+        return any(k.startswith("lugre_") for k in c.changes)
+
     return (a is not b and not set(a.changes) & set(b.changes)
-            and {a.name, b.name} != {"compliance", "presliding"})
+            and not (elastic(a) and bristles(b)) and not (elastic(b) and bristles(a)))
 
 
 #: Every pair of fit-mode causes the bench hides together, in registry order.
@@ -313,8 +320,9 @@ PAIRS = tuple((a, b) for i, a in enumerate(HIDDEN_CAUSES[1:]) for b in HIDDEN_CA
 
 
 def _full_dict(model: JointModel) -> dict:
-    """The model file's content with every friction coefficient (the file writes the changed ones)."""
-    return {**model.as_dict(), "friction": model.friction.as_dict()}
+    """The model file's content with every friction coefficient and the backlash (the file
+    writes the changed ones and a backlash only when there is one)."""
+    return {**model.as_dict(), "backlash": model.backlash, "friction": model.friction.as_dict()}
 
 
 def _merge(effects: dict, actuator):

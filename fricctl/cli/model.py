@@ -211,7 +211,8 @@ def run_show(args) -> int:
     rows += [(f"friction.{k}", x, unit_of[k]) for k, x in model.friction.changed().items()]
     rows += [(k, getattr(model, k), unit) for k, unit in
              (("offset", u.torque), ("delay", "s"), ("load_inertia", u.inertia),
-              ("stiffness", u.stiffness), ("damping", u.viscous), ("sample_time", "s"),
+              ("stiffness", u.stiffness), ("damping", u.viscous), ("backlash", u.position),
+              ("sample_time", "s"),
               ("encoder_resolution", u.position), ("max_torque", u.torque))]
     print(f"{args.file}: {model.units} axis; {model.source}")
     for name, x, unit in rows:

@@ -56,7 +56,7 @@ least 10 samples; a nominal model must be one the record's sample time can re-si
 (:mod:`fricctl.simulate` refuses a plant needing more than 100 000 RK4 sub-steps per sample)
 and agree with the record's sample time and encoder count when it states them.
 
-Left out: backlash; position-dependent inertia (gravity and other loads of position are
+Left out: position-dependent inertia (gravity and other loads of position are
 the ``position_load`` cause); two effects acting on
 the same model parameters (friction scale and drift); torque measurement noise
 models (least squares assumes white residuals, so the reported standard errors are

@@ -15,13 +15,15 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
+from .._jit import jit
 from ..friction import FrictionModel
 from ..identify.signals import (BAND_MARGIN, MAX_CUTOFF, SAMPLE_TIME_RANGE, Signals, centred,
                                 delay_in_samples, delayed, estimate_signals, motion_band)
 from ..plant import JointModel
 
 __all__ = ["Signals", "TorquePrediction", "estimate_signals", "centred", "delayed",
-           "delay_in_samples", "motion_band", "load_acceleration", "friction_columns", "predict",
+           "delay_in_samples", "motion_band", "load_acceleration", "backlash_load",
+           "BacklashLoad", "restitution", "contact_damping_ratio", "friction_columns", "predict",
            "BAND_MARGIN", "MAX_CUTOFF", "SAMPLE_TIME_RANGE"]
 
 
@@ -38,6 +40,97 @@ def load_acceleration(sig: Signals, wl: float, zeta: float) -> np.ndarray:
     ql = signal.lfilter(bz, az, sig.qf - sig.qf[0]) + sig.qf[0]
     vl = np.gradient(ql, sig.ts)
     return np.gradient(vl, sig.ts)
+
+
+@jit
+def _backlash_load(qm, wm, am, ts, half, e, vmin):
+    """The load behind a dead band of half-width ``half`` driven by the motor motion
+    (qm, wm, am): rigid contact with restitution ``e`` (a bounce slower than ``vmin`` is
+    plastic), no force on the load but the contact's."""
+    n = qm.size
+    ql = np.empty(n)
+    wl = np.empty(n)
+    side = np.zeros(n)
+    q, w, c = qm[0], wm[0], 0.0
+    for k in range(n):
+        if k > 0:
+            if c != 0.0 and c * am[k] < 0.0:
+                c = 0.0  # the contact would have to pull: the load leaves the face
+            if c == 0.0:
+                q = q + w * ts  # the load coasts across the gap
+                d = qm[k] - q
+                face = 1.0 if d >= half else (-1.0 if d <= -half else 0.0)
+                if face != 0.0:  # the motor's face meets the load: an impact
+                    q = qm[k] - face * half
+                    u = w - wm[k]  # the load's speed relative to the motor before it
+                    if e * abs(u) > vmin:
+                        w = wm[k] - e * u  # it bounces off the face, back into the gap
+                        side[k] = face
+                    else:
+                        c = face  # plastic: picked up
+            if c != 0.0:  # in contact: the load follows the motor
+                q = qm[k] - c * half
+                w = wm[k]
+        ql[k] = q
+        wl[k] = w
+        if c != 0.0:
+            side[k] = c
+    return ql, wl, side
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class BacklashLoad:
+    """A load behind a dead band, driven by the measured motion (:func:`backlash_load`)."""
+
+    acceleration: np.ndarray
+    """Load acceleration along the record (impacts as one-sample velocity steps) [rad/s^2]."""
+    side: np.ndarray
+    """+1 / -1: in contact on (or bouncing off) the forward / backward face; 0: crossing the
+    gap [-]."""
+
+    @property
+    def crossings(self) -> int:
+        """How many times the load left one face and met the other."""
+        faces = self.side[self.side != 0]
+        return int(np.count_nonzero(np.diff(faces) != 0)) if faces.size > 1 else 0
+
+
+def restitution(zeta: float) -> float:
+    """Coefficient of restitution of a linear spring-damper contact of damping ratio
+    ``zeta`` (the relative speed after an impact over the one before; 0 from critical
+    damping on) [-]."""
+    if zeta >= 1.0:
+        return 0.0
+    return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
+
+
+def contact_damping_ratio(e: float) -> float:
+    """The damping ratio of a linear spring-damper contact of restitution ``e`` (1 for
+    ``e == 0``: the critically damped, plastic contact) [-]."""
+    if e <= 0.0:
+        return 1.0
+    le = math.log(e)
+    return -le / math.sqrt(math.pi ** 2 + le * le)
+
+
+def backlash_load(sig: Signals, gap: float, restitution: float = 0.0) -> BacklashLoad:
+    """The load behind a dead band of total width ``gap`` [rad] driven by the record's motion.
+
+    The contact is rigid (a contact resonance above the band the record resolves): in
+    contact the load follows the motor; the contact holds while the motor's acceleration
+    points the way the face pushes (the load has no force of its own: friction is on the
+    motor side), else the load leaves the face and coasts at its speed until a face of the
+    motor (either one) meets it again.  There it bounces back with ``restitution`` times the
+    relative speed [-] (0: plastic, it takes the motor's speed), until the bounce is slower
+    than one encoder count per sample.  The record starts with the load in the middle of
+    the gap.
+    """
+    wm = np.gradient(sig.qf, sig.ts)
+    am = np.gradient(wm, sig.ts)
+    vmin = (sig.resolution if sig.resolution > 0 else 1e-9 * float(np.ptp(sig.qf))) / sig.ts
+    ql, wl, side = _backlash_load(np.ascontiguousarray(sig.qf, dtype=float), wm, am,
+                                  float(sig.ts), 0.5 * float(gap), float(restitution), vmin)
+    return BacklashLoad(acceleration=np.gradient(wl, sig.ts), side=side)
 
 
 def friction_columns(sig: Signals, fr: FrictionModel, tm_joint) -> np.ndarray:
@@ -82,7 +175,12 @@ def predict(model: JointModel, sig: Signals) -> TorquePrediction:
     target = sig.filt(u)
     pred = (model.inertia * sig.a + sig.filt(friction_columns(sig, model.friction, u))
             + model.offset * sig.filt(np.ones(u.size)))
-    if model.elastic:
+    if model.backlash > 0:  # the contact taken as rigid (above the band): backlash_load
+        jl = model.load_inertia
+        mu = jl * (model.inertia - jl) / model.inertia
+        e = restitution(model.damping / (2 * math.sqrt(model.stiffness * mu)))
+        pred = pred + jl * (sig.filt(backlash_load(sig, model.backlash, e).acceleration) - sig.a)
+    elif model.elastic:
         jl = model.load_inertia
         wl = math.sqrt(model.stiffness / jl)
         zeta = model.damping / (2 * math.sqrt(model.stiffness * jl))

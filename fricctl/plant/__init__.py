@@ -32,7 +32,16 @@ more substeps (the bristle dynamics are stiff at high speed).
 
 Notes
 -----
-Not modelled: backlash, motor electrical dynamics, the kinematic error of the
+Backlash (a dead band of total width ``g`` between motor and load) is the flexible
+joint with the spring acting on the dead-zoned deflection and the damper only in contact::
+
+    Tc = K*dz(qm - ql) + d*(qm' - ql')   in contact (|qm - ql| > g/2), pushing only
+    Tc = 0                               inside the gap
+    dz(x) = x - sign(x)*g/2 outside the gap
+
+a rigid joint with backlash is that joint with a stiff contact.
+
+Not modelled: motor electrical dynamics, the kinematic error of the
 harmonic drive (use a :class:`~fricctl.friction.PositionRipple`).  A stuck
 flexible joint is tested for release once per sub-interval and at its end: an
 excursion outside the breakaway band shorter than one sub-interval is missed.

@@ -35,6 +35,8 @@ class KernelArgs:
     """K [N*m/rad] (0 for a rigid joint)."""
     damping: float
     """Damping across the spring [N*m*s/rad] (0 for a rigid joint)."""
+    backlash: float = 0.0
+    """Total width of the dead band between motor and load, load side [rad] (0: none)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,7 +97,7 @@ class _Joint:
         dt = v.real("dt", dt, positive=True)
         a = self.kernel_args()
         advance(a.kind, st, self.friction.vector(), torque, t0, dt, checked_substeps(substeps),
-                a.motor_inertia, a.load_inertia, a.stiffness, a.damping)
+                a.motor_inertia, a.load_inertia, a.stiffness, a.damping, a.backlash)
         return st
 
     def resistive_torque(self, state, torque: float, t: float = 0.0) -> JointTorque:
@@ -103,7 +105,8 @@ class _Joint:
         st = checked_state(state)
         a = self.kernel_args()
         f, acc = state_torque(a.kind, st, self.friction.vector(), v.real("torque", torque),
-                              v.real("t", t), a.motor_inertia, a.stiffness, a.damping)
+                              v.real("t", t), a.motor_inertia, a.stiffness, a.damping,
+                              a.backlash)
         return JointTorque(friction=float(f), acceleration=float(acc))
 
 
@@ -171,6 +174,20 @@ class FlexibleJoint(_Joint):
         d [N*m*s/rad].
     friction : FrictionModel
         Motor-side resistive torque law (LuGre not supported here).
+    backlash : float
+        Total width of a dead band between motor and load, load side [rad] ([m] on a
+        linear axis); 0 (default): none.  With a gap the spring acts on the dead-zoned
+        deflection ``dz(qm - ql)`` and the damper only in contact, and the contact only
+        pushes: the motor crosses the gap with the load uncoupled (the load coasts), and
+        picks it up with an impact.  A rigid joint with backlash is this joint with a stiff
+        contact (a contact resonance above the band of interest).
+
+    Notes
+    -----
+    The contact's onset is not located as an event: RK4 steps across it (the coupling torque
+    is continuous in the deflection, its damper part jumps), so use sub-steps short against
+    the contact's period (the default rule of :func:`fricctl.simulate.replay` sizes them by
+    the contact resonance).
     """
 
     motor_inertia: float
@@ -178,6 +195,7 @@ class FlexibleJoint(_Joint):
     stiffness: float
     damping: float
     friction: FrictionModel
+    backlash: float = 0.0
 
     def __post_init__(self):
         for name, unit in (("motor_inertia", "kg*m^2"), ("load_inertia", "kg*m^2"),
@@ -185,6 +203,8 @@ class FlexibleJoint(_Joint):
             object.__setattr__(self, name, v.real(name, getattr(self, name), positive=True, unit=unit))
         object.__setattr__(self, "damping", v.real("damping", self.damping, nonneg=True,
                                                    unit="N*m*s/rad"))
+        object.__setattr__(self, "backlash", v.real("backlash", self.backlash, nonneg=True,
+                                                    unit="rad"))
         object.__setattr__(self, "friction", _friction(self.friction))
         if self.friction.has_state:
             raise ValueError(f"{self.friction.state_law.constructor.__name__} friction is supported "
@@ -209,7 +229,16 @@ class FlexibleJoint(_Joint):
         """Free (unlocked) resonance sqrt(K (1/Jm + 1/Jl)) [rad/s]."""
         return math.sqrt(self.stiffness * (1.0 / self.motor_inertia + 1.0 / self.load_inertia))
 
+    def initial_state(self, q0: float = 0.0, omega0: float = 0.0) -> np.ndarray:
+        """State vector ``[q, omega, q_load, omega_load, z]`` at (q0, omega0), spring relaxed;
+        with backlash, a moving joint starts with the load in contact on the driving face
+        (``q_load = q0 - sign(omega0) * backlash/2``), a joint at rest in the middle of the gap."""
+        st = super().initial_state(q0, omega0)
+        if self.backlash > 0 and st[1] != 0.0:
+            st[2] -= math.copysign(0.5 * self.backlash, st[1])
+        return st
+
     def kernel_args(self) -> KernelArgs:
         return KernelArgs(kind=FLEXIBLE, motor_inertia=self.motor_inertia,
                           load_inertia=self.load_inertia, stiffness=self.stiffness,
-                          damping=self.damping)
+                          damping=self.damping, backlash=self.backlash)

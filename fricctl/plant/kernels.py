@@ -126,38 +126,61 @@ def _rigid_state_torque(fp, q, w, tm, t, inv_i):
 # flexible joint (Eq. 1)
 # --------------------------------------------------------------------------
 @jit
-def _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d):
-    spring = k * (qm - ql) + d * (wm - wl)
+def _coupling(k, d, gap, x, v):
+    """Torque the motor passes to the load across the spring (or the contact) at deflection
+    ``x = qm - ql`` and deflection rate ``v``.
+
+    Without a gap (``gap == 0``): the spring and damper of Eq. 1, ``k*x + d*v``.  With a
+    dead band of total width ``gap``: nothing while ``|x| <= gap/2`` (the motor crosses the
+    gap with the load uncoupled); in contact, the spring acts on the dead-zoned deflection and
+    the damper only there, and the contact only pushes (a tooth face does not pull: the
+    torque is cut at zero when the damper would make it pull while the faces separate).
+    """
+    if gap <= 0.0:
+        return k * x + d * v
+    h = 0.5 * gap
+    if x > h:
+        f = k * (x - h) + d * v
+        return f if f > 0.0 else 0.0
+    if x < -h:
+        f = k * (x + h) + d * v
+        return f if f < 0.0 else 0.0
+    return 0.0
+
+
+@jit
+def _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d, gap):
+    spring = _coupling(k, d, gap, qm - ql, wm - wl)
     am = (tm - _sliding(fp, wm, s, tm, t) - _ripple(fp, qm) - spring) / jm
     al = spring / jl
     return am, al
 
 
 @jit
-def _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, h, jm, jl, k, d, stuck):
+def _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, h, jm, jl, k, d, gap, stuck):
     """One RK4 step; with stuck=True the motor is held (qm fixed, wm = 0)."""
-    a1m, a1l = _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d)
+    a1m, a1l = _flex_deriv(fp, qm, wm, ql, wl, s, tm, t, jm, jl, k, d, gap)
     if stuck:
         a1m = 0.0
     qm2 = qm + 0.5 * h * wm
     wm2 = wm + 0.5 * h * a1m
     ql2 = ql + 0.5 * h * wl
     wl2 = wl + 0.5 * h * a1l
-    a2m, a2l = _flex_deriv(fp, qm2, wm2, ql2, wl2, s, tm, t + 0.5 * h, jm, jl, k, d)
+    a2m, a2l = _flex_deriv(fp, qm2, wm2, ql2, wl2, s, tm, t + 0.5 * h, jm, jl, k, d, gap)
     if stuck:
         a2m = 0.0
     qm3 = qm + 0.5 * h * wm2
     wm3 = wm + 0.5 * h * a2m
     ql3 = ql + 0.5 * h * wl2
     wl3 = wl + 0.5 * h * a2l
-    a3m, a3l = _flex_deriv(fp, qm3, wm3, ql3, wl3, s, tm, t + 0.5 * h, jm, jl, k, d)
+    a3m, a3l = _flex_deriv(fp, qm3, wm3, ql3, wl3, s, tm, t + 0.5 * h, jm, jl, k, d, gap)
     if stuck:
         a3m = 0.0
     qm4 = qm + h * wm3
     wm4 = wm + h * a3m
     ql4 = ql + h * wl3
     wl4 = wl + h * a3l
-    a4m, a4l = _flex_deriv(fp, qm4, wm4, ql4, wl4, s, tm, t + h, jm, jl, k, d)
+    a4m, a4l = _flex_deriv(fp, qm4, wm4, ql4, wl4, s, tm, t + h, jm, jl, k, d, gap)
     if stuck:
         a4m = 0.0
     return (qm + h / 6.0 * (wm + 2.0 * wm2 + 2.0 * wm3 + wm4),
@@ -167,9 +190,9 @@ def _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, h, jm, jl, k, d, stuck):
 
 
 @jit
-def _flex_net(fp, qm, ql, wl, tm, k, d):
+def _flex_net(fp, qm, ql, wl, tm, k, d, gap):
     """Drive torque on the stuck motor (everything but friction)."""
-    return tm - _ripple(fp, qm) - k * (qm - ql) + d * wl
+    return tm - _ripple(fp, qm) - _coupling(k, d, gap, qm - ql, -wl)
 
 
 @jit
@@ -183,7 +206,7 @@ def _flex_band(fp, u, tm, t):
 
 
 @jit
-def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
+def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d, gap):
     h = dt / nsub
     for i in range(nsub):
         rem = h
@@ -192,10 +215,10 @@ def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
             if rem <= 0.0:
                 break
             if wm == 0.0:
-                s = _flex_band(fp, _flex_net(fp, qm, ql, wl, tm, k, d), tm, t)
+                s = _flex_band(fp, _flex_net(fp, qm, ql, wl, tm, k, d, gap), tm, t)
                 if s == 0.0:
-                    a, b, ql1, wl1 = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, rem, jm, jl, k, d, True)
-                    if _flex_band(fp, _flex_net(fp, qm, ql1, wl1, tm, k, d), tm, t + rem) == 0.0:
+                    a, b, ql1, wl1 = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, rem, jm, jl, k, d, gap, True)
+                    if _flex_band(fp, _flex_net(fp, qm, ql1, wl1, tm, k, d, gap), tm, t + rem) == 0.0:
                         ql = ql1
                         wl = wl1
                         break
@@ -205,18 +228,18 @@ def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
                         mid = 0.5 * (lo + hi)
                         if mid <= lo or mid >= hi:
                             break
-                        a, b, qlm, wlm = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, mid, jm, jl, k, d, True)
-                        if _flex_band(fp, _flex_net(fp, qm, qlm, wlm, tm, k, d), tm, t + mid) == 0.0:
+                        a, b, qlm, wlm = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, mid, jm, jl, k, d, gap, True)
+                        if _flex_band(fp, _flex_net(fp, qm, qlm, wlm, tm, k, d, gap), tm, t + mid) == 0.0:
                             lo = mid
                         else:
                             hi = mid
-                    a, b, ql, wl = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, hi, jm, jl, k, d, True)
+                    a, b, ql, wl = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, hi, jm, jl, k, d, gap, True)
                     rem -= hi
                     t += hi
                     continue  # now outside the band: released on the next pass
             else:
                 s = 1.0 if wm > 0.0 else -1.0
-            qm1, wm1, ql1, wl1 = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, rem, jm, jl, k, d, False)
+            qm1, wm1, ql1, wl1 = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, rem, jm, jl, k, d, gap, False)
             if s * wm1 > 0.0:
                 qm, wm, ql, wl = qm1, wm1, ql1, wl1
                 break
@@ -227,24 +250,24 @@ def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
                 moving = False
                 for _k in range(80):
                     lo *= 0.5
-                    a, wml, c, e = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, lo, jm, jl, k, d, False)
+                    a, wml, c, e = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, lo, jm, jl, k, d, gap, False)
                     if s * wml > 0.0:
                         moving = True
                         break
                 if not moving:
                     # at the band's edge numerically: hold the motor for this sub-step
-                    a, b, ql, wl = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, rem, jm, jl, k, d, True)
+                    a, b, ql, wl = _flex_rk4(fp, qm, 0.0, ql, wl, 1.0, tm, t, rem, jm, jl, k, d, gap, True)
                     break
             for _k in range(80):
                 mid = 0.5 * (lo + hi)
                 if mid <= lo or mid >= hi:
                     break
-                a, wmm, c, e = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, mid, jm, jl, k, d, False)
+                a, wmm, c, e = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, mid, jm, jl, k, d, gap, False)
                 if s * wmm > 0.0:
                     lo = mid
                 else:
                     hi = mid
-            qm, wm, ql, wl = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, hi, jm, jl, k, d, False)
+            qm, wm, ql, wl = _flex_rk4(fp, qm, wm, ql, wl, s, tm, t, hi, jm, jl, k, d, gap, False)
             wm = 0.0
             rem -= hi
             t += hi
@@ -252,8 +275,8 @@ def _flex_interval(fp, qm, wm, ql, wl, tm, t0, dt, nsub, jm, jl, k, d):
 
 
 @jit
-def _flex_state_torque(fp, qm, wm, ql, wl, tm, t, jm, k, d):
-    spring = k * (qm - ql) + d * (wm - wl)
+def _flex_state_torque(fp, qm, wm, ql, wl, tm, t, jm, k, d, gap):
+    spring = _coupling(k, d, gap, qm - ql, wm - wl)
     if wm == 0.0:
         u = tm - _ripple(fp, qm) - spring
         s = _flex_band(fp, u, tm, t)
@@ -300,15 +323,16 @@ def _state_interval(fp, q, w, z, tm, t0, dt, nsub, inv_i):
 # one interval, any plant kind; state = [q (motor), omega (motor), ql, omega_l, z]
 # --------------------------------------------------------------------------
 @jit
-def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d):
-    """Advance state ``st`` (modified in place) over one held-torque interval."""
+def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d, gap):
+    """Advance state ``st`` (modified in place) over one held-torque interval (``gap``: the
+    flexible joint's backlash, total width [rad]; 0 for none)."""
     if kind == RIGID:
         st[0], st[1] = _rigid_interval(fp, st[0], st[1], tm, t0, dt, nsub, 1.0 / jm)
         st[2] = st[0]
         st[3] = st[1]
     elif kind == FLEXIBLE:
         st[0], st[1], st[2], st[3] = _flex_interval(fp, st[0], st[1], st[2], st[3], tm, t0, dt,
-                                                     nsub, jm, jl, k, d)
+                                                     nsub, jm, jl, k, d, gap)
     else:
         st[0], st[1], st[4] = _state_interval(fp, st[0], st[1], st[4], tm, t0, dt, nsub, 1.0 / jm)
         st[2] = st[0]
@@ -316,11 +340,11 @@ def advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, k, d):
 
 
 @jit
-def state_torque(kind, st, fp, tm, t, jm, k, d):
+def state_torque(kind, st, fp, tm, t, jm, k, d, gap):
     """(resistive torque Tat on the motor side, motor acceleration) right after t."""
     if kind == RIGID:
         return _rigid_state_torque(fp, st[0], st[1], tm, t, 1.0 / jm)
     if kind == FLEXIBLE:
-        return _flex_state_torque(fp, st[0], st[1], st[2], st[3], tm, t, jm, k, d)
+        return _flex_state_torque(fp, st[0], st[1], st[2], st[3], tm, t, jm, k, d, gap)
     acc, zd, f = _state_deriv(fp, st[0], st[1], st[4], tm, t, 1.0 / jm)
     return f, acc

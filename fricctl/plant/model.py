@@ -12,6 +12,8 @@ Model file format (JSON, version 2)
      "offset": -3.1648,                       # constant resistive torque [N*m] or force [N]
      "delay": 0.0,                            # torque acts this much later [s]
      "load_inertia": 0.0, "stiffness": 0.0, "damping": 0.0,     # elastic joint (Eq. 1)
+     "backlash": 0.0,                         # dead band motor-load, total width [rad] or [m]
+                                              # (needs the elastic joint; written when > 0)
      "sample_time": 0.001,                    # Ts of the controller [s], or null
      "encoder_resolution": 5e-08,             # one count [rad] or [m], or null
      "max_torque": null,                      # saturation +-Tmax [N*m] or [N], null = unknown
@@ -26,7 +28,10 @@ encoder resolution and torque limit unknown, no provenance).  ``friction`` holds
 any fields of :class:`fricctl.friction.FrictionModel` (missing ones take its
 defaults).  ``load_inertia > 0`` makes the joint elastic: the part
 ``load_inertia`` of ``inertia`` sits behind a spring ``stiffness`` with damping
-``damping``; the encoder and the friction are on the motor side.
+``damping``; the encoder and the friction are on the motor side.  ``backlash > 0``
+(version 2 only; needs the elastic joint) opens a dead band of that total width between
+motor and load: the spring (then the stiffness of the contact) acts on the dead-zoned
+deflection and the damping only in contact.
 
 ``provenance`` says, per value, where it comes from: its keys are the names above
 (``"inertia"``, ``"max_torque"``, ...) and ``"friction.<field>"``; each entry has a
@@ -74,13 +79,14 @@ PROVENANCE_SOURCES = ("paper", "datasheet", "identified", "measured", "derived",
 #: Numeric top-level keys: (name, check, quantity of fricctl.units.Units or "s").
 _NUMBERS = (("inertia", "positive", "inertia"), ("offset", "real", "torque"),
             ("delay", "nonneg", "s"), ("load_inertia", "nonneg", "inertia"),
-            ("stiffness", "nonneg", "stiffness"), ("damping", "nonneg", "viscous"))
+            ("stiffness", "nonneg", "stiffness"), ("damping", "nonneg", "viscous"),
+            ("backlash", "nonneg", "position"))
 #: Optional numeric keys (None = unknown).
 _OPTIONAL = (("sample_time", "s"), ("encoder_resolution", "position"), ("max_torque", "torque"))
 _REQUIRED = ("format", "version", "units", "inertia", "friction")
 _KEYS_V1 = ("format", "version", "units", "inertia", "friction", "offset", "delay",
             "load_inertia", "stiffness", "damping", "source")
-_KEYS_V2 = _KEYS_V1 + tuple(n for n, _ in _OPTIONAL) + ("provenance",)
+_KEYS_V2 = _KEYS_V1 + ("backlash",) + tuple(n for n, _ in _OPTIONAL) + ("provenance",)
 #: Identified parameter names (fricctl.identify.MODELS) -> the model values they set.
 ESTIMATE_FIELDS = {
     "inertia": ("inertia",), "offset": ("offset",),
@@ -152,6 +158,12 @@ class JointModel:
         Joint stiffness K of the elastic joint [N*m/rad] (> 0 when load_inertia > 0).
     damping : float
         Structural damping across the spring [N*m*s/rad].
+    backlash : float
+        Total width of the dead band between motor and load, load side [rad] ([m] on a
+        linear axis); 0 for none.  Needs the elastic joint (``load_inertia > 0``): the
+        spring is then the contact's stiffness, acting on the dead-zoned deflection, the
+        damping acts only in contact; a rigid joint with backlash is an elastic joint with a
+        stiff contact.
     units : {"rotary", "linear"}
         Rotary joint (N*m, rad) or linear axis (N, m, kg).
     source : str
@@ -168,7 +180,7 @@ class JointModel:
     Notes
     -----
     A model has no controller and no compensator: those are the design's and the
-    simulation's.  Temperature, backlash and motor electrical dynamics are left out.
+    simulation's.  Temperature and motor electrical dynamics are left out.
 
     Examples
     --------
@@ -186,6 +198,7 @@ class JointModel:
     load_inertia: float = 0.0
     stiffness: float = 0.0
     damping: float = 0.0
+    backlash: float = 0.0
     units: str = "rotary"
     source: str = ""
     sample_time: float | None = None
@@ -214,6 +227,9 @@ class JointModel:
             if self.friction.has_state:
                 raise ValueError(f"friction: {self.friction.state_law.constructor.__name__} friction "
                                  "is supported on the rigid joint only")
+        elif self.backlash > 0:
+            raise ValueError("backlash: a dead band needs a load behind it (load_inertia > 0, "
+                             "stiffness > 0: the contact's stiffness)")
         v.text("source", self.source)
         v.instance("provenance", self.provenance, (dict, types.MappingProxyType), "a mapping")
         allowed = provenance_keys()
@@ -257,14 +273,15 @@ class JointModel:
         if self.elastic:
             return FlexibleJoint(motor_inertia=self.inertia - self.load_inertia,
                                  load_inertia=self.load_inertia, stiffness=self.stiffness,
-                                 damping=self.damping, friction=self.friction)
+                                 damping=self.damping, friction=self.friction,
+                                 backlash=self.backlash)
         return RigidJoint(inertia=self.inertia, friction=self.friction)
 
     def parameters(self) -> dict:
         """Flat parameter dict (JSON-ready): the non-default physical values only."""
         out = {"inertia": self.inertia}
         out.update(self.friction.changed())
-        for name in ("offset", "delay", "load_inertia", "stiffness", "damping"):
+        for name in ("offset", "delay", "load_inertia", "stiffness", "damping", "backlash"):
             if getattr(self, name) != 0.0:
                 out[name] = getattr(self, name)
         return {k: float(x) for k, x in out.items()}
@@ -392,10 +409,13 @@ class JointModel:
     # ------------------------------------------------------------------ file
     def as_dict(self) -> dict:
         """The JSON file content (format ``fricctl.joint_model``, version 2)."""
+        # backlash is written only when there is one: files of joints without keep the
+        # content they had before the key existed (and stay readable by older versions)
+        gap = {"backlash": self.backlash} if self.backlash > 0 else {}
         return {"format": MODEL_FORMAT, "version": MODEL_VERSION, "units": self.units,
                 "inertia": self.inertia, "friction": self.friction.changed(),
                 "offset": self.offset, "delay": self.delay, "load_inertia": self.load_inertia,
-                "stiffness": self.stiffness, "damping": self.damping,
+                "stiffness": self.stiffness, "damping": self.damping, **gap,
                 "sample_time": self.sample_time, "encoder_resolution": self.encoder_resolution,
                 "max_torque": self.max_torque, "source": self.source,
                 "provenance": {k: p.as_dict() for k, p in self.provenance.items()}}

@@ -135,9 +135,9 @@ def joint_interval(plant, n, st, tm, t0, dt):
     # (reference-counted) across the calls; holding them cost ~7 % of the loop's time
     kind, fp, nsub = plant.kind, plant.friction[n], plant.substeps
     jm, jl = plant.motor_inertia[n], plant.load_inertia[n]
-    kst, dmp = plant.stiffness[n], plant.damping[n]
-    f, a = state_torque(kind, st, fp, tm, t0, jm, kst, dmp)
-    advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, kst, dmp)
+    kst, dmp, gap = plant.stiffness[n], plant.damping[n], plant.backlash[n]
+    f, a = state_torque(kind, st, fp, tm, t0, jm, kst, dmp, gap)
+    advance(kind, st, fp, tm, t0, dt, nsub, jm, jl, kst, dmp, gap)
     return f, a
 
 

@@ -48,6 +48,9 @@ class PlantSpec(NamedTuple):
         Spring stiffness K of the elastic joint [N*m/rad] (0 for a rigid joint).
     damping : ndarray, shape (N,)
         Damping across the spring [N*m*s/rad] (0 for a rigid joint).
+    backlash : ndarray, shape (N,)
+        Total width of the dead band between motor and load [rad] (0: none; the spring
+        then acts on the dead-zoned deflection, the damper only in contact).
     substeps : int
         RK4 sub-intervals per held-torque interval [-].
     """
@@ -58,6 +61,7 @@ class PlantSpec(NamedTuple):
     load_inertia: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
+    backlash: np.ndarray
     substeps: int
 
     @classmethod
@@ -70,6 +74,7 @@ class PlantSpec(NamedTuple):
                    load_inertia=np.array([a.load_inertia for a in joints]),
                    stiffness=np.array([a.stiffness for a in joints]),
                    damping=np.array([a.damping for a in joints]),
+                   backlash=np.array([a.backlash for a in joints]),
                    substeps=substeps)
 
 

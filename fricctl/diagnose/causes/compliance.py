@@ -6,7 +6,10 @@ over the record up to the low-pass cut-off (the band the excitation reaches: abo
 column only smooths encoder noise) and damping ratios 0.02, 0.05, 0.12; coefficient:
 the load inertia (>= 0; the model takes at most :data:`MAX_LOAD_SHARE` of the total inertia
 fitted with it).  Cannot be told when the coupled resonance lies above that band or the
-load share reaches that bound.
+load share reaches that bound, or when the spring does not stay a spring where the load
+torque reverses (a dead band between motor and load, :mod:`.backlash`'s column, removes more
+of the residual than the spring: backlash imitated by a soft spring).  Not added to a
+model with backlash (its contact is the joint's coupling already).
 Bench: link 0.5 .. 1.5 x actuator inertia, coupled resonance 12 .. 40 Hz, structural damping
 ratio 0.02 .. 0.1.
 """
@@ -20,7 +23,8 @@ import numpy as np
 from scipy import signal
 
 from ...plant import FlexibleJoint, JointModel
-from ..signals import load_acceleration
+from ..signals import backlash_load, load_acceleration
+from . import backlash as _backlash
 from .base import Cause, Injection
 
 
@@ -39,6 +43,9 @@ def _variants(base, fold):
 
 
 def _extend(model, term, base):
+    if model.backlash > 0:
+        raise ValueError("backlash: the joint's coupling is a dead band with a stiff contact "
+                         "already; a spring would replace that contact, not add to it")
     wl, zeta = term.h
     jl = min(max(term.coef[0], 1e-12), MAX_LOAD_SHARE * model.inertia)
     return replace(model, load_inertia=jl, stiffness=jl * wl * wl, damping=2 * zeta * wl * jl)
@@ -49,6 +56,41 @@ def _resonance(inertia, jl, wl) -> float:
     frequency wl (load side) [Hz]."""
     jm = max(inertia - jl, 1e-300)
     return wl * math.sqrt(1.0 + jl / jm) / (2 * math.pi)
+
+
+def _stays_a_spring(base, term) -> str | None:
+    """None when the spring stays a spring where the load torque reverses, else why not.
+
+    A spring transmits torque through zero deflection; a dead band (backlash) transmits
+    none inside its gap, and an elastic model fitted to it invents a soft spring that
+    stands for the motor crossing the gap alone.  The record tells them apart: the load
+    behind a dead band driven by the measured motion (:mod:`.backlash`'s column, a gap
+    the record resolves and crosses) removes more of the residual than the spring does,
+    where a true spring's ringing is not a dead band's.
+    """
+    sig = base.sig
+    wl, zeta = term.h
+    y = base.current_residual
+    spring = _backlash.drop_share(base, sig.filt(load_acceleration(sig, wl, zeta)) - sig.a, y)
+    rivals = base.variants(_backlash.CAUSE, None)
+    if not rivals:
+        return None
+    drops = [_backlash.drop_share(base, v.extra[:, 0], y) for v in rivals]
+    best = int(np.argmax(drops))
+    gap, e = rivals[best].h
+    if not drops[best] >= spring:
+        return None
+    if gap < _backlash.MIN_COUNTS * _backlash._counts(sig) * (1 - 1e-9):
+        return None
+    crossings = backlash_load(sig, gap, e).crossings
+    if crossings < _backlash.MIN_CROSSINGS:
+        return None
+    size = (f"{math.degrees(gap):.3g} deg" if base.labels.position == "rad"
+            else f"{gap:.3g} {base.labels.position}")
+    return (f"the spring does not stay a spring where the load torque reverses: a dead band "
+            f"of {size} between motor and load (rigid contact, crossed {crossings} times) "
+            f"removes {100 * drops[best]:.0f} % of the residual's sum of squares, the spring "
+            f"{100 * spring:.0f} %")
 
 
 def _identifiable(base, term):
@@ -63,7 +105,7 @@ def _identifiable(base, term):
     if fr > sig.cutoff:
         return (f"the fitted resonance ({fr:.3g} Hz) lies above the band the excitation reaches "
                 f"on this record ({sig.cutoff:.3g} Hz; sampled at {sig.sample_rate:.4g} Hz)")
-    return None
+    return _stays_a_spring(base, term)
 
 
 def _evidence(base, term, extended):
