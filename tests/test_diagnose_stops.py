@@ -256,24 +256,29 @@ def test_the_exclusion_reaches_as_far_as_the_filter_rings():
         estimate_signals(run, 8, exclude=mask[:-1])
 
 
-def _rate_records(seeds):
-    for seed in seeds:
-        for cause in HIDDEN_CAUSES:
-            for exc in ("mixed", "closed_loop"):
-                frac = 0.05 + 0.15 * np.random.default_rng([seed, 99]).random()
-                try:
-                    yield cause, exc, seed, hidden_effect_record(
-                        np.random.default_rng(seed), cause=cause, duration=20.0,
-                        excitation=exc, end_stops=frac)
-                except ValueError:  # a joint the bench does not stop (a spring, a bristle)
-                    continue
+#: The fit-mode causes the bench hides with its ideal stops (a rigid joint without a friction
+#: state), none included.
+STOPPABLE = tuple(c for c in HIDDEN_CAUSES if c not in ("compliance", "presliding"))
+
+
+def _rate_record(seed):
+    """One record per seed: the causes in turn, mixed and closed-loop excitation in turn,
+    stops where the stop-free motion spends 5-20 % of its time beyond each."""
+    cause = STOPPABLE[seed % len(STOPPABLE)]
+    exc = ("mixed", "closed_loop")[(seed // len(STOPPABLE)) % 2]
+    frac = 0.05 + 0.15 * np.random.default_rng([seed, 99]).random()
+    return cause, hidden_effect_record(np.random.default_rng(seed), cause=cause, duration=20.0,
+                                       excitation=exc, end_stops=frac)
 
 
 @pytest.mark.slow
 def test_the_hidden_causes_are_named_on_records_with_stops():
-    # seeds not used while building (100-101 were); rates measured in the branch's report
+    # seeds 7100-7129, not used while building (100-101 and 7000-7029 were); the branch's
+    # report gives the records one by one.  Targets of the task: >= 85 % named exactly, no
+    # cause on an effect-free record, "explained" only at the floor
     exact, n, false_on_none, explained_above = 0, 0, 0, 0
-    for cause, exc, seed, rec in _rate_records(range(6000, 6003)):
+    for seed in range(7100, 7130):
+        cause, rec = _rate_record(seed)
         d = diagnose(rec.run)
         n += 1
         exact += set(d.causes) == set(rec.causes)
