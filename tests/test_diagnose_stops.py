@@ -10,7 +10,12 @@ from fricctl import datasets
 from fricctl.bench.end_stops import simulate_with_stops
 from fricctl.bench.hidden_effects import HIDDEN_CAUSES, NOMINAL_CAUSES, hidden_effect_record
 from fricctl.datasets import Run
-from fricctl.diagnose.stops import MIN_IMPACTS, end_stops
+from fricctl.diagnose import diagnose
+from fricctl.diagnose.signals import estimate_signals
+from fricctl.diagnose.stops import LONE, MIN_IMPACTS, end_stops
+from fricctl.diagnose.verdict import EXPLAINED_RATIO
+from fricctl.diagnose.windows import window_grid
+from fricctl.identify.signals import EXCLUDE_LEVEL
 from fricctl.friction import Coulomb, Viscous
 from fricctl.plant import RigidJoint
 from fricctl.simulate import Schedule, simulate_schedule
@@ -98,7 +103,7 @@ def test_the_bench_hides_stops_without_changing_its_draws():
 # Records made while building the detector (seeds 0-7 of closed_loop and mixed at 0.1); every
 # side of these was hit at least MIN_IMPACTS times.  The rates on fresh seeds are measured in
 # the branch's report (3000-3009, 60 records: 68 of 73 sides hit twice or more found, 3 of 28
-# hit once; 0 false stops on 180 records without one and on EMPS).
+# hit once with LONE = 30; 0 false stops on 180 records without one and on EMPS).
 STOP_RECORDS = [("closed_loop", 0), ("closed_loop", 4), ("closed_loop", 5), ("mixed", 1)]
 
 
@@ -129,6 +134,19 @@ def test_stops_are_found_where_they_are(stopped):
     assert "end stop" in es.description and "left out" in es.description
     out = json.loads(json.dumps(es.as_dict()))
     assert out["excluded_samples"] == int(es.mask.sum())
+
+
+def test_a_side_hit_once_hard_is_a_stop():
+    # a mixed record (seed 7022, made while choosing LONE) whose lower stop is hit once, at
+    # 7.8 rad/s: 22x what torque and friction can take (30x was asked before, and the
+    # impact stayed in the record: 21x the floor and the hidden asymmetry not named)
+    rec = hidden_effect_record(np.random.default_rng(7022), cause="asymmetry", duration=20.0,
+                               end_stops=0.062)
+    low = [i for i in rec.impacts if rec.run.position[i] < np.mean(rec.run.position)]
+    assert len(rec.stops) == 2 and len(low) == 1
+    es = end_stops(rec.run)
+    assert len(es.positions) == 2
+    assert es.mask[low[0]] and LONE <= es.ratio[np.argmin(np.abs(es.impacts - low[0]))] < 30
 
 
 @pytest.mark.parametrize("excitation", ["mixed", "closed_loop", "stuck"])
@@ -163,3 +181,113 @@ def test_a_record_that_does_not_move_is_not_checked():
     assert "not checked" in es.description
     with pytest.raises((TypeError, ValueError)):
         end_stops("a record")
+
+
+# ------------------------------------------------------------------ wired into the diagnosis
+@pytest.fixture(scope="module", params=[("closed_loop", 0), ("mixed", 1)],
+                ids=lambda p: f"{p[0]}-{p[1]}")
+def diagnosed(request):
+    exc, seed = request.param
+    rec = hidden_effect_record(np.random.default_rng(seed), cause="none", duration=20.0,
+                               excitation=exc, end_stops=0.1)
+    return rec, diagnose(rec.run)
+
+
+def test_a_diagnosis_leaves_the_contacts_out_and_says_so(diagnosed):
+    rec, d = diagnosed
+    es = d.end_stops
+    # effect-free records with stops: no cause invented by the impacts.  The filtered impact
+    # rings at the cut-off beyond 1/fc (the rest guard): left out only that far, compliance
+    # fitted the ringing, 18.9 % net on closed_loop-0 (MIN_SCORE is 20 %) and the residual
+    # over floor 1.72 on mixed-1 (measured with EXCLUDE_LEVEL = 0.5); with the filter's whole
+    # reach 0.6 % and 1.01
+    assert d.causes == ("none",)
+    assert dict(d.ranking).get("compliance", 0.0) < 0.05
+    assert es.found and len(es.positions) == len(rec.stops)
+    # no re-simulation window holds a contact
+    for k0 in d.sim_before.starts:
+        assert not es.mask[k0:k0 + d.sim_before.length].any()
+    # the residual and the verdict are read without the contacts
+    assert np.all(np.isnan(d.residual_after[es.mask]))
+    assert d.explained == ("Explained within noise" in d.evidence)
+    assert d.explained and d.verdict.residual_over_floor <= EXPLAINED_RATIO
+    for text in (d.evidence, d.report()):
+        assert "End stops at" in text and "left out" in text and "windows held a contact" in text
+    out = json.loads(json.dumps(d.as_dict()))
+    assert out["end_stops"]["excluded_samples"] == int(es.mask.sum()) > 0
+    assert len(out["end_stops"]["positions"]) == len(rec.stops)
+
+
+def test_a_record_without_stops_is_diagnosed_on_every_window():
+    rec = hidden_effect_record(np.random.default_rng(3), cause="time_delay", duration=20.0)
+    d = diagnose(rec.run)
+    assert d.causes == ("time_delay",) and not d.end_stops.found
+    assert "End stop" not in d.evidence and "End stop" not in d.report()
+    sig = estimate_signals(rec.run, 8)
+    grid = window_grid(sig, 0.5)
+    # every window of the grid that lies inside one block (the held-out re-simulation's)
+    inside = sig.folds[grid.starts] == sig.folds[grid.starts + grid.length - 1]
+    assert np.array_equal(np.sort(d.sim_before.starts), grid.starts[inside])
+    assert d.as_dict()["end_stops"]["excluded_samples"] == 0
+
+
+def test_the_exclusion_reaches_as_far_as_the_filter_rings():
+    # reference: the zero-phase 4th-order Butterworth's response to an impulse, computed here
+    # by scipy's filtfilt (an independent implementation of the package's zero_phase_filter
+    # up to its padding); the reach is where it falls below EXCLUDE_LEVEL of its peak
+    from scipy import signal
+
+    run = hidden_effect_record(np.random.default_rng(0), cause="none", duration=20.0).run
+    mask = np.zeros(run.n_samples, bool)
+    mask[5000] = True
+    sig = estimate_signals(run, 8, exclude=mask)
+    b, a = signal.butter(4, 2 * sig.cutoff * sig.ts)
+    x = np.zeros(4001)
+    x[2000] = 1.0
+    h = np.abs(signal.filtfilt(b, a, x))
+    reach = int(np.max(np.abs(np.flatnonzero(h > EXCLUDE_LEVEL * h.max()) - 2000)))
+    plain = estimate_signals(run, 8)
+    gone = plain.moving & ~sig.moving
+    assert gone.any() and np.flatnonzero(gone).min() >= 5000 - reach
+    assert np.flatnonzero(gone).max() <= 5000 + reach
+    assert not sig.moving[5000 - reach + 1:5000 + reach].any()
+    np.testing.assert_array_equal(sig.excluded, mask)
+    with pytest.raises(ValueError, match="exclude"):
+        estimate_signals(run, 8, exclude=mask[:-1])
+
+
+#: The fit-mode causes the bench hides with its ideal stops (a rigid joint without a friction
+#: state), none included.
+STOPPABLE = tuple(c for c in HIDDEN_CAUSES if c not in ("compliance", "presliding"))
+
+
+def _rate_record(seed):
+    """One record per seed: the causes in turn, mixed and closed-loop excitation in turn,
+    stops where the stop-free motion spends 5-20 % of its time beyond each."""
+    cause = STOPPABLE[seed % len(STOPPABLE)]
+    exc = ("mixed", "closed_loop")[(seed // len(STOPPABLE)) % 2]
+    frac = 0.05 + 0.15 * np.random.default_rng([seed, 99]).random()
+    return cause, hidden_effect_record(np.random.default_rng(seed), cause=cause, duration=20.0,
+                                       excitation=exc, end_stops=frac)
+
+
+@pytest.mark.slow
+def test_the_hidden_causes_are_named_on_records_with_stops():
+    # seeds 7100-7129, not used while building (100-101 and 7000-7029 were); the branch's
+    # report gives the records one by one.  Targets of the task: >= 85 % named exactly, no
+    # cause on an effect-free record, "explained" only at the floor.  Measured: 27 of 30
+    # (misses: a load dependence whose high torques all fell on the stop, a position load
+    # over a travel the stops cut to a constant named asymmetry, a thermal drift with two
+    # gentle lone impacts left undetected and the record "not explained"); 4 of 4
+    # effect-free records none; 28 explained, all at most 1.85 x the floor.  Two records
+    # with an impact the detector cannot see take 8 and 23 minutes on a loaded machine.
+    exact, n, false_on_none, explained_above = 0, 0, 0, 0
+    for seed in range(7100, 7130):
+        cause, rec = _rate_record(seed)
+        d = diagnose(rec.run)
+        n += 1
+        exact += set(d.causes) == set(rec.causes)
+        false_on_none += cause == "none" and d.causes != ("none",)
+        explained_above += d.explained and d.verdict.residual_over_floor > EXPLAINED_RATIO
+    assert exact >= 0.85 * n, (exact, n)
+    assert false_on_none == 0 and explained_above == 0

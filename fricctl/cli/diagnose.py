@@ -21,7 +21,10 @@ re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl 
 ``--no-offset --no-validation``, or the given model) and ``extended``
 (parameter dicts), ``gain`` (``torque_rms_before``, ``torque_rms_after``,
 ``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data,
-``chain_rms`` and ``cutoff``.  A linear axis: ``# units: linear`` in the file or
+``chain_rms``, ``cutoff`` and ``end_stops`` (the end stops the record hits: ``positions``,
+``impacts``, ``excluded_samples``, ``description``; their contacts are left out of the fit,
+the re-simulation windows, the floor and the verdict, and the text says so).
+A linear axis: ``# units: linear`` in the file or
 ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),

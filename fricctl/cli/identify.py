@@ -9,7 +9,9 @@ reaches above the encoder's quantisation), refined by DIDIM on the record's torq
 replayed (no derivative of the encoder, no model of the controller), which is reported,
 with a warning when the two disagree beyond their standard errors; standard errors from
 the residual summed over blocks and a delete-a-block jackknife (the larger); validated
-on held-out blocks (each of four replayed with the estimate of the other three).  Linear
+on held-out blocks (each of four replayed with the estimate of the other three).  End stops
+the record hits (:func:`fricctl.identify.stops.end_stops`) are left out: their contacts out of
+the equation error, the replay run on the stretches between them, and a note says so.  Linear
 models only (``--recipe plain --model stribeck`` for the Stribeck curve).
 
 Other recipes: ``plain`` estimates velocity and acceleration with the chosen
@@ -27,7 +29,8 @@ with standard errors in the IDIM-LS layout, or with ``--json`` one object:
 ``model, units, n_samples, parameters{name: {value, std, unit}}, fit_percent,
 relative_error_percent, residual_rms, condition_number, solver_status, method,
 warnings, estimator, recipe, out`` (``auto`` adds ``equation_error``, ``didim``,
-``cutoff_hz`` and ``held_out{simulation_fit_percent, equation_fit_percent, failure}``).
+``cutoff_hz``, ``std_notes``, ``end_stops{positions, impacts, excluded_samples,
+description, ...}`` and ``held_out{simulation_fit_percent, equation_fit_percent, failure}``).
 Every recipe of a linear model is validated on held-out data (``auto`` on 4 blocks, the
 others on halves: each half fitted alone and the other replayed with it; ``held_out`` in the
 JSON, ``--no-validation`` skips it); ``--figure FILE.png`` plots it: the replayed position and

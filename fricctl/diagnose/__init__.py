@@ -3,6 +3,11 @@ r"""When the model is wrong: show the disagreement, name its cause, extend, meas
 Given a measured record (:class:`~fricctl.datasets.Run`), :func:`diagnose` does what
 an engineer does when simulation and experiment disagree:
 
+0. **End stops.**  Impacts against a hard limit the record hits again and again (or once
+   far harder than torque and friction can brake) are found (:mod:`.stops`); their contacts
+   are left out of the equation error (with the filter's reach), of the re-simulation
+   windows, of the twin and of the verdict, and the report says so.  The stop is not
+   modelled.
 1. **Baseline.**  Fit the rigid model ``I*q'' = Tm - b*w - Fc*sign(w)`` (stiction at
    Fc) by inverse-dynamics least squares, or take a supplied nominal
    :class:`~fricctl.plant.JointModel` as given (its JSON file format is in

@@ -21,6 +21,7 @@ from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
 from .report import Diagnosis, Gain, evidence_text
 from .selection import Selection, forward_selection
 from .signals import Signals, estimate_signals, predict
+from .stops import EndStops, end_stops
 from .twin import chain_shares, effect_free_twin
 from .verdict import verdict
 from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_grid
@@ -187,13 +188,20 @@ class _Setup:
     """The baseline every candidate extends."""
     problem: Problem
     """The record's normal equations."""
+    stops: EndStops
+    """The record's end stops: their contacts are out of the equation error, the windows,
+    the twin and the verdict."""
+    dropped: int
+    """Re-simulation windows dropped for holding a contact with an end stop."""
 
 
 def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
     """Signals, windows and baseline of the record; a nominal model the record's sample
     time cannot re-simulate is refused here."""
-    sig = estimate_signals(run, req.folds)
-    grid = window_grid(sig, req.window)
+    stops = end_stops(run)
+    sig = estimate_signals(run, req.folds, exclude=stops.mask if stops.found else None)
+    whole = window_grid(sig, req.window)
+    grid = _clear_of_stops(whole, stops, sig)
     if model is not None:
         try:
             simulate_windows(model, sig, grid.starts[:1], grid.length)
@@ -205,10 +213,29 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
     if model is None:  # the baseline reported: fricctl identify's own fit of the record
         from ..identify import identify_record
 
-        ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False)
+        ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False,
+                                stops=stops)
     base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
     return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
-                  problem=Problem(sig, base.columns))
+                  problem=Problem(sig, base.columns), stops=stops,
+                  dropped=whole.starts.size - grid.starts.size)
+
+
+def _clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGrid:
+    """The windows that hold no contact with an end stop (a rigid model re-simulated through
+    a stop runs past it: such a window measures the stop, not the model), nor start within
+    the filter's reach after one (the window's first velocity is a filtered estimate: the
+    border :func:`window_grid` keeps from the record's ends)."""
+    if not stops.found:
+        return grid
+    border = max(int(math.ceil(2.0 / (sig.cutoff * sig.ts))), 10)
+    hit = np.concatenate([[0], np.cumsum(stops.mask)])
+    keep = hit[grid.starts + grid.length] - hit[np.maximum(grid.starts - border, 0)] == 0
+    if not keep.any():
+        raise ValueError(f"every {grid.length}-sample re-simulation window of the record holds a "
+                         f"contact with an end stop ({stops.description}): shorten --window, or "
+                         f"record more motion clear of the stops")
+    return WindowGrid(starts=grid.starts[keep], length=grid.length)
 
 
 class _ChainShares:
@@ -312,9 +339,17 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm})
+    stops = setup.stops
+    if stops.found:  # what the diagnosis left out, said with the stops
+        stops = replace(stops, description=(
+            f"{stops.description}; {setup.dropped} of {setup.dropped + setup.grid.starts.size} "
+            f"re-simulation "
+            f"windows held a contact and were dropped, and the measuring chain's floor is "
+            f"measured without the contacts too"))
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
-                                            sel.not_identifiable, sig.units, said),
+                                            sel.not_identifiable, sig.units, said,
+                                            stops.description if stops.found else ""),
                      baseline=baseline_model, extended=extended, gain=gain,
                      simulation_scores=sel.simulation_scores,
                      fit=ext.fit or (setup.ident.result if setup.ident else setup.fit0), t=sig.t,
@@ -324,7 +359,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
-                     cutoff=sig.cutoff, notes=_notes(sel))
+                     cutoff=sig.cutoff, notes=_notes(sel), end_stops=stops)
 
 
 def _gain(sig: Signals, sel: Selection) -> Gain:

@@ -19,6 +19,7 @@ from .windows import WindowedSimulation
 
 if TYPE_CHECKING:
     from ..identify import IdentificationResult
+    from .stops import EndStops
 
 __all__ = ["MIN_SCORE", "Gain", "Diagnosis", "evidence_text"]
 
@@ -112,6 +113,10 @@ class Diagnosis:
     verdict : Verdict
         Whether the final model explains the record (its held-out residual against the
         measuring chain's floor) and where the rest lives (:mod:`.verdict`).
+    end_stops : EndStops
+        The record's end stops (:func:`~fricctl.diagnose.stops.end_stops`): their contacts
+        are left out of the equation error, the re-simulation windows, the twin and the
+        verdict, and its description says so (None: not looked for).
     """
 
     cause: str
@@ -140,6 +145,7 @@ class Diagnosis:
     cutoff: float = float("nan")
     notes: dict = None
     verdict: Verdict = None
+    end_stops: "EndStops | None" = None
 
     @property
     def explained(self) -> bool:
@@ -172,7 +178,8 @@ class Diagnosis:
             "chain_rms": float(self.chain_rms),
             "cutoff": float(self.cutoff),
             "nominal_model": self.nominal,
-            "units": self.units}
+            "units": self.units,
+            "end_stops": None if self.end_stops is None else self.end_stops.as_dict()}
         notes = dict(self.notes or {})
         undefined: dict = {}
 
@@ -196,6 +203,8 @@ class Diagnosis:
         lines = [f"# Diagnosis: {title}", ""]
         if self.verdict is not None:
             lines += [f"**{self.verdict.sentence()}**", ""]
+        if self.end_stops is not None and self.end_stops.found:
+            lines += [f"**{_capital(self.end_stops.description)}.**", ""]
         lines += [f"*{c}: {causes.physical(c)}*" for c in self.causes]
         lines += ["", "## Evidence", "", self.evidence, "",
                   "## Steps (held-out, blocked cross-validation)", ""]
@@ -257,6 +266,10 @@ class Diagnosis:
         return "\n".join(lines) + "\n"
 
 
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
 def _why(reason: str) -> str:
     """A dropped candidate's reason as a clause: tried and rejected, or not told."""
     return reason if reason.startswith("tried, rejected") else \
@@ -264,12 +277,16 @@ def _why(reason: str) -> str:
 
 
 def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
-                  not_identifiable: dict, units: str, verdict: Verdict | None = None) -> str:
+                  not_identifiable: dict, units: str, verdict: Verdict | None = None,
+                  stops: str = "") -> str:
     """The evidence paragraph: each step's net score and its cause's own clause, the gain,
-    the verdict (explained within noise only when it is)."""
+    the verdict (explained within noise only when it is), the end stops left out (``stops``,
+    a sentence, or ``""``)."""
     u = unit_labels(units)
     cannot = "".join(f" {c}: {_why(r)}." for c, r in not_identifiable.items())
     said = "" if verdict is None else " " + verdict.sentence()
+    if stops:
+        said += " " + _capital(stops) + "."
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
         return (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque residual "

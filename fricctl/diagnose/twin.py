@@ -184,7 +184,8 @@ def _make_twin(base: Baseline, model: JointModel, noise: np.ndarray,
                             delay=int(round(delay_in_samples(model, sig.ts))), noise=noise)
     run = Run(t=sig.t, torque=sim.torque_motor, position=sim.q_meas + sig.q[0], units=sig.units,
               source="effect-free twin of the record")
-    tsig = estimate_signals(run, sig.n_folds, cutoff=sig.cutoff)
+    # read as the record is: its filter, and its end stops' contacts left out
+    tsig = estimate_signals(run, sig.n_folds, cutoff=sig.cutoff, exclude=sig.excluded)
     tbase = _twin_baseline(tsig, base)
     problem = Problem(tsig, tbase.columns)
     cv = cross_validate(problem, lambda f: [empty_variant(tbase.target)])

@@ -64,7 +64,8 @@ from .idim import IdimRecipe
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names
 from .signals import Signals, estimate_signals
-from .simulation import RecordLoop, simulate_record
+from .simulation import RecordLoop, initial_velocity, simulate_record
+from .stops import EndStops, end_stops
 from .uncertainty import block_covariance
 
 __all__ = ["identify_record", "equation_error", "record_columns", "validate", "held_out_halves",
@@ -175,7 +176,11 @@ class RecordIdentification:
     """Validation on held-out blocks (each with the estimate of the other blocks), or None
     when not asked."""
     notes: tuple = ()
-    """How the reported standard errors were obtained, beyond the block covariance."""
+    """How the reported standard errors were obtained, beyond the block covariance, and
+    what of the record was left out (an end stop's contacts)."""
+    end_stops: EndStops | None = None
+    """The record's end stops (:func:`~fricctl.identify.stops.end_stops`): their contacts
+    are out of the equation error, and the replay runs only the segments clear of them."""
 
     @property
     def warnings(self) -> tuple:
@@ -199,6 +204,7 @@ class RecordIdentification:
             zip(self.refined.names, self.refined.estimates, self.refined.std)}
         out["cutoff_hz"] = self.cutoff
         out["std_notes"] = list(self.notes)
+        out["end_stops"] = None if self.end_stops is None else self.end_stops.as_dict()
         out["held_out"] = None if self.held_out is None else self.held_out.as_dict()
         return out
 
@@ -249,24 +255,52 @@ class _Fit:
             self.refined.std) if abs(a - b) > DISAGREEMENT_SIGMAS * math.hypot(sa, sb))
 
 
-def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None) -> _Fit:
+def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None,
+         masks=None) -> _Fit:
     """Steps 1 and 2 on the segments of one record (one segment, or the pieces left by a
     deleted block, read through the whole record's filter ``cutoff``).  A jackknife fit
     starts from its own equation error, never from the whole record's optimum: started
     there, the stick-slip roughness of the simulation error keeps it close by and the
-    jackknife's spread shrinks (the truth 5 stds off on a 500 Hz / 2000-count record)."""
-    sigs = [estimate_signals(r, 1, cutoff=cutoff) for r in segments]
+    jackknife's spread shrinks (the truth 5 stds off on a 500 Hz / 2000-count record).
+
+    ``masks`` (per segment, bool per sample, or None) are an end stop's contacts: left out
+    of the equation error (with the filter's reach) and of the replay, which runs the
+    stretches between them (a rigid replay cannot pass a stop)."""
+    masks = [None] * len(segments) if masks is None else list(masks)
+    sigs = [estimate_signals(r, 1, cutoff=cutoff, exclude=m) for r, m in zip(segments, masks)]
     cutoff = sigs[0].cutoff
     start = equation_error(sigs, model, offset)
     refined, why = None, ""
     if refine:
+        recipe = _didim_recipe(sigs[0])
+        replayed = [p for r, m in zip(segments, masks) for p in _clear_pieces(r, m, recipe)]
         try:
-            refined = didim(segments[0], model=model, offset=offset, loop=_REPLAY,
-                            output="position", recipe=_didim_recipe(sigs[0]),
-                            start=start, also=tuple(segments[1:]))
+            if not replayed:
+                raise ValueError(f"no stretch of {_min_piece(recipe)} samples clear of the end "
+                                 f"stops' contacts to replay")
+            refined = didim(replayed[0], model=model, offset=offset, loop=_REPLAY,
+                            output="position", recipe=recipe,
+                            start=start, also=tuple(replayed[1:]))
         except ValueError as err:
             why = str(err)
     return _Fit(cutoff=cutoff, start=start, refined=refined, why_not=why)
+
+
+def _min_piece(recipe: IdimRecipe) -> int:
+    """Fewest samples of a stretch between contacts that is replayed: four of the replay's
+    start-up borders (its first velocity is a filtered estimate) [samples]."""
+    return 4 * recipe.border
+
+
+def _clear_pieces(run: Run, mask, recipe: IdimRecipe) -> list:
+    """``run`` cut at the contacts of ``mask`` (None: ``run`` whole): the stretches clear of
+    them, those of at least :func:`_min_piece` samples."""
+    if mask is None or not np.any(mask):
+        return [run]
+    clear = np.concatenate([[False], ~np.asarray(mask, bool), [False]])
+    edges = np.flatnonzero(np.diff(clear.astype(int)))
+    return [_piece(run, int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])
+            if b - a >= _min_piece(recipe)]
 
 
 #: The DIDIM of the default: the record's torque replayed (no controller model).
@@ -276,7 +310,8 @@ JACKKNIFE_BLOCKS = 4
 
 
 def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
-                    refine: bool = True, validate: bool = True) -> RecordIdentification:
+                    refine: bool = True, validate: bool = True,
+                    stops: EndStops | None = None) -> RecordIdentification:
     """Identify a record's rigid-joint model: equation error, DIDIM, validation, jackknife.
 
     Parameters
@@ -294,6 +329,11 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
         larger (:data:`JACKKNIFE_BLOCKS` more fits of three quarters of the record).
         Without, the estimates are the same and the std is the block covariance's alone
         (the diagnosis's baseline).
+    stops : EndStops, optional
+        The record's end stops, when already found (default:
+        :func:`~fricctl.identify.stops.end_stops` of ``run``).  Their contacts are left out
+        of the equation error, the replay (DIDIM and the validation) runs the stretches
+        clear of them, and :attr:`RecordIdentification.notes` says so.
 
     Returns
     -------
@@ -315,11 +355,22 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
     v.choice("model", model, MODELS)
     refine = v.flag("refine", refine)
     validate = v.flag("validate", validate)
-    fit = _fit([run], model, offset, refine)
+    if stops is None:
+        stops = end_stops(run)
+    else:
+        v.instance("stops", stops, EndStops, "the record's EndStops (fricctl.identify.stops)")
+        if stops.mask.shape != (run.n_samples,):
+            raise ValueError(f"stops: a mask of {stops.mask.size} samples for a record of "
+                             f"{run.n_samples}: the end stops of another record")
+    mask = stops.mask if stops.found else None
+    fit = _fit([run], model, offset, refine, masks=[mask])
     chosen = fit.chosen
     held, std, extra = None, chosen.std, []
+    if stops.found:
+        extra.append(f"{stops.description}; the replay runs the stretches between the "
+                     f"contacts")
     if validate:
-        held, jack = _folds(run, model, offset, refine, fit)
+        held, jack = _folds(run, model, offset, refine, fit, mask)
         if jack is not None:
             std = np.maximum(chosen.std, jack)
             grown = [n for n, a, b in zip(chosen.names, chosen.std, jack) if b > a]
@@ -332,7 +383,8 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
     warnings += _judge(fit, result, held)
     result = replace(result, warnings=tuple(dict.fromkeys(warnings)))
     return RecordIdentification(result=result, start=fit.start, refined=fit.refined,
-                                cutoff=fit.cutoff, held_out=held, notes=tuple(extra))
+                                cutoff=fit.cutoff, held_out=held, notes=tuple(extra),
+                                end_stops=stops)
 
 
 def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
@@ -379,7 +431,7 @@ def _piece(run: Run, lo: int, hi: int) -> Run:
                reference=ref, source=f"{run.source} [{lo}:{hi}]", units=run.units)
 
 
-def validate(result: IdentificationResult, run) -> Validation:
+def validate(result: IdentificationResult, run, *, exclude=None) -> Validation:
     """Check an estimate on a record: replay the record's torque with it (position fit) and
     predict its low-passed torque along the measured motion (equation-error fit).
 
@@ -390,6 +442,10 @@ def validate(result: IdentificationResult, run) -> Validation:
     run : fricctl.datasets.Run
         The record to check it on (EMPS: ``DATA_EMPS_PULSES.mat`` for an estimate of
         ``DATA_EMPS.mat``).
+    exclude : ndarray of bool, optional
+        Samples left out (an end stop's contacts, :attr:`~fricctl.identify.stops.EndStops.mask`):
+        out of the equation error with the filter's reach, and the replay run on each
+        stretch clear of them (NaN between them in the curves).
 
     Raises
     ------
@@ -402,15 +458,28 @@ def validate(result: IdentificationResult, run) -> Validation:
     if model not in LINEAR_MODELS or tuple(result.names) != model_names(model, offset):
         raise ValueError(f"result: a fit of a linear model ({', '.join(LINEAR_MODELS)}) is "
                          f"needed, not {model!r} over {result.names}")
-    sig = estimate_signals(run, 1)
-    sim = simulate_record(run, result.parameters, _REPLAY, initial_velocity=float(sig.w[0]))
-    y = run.position - run.position.mean()
-    yhat = sim.position - sim.position.mean()
+    sig = estimate_signals(run, 1, exclude=exclude)
+    if exclude is None or not np.any(exclude):
+        sim = simulate_record(run, result.parameters, _REPLAY, initial_velocity=float(sig.w[0]))
+        y = run.position - run.position.mean()
+        yhat = sim.position - sim.position.mean()
+        tt = run.t.copy()
+    else:  # each stretch clear of the contacts replayed from its own start
+        recipe = _didim_recipe(sig)
+        pieces = _clear_pieces(run, exclude, recipe)
+        if not pieces:
+            raise ValueError(f"no stretch of {_min_piece(recipe)} samples clear of the end "
+                             f"stops' contacts to replay")
+        sims = [simulate_record(p, result.parameters, _REPLAY, initial_velocity=initial_velocity(
+            p, recipe.cutoff, recipe.filter_order)).position for p in pieces]
+        y = np.concatenate([x for p in pieces for x in (p.position - p.position.mean(), [np.nan])])
+        yhat = np.concatenate([x for q in sims for x in (q - q.mean(), [np.nan])])
+        tt = np.concatenate([x for p in pieces for x in (p.t, [np.nan])])
     m = sig.moving
     tm = sig.torque_target(0)[m]
     tp = record_columns(sig, model, offset)[m] @ result.estimates
     return Validation(simulation_fit=_fit_percent(y, yhat), equation_fit=_fit_percent(tm, tp),
-                      t=run.t.copy(), measured=y, simulated=yhat, torque_t=sig.t[m],
+                      t=tt, measured=y, simulated=yhat, torque_t=sig.t[m],
                       torque_measured=tm, torque_predicted=tp)
 
 
@@ -448,7 +517,7 @@ def _merged(parts) -> Validation:
                       torque_predicted=cat("torque_predicted"))
 
 
-def _folds(run: Run, model, offset, refine: bool, full: _Fit) -> tuple:
+def _folds(run: Run, model, offset, refine: bool, full: _Fit, mask=None) -> tuple:
     """Delete each of :data:`JACKKNIFE_BLOCKS` blocks in turn: fit the rest (its pieces
     replayed together) and validate on the deleted block.  Returns the merged
     :class:`Validation` (NaN between blocks in the curves) and the jackknife's standard
@@ -457,14 +526,19 @@ def _folds(run: Run, model, offset, refine: bool, full: _Fit) -> tuple:
     n, k = run.n_samples, JACKKNIFE_BLOCKS
     edges = [round(i * n / k) for i in range(k + 1)]
 
+    def cut(a, b):
+        return None if mask is None else mask[a:b]
+
     def fold(i):
         lo, hi = edges[i], edges[i + 1]
-        keep = [_piece(run, a, b) for a, b in ((0, lo), (hi, n)) if b - a > 0]
-        f = _fit(keep, model, offset, refine and full.refined is not None, full.cutoff)
+        spans = [(a, b) for a, b in ((0, lo), (hi, n)) if b - a > 0]
+        f = _fit([_piece(run, a, b) for a, b in spans], model, offset,
+                 refine and full.refined is not None, full.cutoff,
+                 masks=[cut(a, b) for a, b in spans])
         est = f.chosen
         if est.method != full.chosen.method:
             raise ValueError(f"block {i + 1} of {k}: {f.why_not or 'no refinement'}")
-        return est.estimates, validate(est, _piece(run, lo, hi))
+        return est.estimates, validate(est, _piece(run, lo, hi), exclude=cut(lo, hi))
 
     try:
         # the replays release the GIL: two threads use both cores of a small machine

@@ -41,6 +41,14 @@ BAND_MARGIN = 10.0
 #: Highest low-pass cut-off, as a fraction of the sample rate: half the Nyquist frequency
 #: (the zero-phase 4th-order Butterworth still attenuates 48 dB at Nyquist there) [-].
 MAX_CUTOFF = 0.25
+#: Samples left out (``exclude`` of :func:`estimate_signals`: an end stop's impacts) take with
+#: them every sample at which the low-pass's response to an impulse there still exceeds this
+#: fraction of its peak [-].  An impact is a momentum step far above the drive's own braking
+#: (3-40 times on the package's bench), and the filtered torque residual it leaves rings at
+#: the cut-off: within 1/fc of it (the rest guard) the residual measured 9-12 times the
+#: record's elsewhere on two seeded stop records, 2.3-2.7 times within 2/fc, at the record's
+#: level beyond 3/fc; the ringing read as a resonance.  At 1e-3 the reach is 2.5-3.8/fc.
+EXCLUDE_LEVEL = 1e-3
 #: Sample times a diagnosis reads [s]: 1 us to 10 s (a drive's record is sampled at 0.1 Hz to
 #: 1 MHz; beyond, the acceleration's 1/Ts^2 and the filters' products leave double precision).
 SAMPLE_TIME_RANGE = (1e-6, 10.0)
@@ -123,6 +131,10 @@ class Signals:
     """The band the excitation reaches (:func:`motion_band`) [Hz]."""
     units: str
     """``"rotary"`` or ``"linear"``."""
+    excluded: np.ndarray | None = None
+    """The samples left out of the equation error by the caller (``exclude`` of
+    :func:`estimate_signals`: an end stop's contacts), or None; a twin of the record is
+    read with the same exclusion."""
 
     def filt(self, x):
         """Low-pass of ``x`` with the samples at rest zeroed.
@@ -182,6 +194,16 @@ def motion_band(q: np.ndarray, ts: float, resolution: float, *,
     return float(f[above[-1]]) if above.size else float(f[np.argmax(low)])
 
 
+def _impulse_reach(b, a, fc_ts: float) -> int:
+    """Samples either side of an impulse over which the zero-phase low-pass ``(b, a)``
+    responds above :data:`EXCLUDE_LEVEL` of its peak (``fc_ts``: cut-off over sample rate)."""
+    half = int(math.ceil(20.0 / fc_ts)) + 8
+    x = np.zeros(2 * half + 1)
+    x[half] = 1.0
+    h = np.abs(zero_phase_filter(b, a, x))
+    return int(np.max(np.abs(np.flatnonzero(h > EXCLUDE_LEVEL * h.max()) - half)))
+
+
 def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = None,
                      cutoff: float | None = None) -> Signals:
     """Velocity, acceleration, direction, rest and the blocks of ``run`` (see the module notes).
@@ -190,7 +212,8 @@ def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = Non
     it the encoder sees its own quantisation more than the motion), at most
     :data:`MAX_CUTOFF` times the sample rate (or ``cutoff`` [Hz] when given: a twin of a
     record is read through the record's own filter).  ``exclude`` (bool per sample) leaves
-    samples out of the equation error, with the filter's reach around them.
+    samples out of the equation error, with the filter's reach around them (where its
+    response to an impulse exceeds :data:`EXCLUDE_LEVEL` of its peak).
     """
     lo, hi = SAMPLE_TIME_RANGE
     ts = v.real("the record's sample time (time column in seconds)", run.sample_time,
@@ -215,7 +238,11 @@ def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = Non
     edge[:border] = edge[-border:] = True
     moving = (~still) & (~edge)
     if exclude is not None:
-        reach = np.convolve(np.asarray(exclude, float), np.ones(2 * guard + 1), mode="same") > 0
+        exclude = np.asarray(exclude, dtype=bool)
+        if exclude.shape != (n,):
+            raise ValueError(f"exclude: one flag per sample ({n}), got shape {exclude.shape}")
+        span = max(_impulse_reach(b, a, cutoff * ts), guard)
+        reach = np.convolve(exclude.astype(float), np.ones(2 * span + 1), mode="same") > 0
         moving &= ~reach
     if moving.sum() < 50 * n_folds:
         raise ValueError(f"too little motion: {int(moving.sum())} sliding samples for {n_folds} "
@@ -246,7 +273,8 @@ def estimate_signals(run: Run, n_folds: int, *, exclude: np.ndarray | None = Non
     return Signals(t=np.asarray(run.t, float), ts=ts, tm=np.asarray(run.torque, float), q=q,
                    qf=qf, w=w, seff=seff, a=acc, lp=(b, a), slide=(~still).astype(float),
                    moving=moving, rest=still, folds=folds, n_folds=n_folds, resolution=res,
-                   cutoff=cutoff, band=band, units=run.units)
+                   cutoff=cutoff, band=band, units=run.units,
+                   excluded=None if exclude is None else np.asarray(exclude, bool).copy())
 
 
 def _reversal_signs(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
