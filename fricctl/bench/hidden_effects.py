@@ -69,9 +69,8 @@ every other draw, so a seed gives the same record with or without it, apart from
   3 Hz, phi uniform;
 * ``torque_gain``: a torque-sensor (or torque-constant) scale error, recorded torque =
   ``(1 + e) *`` the torque the drive applies, ``|e|`` 5 .. 15 % (times ``strength``), either
-  sign.  Without a nominal model the baseline's I, b and Fc absorb it exactly (the record is
-  then effect-free to the diagnosis); it is foreign against the nominal model
-  (``nominal=True``).
+  sign.  Without a nominal model the baseline's I, b and Fc would absorb it exactly: it
+  implies ``nominal=True`` (it is foreign against the nominal model).
 
 Notes
 -----
@@ -101,7 +100,8 @@ from ..diagnose import causes
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION", "LINEAR_ENCODER_RESOLUTION", "EXCITATIONS", "AXES", "TRAVEL",
-           "PAIRS", "compatible", "TORQUE_LIMIT", "TOP_SPEED", "FOREIGN"]
+           "PAIRS", "compatible", "TORQUE_LIMIT", "TOP_SPEED", "FOREIGN",
+           "ForeignEffect"]
 
 #: Effects the generator hides without a nominal model (``none`` included), from the registry.
 HIDDEN_CAUSES = (causes.NONE,) + tuple(c.name for c in causes.candidates(nominal=False))
@@ -420,16 +420,32 @@ def _torque_gain(rng, act, t):
     return _Foreign(disturbance=None, gain=1.0 + error, magnitude=dict(error=error))
 
 
+@dataclass(frozen=True, kw_only=True)
+class ForeignEffect:
+    """An effect the bench hides that is not a cause of the registry."""
+
+    name: str
+    """Its name, the value of ``foreign=``."""
+    physical: str
+    """The effect in one line."""
+    draw: object
+    """``draw(rng, actuator, t)`` -> the drawn effect (None for ``"none"``)."""
+    nominal: bool = False
+    """True when it is foreign only against a nominal model (the refitted baseline absorbs
+    it): it implies ``nominal=True``."""
+
+
 #: Effects the bench hides that are not causes of the registry (``foreign=`` of
-#: :func:`hidden_effect_record`; the module notes give their ranges): name -> (one line,
-#: ``draw(rng, actuator, t)``).
-FOREIGN = {
-    "none": ("nothing foreign", None),
-    "time_sine": ("a periodic torque disturbance in time, received by the joint, unrelated to "
-                  "position or speed", _time_sine),
-    "torque_gain": ("a torque-sensor scale error: the recorded torque is (1 + e) times the "
-                    "applied one", _torque_gain),
-}
+#: :func:`hidden_effect_record`; the module notes give their ranges), by name.
+FOREIGN = {f.name: f for f in (
+    ForeignEffect(name="none", physical="nothing foreign", draw=None),
+    ForeignEffect(name="time_sine", draw=_time_sine,
+                  physical="a periodic torque disturbance in time, received by the joint, "
+                           "unrelated to position or speed"),
+    ForeignEffect(name="torque_gain", draw=_torque_gain, nominal=True,
+                  physical="a torque-sensor scale error: the recorded torque is (1 + e) times "
+                           "the applied one"),
+)}
 
 
 # ----------------------------------------------------------------------------- generator
@@ -454,7 +470,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         Ts [s], 0.0005 .. 0.005 (2 kHz .. 200 Hz).
     nominal : bool
         Also return the nominal model (the true baseline actuator).  Implied by
-        the nominal-model causes.
+        the nominal-model causes and by a foreign effect foreign only against it.
     noise : bool
         Torque noise on (default) or off (the draws are made either way, so a seed
         gives the same record apart from the noise).
@@ -528,7 +544,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     if len(names) == 2 and not (causes.NONE not in names and compatible(*names)):
         raise ValueError(f"cause: the bench cannot hide {names[0]!r} and {names[1]!r} together "
                          f"(see compatible())")
-    nominal = nominal or any(c in NOMINAL_CAUSES for c in names)
+    nominal = nominal or any(c in NOMINAL_CAUSES for c in names) or FOREIGN[foreign].nominal
 
     n = int(round(duration / ts))
     actuator, noise_std, meas_std = _actuator(rng, axis, ts, duration, strength, sensors)
@@ -546,7 +562,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     meas_noise = (rng.normal(0.0, meas_std, n) * (1.0 if noise else 0.0) if meas_std > 0
                   else None)
     alien = (_Foreign(disturbance=None, gain=1.0, magnitude={}) if foreign == "none"
-             else FOREIGN[foreign][1](rng, actuator, np.arange(n) * ts))
+             else FOREIGN[foreign].draw(rng, actuator, np.arange(n) * ts))
     if alien.disturbance is not None:
         torque_noise = torque_noise + alien.disturbance
     sim = simulate_schedule(effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
