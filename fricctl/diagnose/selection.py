@@ -16,7 +16,9 @@ held-out residual as a scale error of the recorded torque (:func:`torque_scale`:
 ``1 + e``, a torque-sensor gain or torque-constant error, which is not a cause of the list):
 a record whose residual is the model's own torque scaled cannot tell a friction level, an
 inertia or a load-dependent friction from it, and naming them would be a wrong cause (issue
-21, item 5).  One the scale beats is set aside for the step, not dropped: once another
+21, item 5).  A candidate the scale beats is still told when, on top of the scale, it
+removes :data:`MIN_SCORE` of what the scale leaves (an effect of its own beside a scale
+error).  One the scale beats is set aside for the step, not dropped: once another
 cause is named the scale may no longer match it.  Without a nominal model the refitted
 baseline absorbs such a scale exactly.
 """
@@ -35,7 +37,7 @@ from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
-           "torque_scale", "COLLINEAR_SHARE", "MIN_SCORE"]
+           "torque_scale", "TorqueScale", "COLLINEAR_SHARE", "MIN_SCORE"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
@@ -310,22 +312,34 @@ def _fixed_for(selected: tuple) -> Callable[[int], tuple]:
     return fixed_for
 
 
-def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> tuple:
-    """A scale error of the recorded torque, held out as the candidates are: ``(test, gain)``,
-    the held-out SSE per block and the fitted ``1 + e`` on all data, or ``(None, nan)``
-    without a nominal model (the refitted baseline absorbs a scale exactly).
+@dataclass(frozen=True, kw_only=True, eq=False)
+class TorqueScale:
+    """A scale error of the recorded torque held out as the candidates are (:func:`torque_scale`)."""
+
+    test: np.ndarray | None
+    """Held-out SSE per block with the scale in the model (None without a nominal model)."""
+    gain: float
+    """The fitted ``1 + e`` on all data [-] (NaN without a nominal model)."""
+    variant: object = None
+    """Its column, as a :class:`~fricctl.diagnose.crossval.Variant`."""
+
+
+def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> TorqueScale:
+    """A scale error of the recorded torque, held out as the candidates are, after the causes
+    ``selected`` (they stay in the model with their own terms); without a nominal model
+    nothing (the refitted baseline absorbs a scale exactly).
 
     The column is the nominal model's low-passed torque along the measured motion
     (:attr:`Baseline.model_torque`); a recorded torque ``(1 + e)`` times the applied one
-    leaves the nominal residual ``e`` times it, plus noise.  The causes ``selected`` so far
-    stay in the model with their own terms.
+    leaves the nominal residual ``e`` times it, plus noise.
     """
     if base.fit_mode:
-        return None, math.nan
+        return TorqueScale(test=None, gain=math.nan)
     variant = base.variant("torque_scale", base.model_torque, (0,))
     cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
     fit = full_fit(problem, [variant], tuple(s.variant for s in selected))
-    return cv.test, (math.nan if fit is None else 1.0 + float(fit.theta[-1]))
+    return TorqueScale(test=cv.test, gain=math.nan if fit is None else 1.0 + float(fit.theta[-1]),
+                       variant=variant)
 
 
 def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:
@@ -374,7 +388,7 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
             continue
         if scale is None:  # asked once per step, and only when a candidate can be told
             scale = torque_scale(problem, state.base, state.selected)
-        reason = _scale_matches(scored[name], scale, sse_prev)
+        reason = _scale_matches(problem, state, scored[name], scale, sse_prev)
         if reason is not None:  # set aside for this step only: once another cause is in,
             aside[name] = reason  # the scale may no longer match it
         else:
@@ -382,21 +396,32 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
     return _Verdict(told=tuple(told), reasons=reasons, aside=aside)
 
 
-def _scale_matches(s: "_Scored", scale: tuple, sse_prev: float) -> str | None:
+def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: TorqueScale,
+                   sse_prev: float) -> str | None:
     """Why a scale error of the recorded torque explains the record better than the candidate
-    ``s`` (held out), or None (no nominal model, or the candidate removes at least as much)."""
-    test, gain = scale
-    if test is None or not np.all(np.isfinite(test)):
+    ``s`` and leaves it nothing to add (held out), or None: no nominal model, the candidate
+    removes at least as much, or on top of the scale it still removes :data:`MIN_SCORE` of
+    what the scale leaves (an effect of its own beside a scale error)."""
+    if scale.test is None or not np.all(np.isfinite(scale.test)):
         return None
-    sse_scale, sse_cause = float(np.sum(test)), float(np.sum(s.test))
+    sse_scale, sse_cause = float(np.sum(scale.test)), float(np.sum(s.test))
     # strictly more, beyond round-off: once an inertia is named, a scale of the model's torque
     # spans what a friction level does (the same fit): the cause of the list is kept
     if sse_scale >= sse_cause - 1e-9 * sse_prev:
         return None
+    fixed_for = _fixed_for(state.selected)
+    cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
+                        lambda f: fixed_for(f) + (scale.variant,))
+    both = float(np.sum(np.where(np.isnan(cv.test), scale.test, cv.test)))
+    on_top = 1.0 - both / sse_scale if sse_scale > 0 else 0.0
+    if on_top >= MIN_SCORE:
+        return None
     return (f"tried, rejected: a scale error of the recorded torque (the model's torque x "
-            f"{gain:.3f}: a torque-sensor gain or torque-constant error, not a cause of the "
-            f"list) removes more of the held-out residual ({100 * (1 - sse_scale / sse_prev):.0f} "
-            f"% against {100 * s.gross:.0f} %): the record cannot tell the two apart")
+            f"{scale.gain:.3f}: a torque-sensor gain or torque-constant error, not a cause of "
+            f"the list) removes more of the held-out residual "
+            f"({100 * (1 - sse_scale / sse_prev):.0f} % against {100 * s.gross:.0f} %) and the "
+            f"term adds {100 * max(on_top, 0.0):.0f} % on top of it: the record cannot tell the "
+            f"two apart")
 
 
 def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | None,
