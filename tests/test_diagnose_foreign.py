@@ -6,8 +6,8 @@ the floor.
 A cause named on such a record is wrong unless its extension is the foreign effect's physics;
 no cause of the registry models a torque disturbance in time or a scale error of the torque
 sensor, so *every* cause named on these records is counted wrong (``thermal_drift`` on a time
-sinusoid, ``inertia`` + ``friction_scale`` or ``load_dependent`` on a torque gain: each fits
-part of it, none is what happened).
+sinusoid, ``inertia`` + ``friction_scale`` or ``load_dependent`` on a torque gain, ``inertia``
++ ``drag`` on a position gain: each fits part of it, none is what happened).
 
 Seeds: ``[7100, i]``, ``[7300, i]``, ``[7600, i]`` and ``[7700, i]`` were used while building
 the method (not here), and ``[7500, i]``: the first sweep, which found ``load_dependent``
@@ -17,6 +17,7 @@ for the slow sweep (not looked at before the fix).
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -56,6 +57,14 @@ def test_foreign_effects_are_drawn_after_everything_else():
     np.testing.assert_array_equal(gained.run.position, plain.run.position)
     np.testing.assert_allclose(gained.run.torque, (1.0 + e) * plain.run.torque, rtol=1e-12,
                                atol=0.0)
+    # a position gain: the same torque, the positions (and reference) scaled
+    scaled = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
+                                  foreign="position_gain")
+    ep = scaled.foreign_magnitude["error"]
+    assert 0.05 <= abs(ep) <= 0.15 and scaled.nominal is not None
+    np.testing.assert_array_equal(scaled.run.torque, plain.run.torque)
+    np.testing.assert_allclose(scaled.run.position, (1.0 + ep) * plain.run.position, rtol=1e-12,
+                               atol=0.0)
     # a disturbance in time moves the joint; what was drawn before it is the same
     sine = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
                                 foreign="time_sine")
@@ -84,12 +93,14 @@ def test_no_cause_for_a_foreign_effect(name, seed):
     if not d.explained:
         assert "within noise" not in d.evidence and "within noise" not in d.report()
     if FOREIGN[name].nominal:
-        # every candidate that reached the score was tried against a scale of the recorded
-        # torque and rejected, the fitted scale within 1 % of the true one (noise: 1-3 % of Fc)
+        # a sensor's scale error: the candidates that reached the score were tried against a
+        # scale of that sensor and rejected, the fitted scale within 1 % of the true one
+        # (torque noise 1-3 % of Fc)
         gain = 1.0 + rec.foreign_magnitude["error"]
-        scale = [r for r in d.not_identifiable.values() if "scale error of the recorded" in r]
+        sensor = "scale error of the recorded " + name.split("_")[0]  # torque, position
+        scale = [r for r in d.not_identifiable.values() if sensor in r]
         assert scale, d.report()
-        fitted = float(scale[0].split("x ")[1].split(":")[0])
+        fitted = float(re.search(r" x (\d+\.\d+)", scale[0]).group(1))
         assert fitted == pytest.approx(gain, rel=0.01)
 
 

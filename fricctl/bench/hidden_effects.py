@@ -70,13 +70,17 @@ every other draw, so a seed gives the same record with or without it, apart from
 * ``torque_gain``: a torque-sensor (or torque-constant) scale error, recorded torque =
   ``(1 + e) *`` the torque the drive applies, ``|e|`` 5 .. 15 % (times ``strength``), either
   sign.  Without a nominal model the baseline's I, b and Fc would absorb it exactly: it
-  implies ``nominal=True`` (it is foreign against the nominal model).
+  implies ``nominal=True`` (it is foreign against the nominal model);
+* ``position_gain``: a position-sensor scale error (a wrong encoder count or gear ratio),
+  recorded position (and reference) = ``(1 + e) *`` the encoder's reading, ``|e|`` 5 .. 15 %
+  (times ``strength``), either sign; the refitted I and b would absorb it: it implies
+  ``nominal=True`` too.
 
 Notes
 -----
 Left out: a friction law of a shape no cause represents (a sub-linear viscous term, a smooth
 Coulomb transition): the bench simulates the registered friction laws only, and a test effect
-is not worth a public law; a position-sensor scale error.  Left out as well: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
+is not worth a public law.  Left out as well: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
 delay is whole samples); more than two effects at once.
 """
 
@@ -403,6 +407,8 @@ class _Foreign:
     """Torque added to what the joint receives, per sample [N*m], or None."""
     gain: float
     """Recorded torque over the torque the drive applies [-]."""
+    position_gain: float = 1.0
+    """Recorded position over the encoder's true reading [-]."""
     magnitude: dict
     """The drawn parameters (SI)."""
 
@@ -418,6 +424,12 @@ def _time_sine(rng, act, t):
 def _torque_gain(rng, act, t):
     error = float(rng.uniform(0.05, 0.15) * rng.choice((-1.0, 1.0)) * act.strength)
     return _Foreign(disturbance=None, gain=1.0 + error, magnitude=dict(error=error))
+
+
+def _position_gain(rng, act, t):
+    error = float(rng.uniform(0.05, 0.15) * rng.choice((-1.0, 1.0)) * act.strength)
+    return _Foreign(disturbance=None, gain=1.0, position_gain=1.0 + error,
+                    magnitude=dict(error=error))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -445,6 +457,9 @@ FOREIGN = {f.name: f for f in (
     ForeignEffect(name="torque_gain", draw=_torque_gain, nominal=True,
                   physical="a torque-sensor scale error: the recorded torque is (1 + e) times "
                            "the applied one"),
+    ForeignEffect(name="position_gain", draw=_position_gain, nominal=True,
+                  physical="a position-sensor scale error (encoder count, gear ratio): the "
+                           "recorded position is (1 + e) times the encoder's reading"),
 )}
 
 
@@ -593,7 +608,8 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     recorded = sim.torque_motor * alien.gain
     if meas_noise is not None:
         recorded = recorded + meas_noise
-    run = Run(t=sim.t, torque=recorded, position=sim.q_meas, reference=sim.reference, units=axis,
+    run = Run(t=sim.t, torque=recorded, position=sim.q_meas * alien.position_gain,
+              reference=sim.reference * alien.position_gain, units=axis,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
     ordered = tuple(c for c in causes.CAUSES if c in names)
     return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,

@@ -37,7 +37,8 @@ from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
-           "torque_scale", "TorqueScale", "COLLINEAR_SHARE", "MIN_SCORE"]
+           "torque_scale", "position_scale", "sensor_scales", "SensorScale", "COLLINEAR_SHARE",
+           "MIN_SCORE"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
@@ -313,18 +314,34 @@ def _fixed_for(selected: tuple) -> Callable[[int], tuple]:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class TorqueScale:
-    """A scale error of the recorded torque held out as the candidates are (:func:`torque_scale`)."""
+class SensorScale:
+    """A scale error of a sensor, held out as the candidates are (:func:`torque_scale`,
+    :func:`position_scale`)."""
 
     test: np.ndarray | None
     """Held-out SSE per block with the scale in the model (None without a nominal model)."""
     gain: float
-    """The fitted ``1 + e`` on all data [-] (NaN without a nominal model)."""
+    """The fitted scale of the sensor, recorded over true, on all data [-] (NaN: none)."""
     variant: object = None
     """Its column, as a :class:`~fricctl.diagnose.crossval.Variant`."""
+    what: str = ""
+    """The error in words, with the fitted gain (for the reason a candidate is set aside)."""
 
 
-def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> TorqueScale:
+#: Relative step of the finite difference of the nominal friction along a scaled motion [-].
+_MOTION_STEP = 1e-3
+
+
+def _scale(problem: Problem, base: Baseline, selected: tuple, column: np.ndarray, name: str,
+           gain_of: Callable[[float], float], what: Callable[[float], str]) -> SensorScale:
+    variant = base.variant(name, column, (0,))
+    cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
+    fit = full_fit(problem, [variant], tuple(s.variant for s in selected))
+    gain = math.nan if fit is None else gain_of(float(fit.theta[-1]))
+    return SensorScale(test=cv.test, gain=gain, variant=variant, what=what(gain))
+
+
+def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> SensorScale:
     """A scale error of the recorded torque, held out as the candidates are, after the causes
     ``selected`` (they stay in the model with their own terms); without a nominal model
     nothing (the refitted baseline absorbs a scale exactly).
@@ -334,12 +351,47 @@ def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> Torq
     leaves the nominal residual ``e`` times it, plus noise.
     """
     if base.fit_mode:
-        return TorqueScale(test=None, gain=math.nan)
-    variant = base.variant("torque_scale", base.model_torque, (0,))
-    cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
-    fit = full_fit(problem, [variant], tuple(s.variant for s in selected))
-    return TorqueScale(test=cv.test, gain=math.nan if fit is None else 1.0 + float(fit.theta[-1]),
-                       variant=variant)
+        return SensorScale(test=None, gain=math.nan)
+    return _scale(problem, base, selected, base.model_torque, "torque_scale",
+                  lambda c: 1.0 + c,
+                  lambda g: f"a scale error of the recorded torque (the model's torque x {g:.3f}: "
+                            f"a torque-sensor gain or torque-constant error, not a cause of the "
+                            f"list)")
+
+
+def position_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> SensorScale:
+    """A scale error of the recorded position (an encoder count or a gear ratio), held out as
+    the candidates are, after the causes ``selected``; without a nominal model nothing (the
+    refitted inertia and viscous coefficient absorb it).
+
+    A position recorded ``(1 + e)`` times the true one makes the nominal model's torque
+    along the recorded motion ``pred((1 + e) q)``: the nominal residual is, to first order,
+    ``-e/(1 + e)`` times the column ``d pred(s q)/ds`` at ``s = 1`` -- ``I*a`` plus the
+    derivative of the nominal friction along the scaled motion (a finite difference; a
+    Coulomb level does not change, a viscous term does).  An elastic nominal model's load
+    term is left out of the column.
+    """
+    if base.fit_mode:
+        return SensorScale(test=None, gain=math.nan)
+    sig, nominal = base.sig, base.nominal
+    f0 = nominal.friction.along_motion(sig.qf, sig.w, base.torque, sig.t)
+    f1 = nominal.friction.along_motion(sig.qf * (1 + _MOTION_STEP), sig.w * (1 + _MOTION_STEP),
+                                       base.torque, sig.t)
+    column = nominal.inertia * sig.a + sig.filt((f1 - f0) / _MOTION_STEP)
+    units = base.labels
+    return _scale(problem, base, selected, column, "position_scale",
+                  lambda c: 1.0 / (1.0 + c) if c > -1.0 else math.inf,
+                  lambda g: f"a scale error of the recorded position (the motion x {g:.3f} of the "
+                            f"true one: an encoder count or gear ratio error, in "
+                            f"{units.position}, not a cause of the list)")
+
+
+def sensor_scales(problem: Problem, base: Baseline, selected: tuple = ()) -> tuple:
+    """The sensor scale errors a candidate must beat (nominal model only): the torque's and
+    the position's."""
+    if base.fit_mode:
+        return ()
+    return (torque_scale(problem, base, selected), position_scale(problem, base, selected))
 
 
 def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:
@@ -376,7 +428,7 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
     collinear with the model, or not identifiable by the cause's own test, is not told."""
     told, reasons, aside = [], {}, {}
     fixed = tuple(s.variant for s in state.selected)
-    scale = None
+    scales = None
     for name, score in ranking:
         if not score >= MIN_SCORE:
             continue
@@ -386,9 +438,10 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
         if reason is not None:
             reasons[name] = reason
             continue
-        if scale is None:  # asked once per step, and only when a candidate can be told
-            scale = torque_scale(problem, state.base, state.selected)
-        reason = _scale_matches(problem, state, scored[name], scale, sse_prev)
+        if scales is None:  # asked once per step, and only when a candidate can be told
+            scales = sensor_scales(problem, state.base, state.selected)
+        reason = next((r for r in (_scale_matches(problem, state, scored[name], sc, sse_prev)
+                                   for sc in scales) if r is not None), None)
         if reason is not None:  # set aside for this step only: once another cause is in,
             aside[name] = reason  # the scale may no longer match it
         else:
@@ -396,12 +449,12 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
     return _Verdict(told=tuple(told), reasons=reasons, aside=aside)
 
 
-def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: TorqueScale,
+def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: SensorScale,
                    sse_prev: float) -> str | None:
-    """Why a scale error of the recorded torque explains the record better than the candidate
-    ``s`` and leaves it nothing to add (held out), or None: no nominal model, the candidate
-    removes at least as much, or on top of the scale it still removes :data:`MIN_SCORE` of
-    what the scale leaves (an effect of its own beside a scale error)."""
+    """Why a sensor's scale error explains the record better than the candidate ``s`` and
+    leaves it nothing to add (held out), or None: no nominal model, the candidate removes at
+    least as much, or on top of the scale it still removes :data:`MIN_SCORE` of what the
+    scale leaves (an effect of its own beside a scale error)."""
     if scale.test is None or not np.all(np.isfinite(scale.test)):
         return None
     sse_scale, sse_cause = float(np.sum(scale.test)), float(np.sum(s.test))
@@ -416,9 +469,7 @@ def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: TorqueS
     on_top = 1.0 - both / sse_scale if sse_scale > 0 else 0.0
     if on_top >= MIN_SCORE:
         return None
-    return (f"tried, rejected: a scale error of the recorded torque (the model's torque x "
-            f"{scale.gain:.3f}: a torque-sensor gain or torque-constant error, not a cause of "
-            f"the list) removes more of the held-out residual "
+    return (f"tried, rejected: {scale.what} removes more of the held-out residual "
             f"({100 * (1 - sse_scale / sse_prev):.0f} % against {100 * s.gross:.0f} %) and the "
             f"term adds {100 * max(on_top, 0.0):.0f} % on top of it: the record cannot tell the "
             f"two apart")
