@@ -9,7 +9,7 @@ import pytest
 from fricctl.bench.hidden_effects import hidden_effect_record
 from fricctl.datasets import Run
 from fricctl.diagnose import diagnose
-from fricctl.diagnose.verdict import AGAINST, EXPLAINED_RATIO, verdict
+from fricctl.diagnose.verdict import AGAINST, EXPLAINED_RATIO, SIGNIFICANCE, verdict
 
 
 @pytest.fixture(scope="module")
@@ -67,3 +67,19 @@ def test_verdict_rules():
     against["velocity"] = np.sort(rng.normal(size=5000))
     r2 = 0.1 * r + np.sin(against["velocity"])
     assert verdict(3.0, 1.0, r2, against).strongest == "velocity"
+
+
+def test_a_short_record_above_twice_the_floor_is_never_explained():
+    # issue 21: no "explained" verdict with a residual above 2x the floor.  On 8 samples the F
+    # test of a 2.1x ratio cannot reject at 1 % (F = 4.41 on about 8 and 8 degrees of freedom,
+    # p about 0.02): the test qualifies the sentence, the ratio decides the verdict
+    rng = np.random.default_rng(1)
+    r = rng.normal(size=8)
+    against = {k: rng.normal(size=8) for k in AGAINST}
+    v = verdict(2.1, 1.0, r, against)
+    assert v.p_value >= SIGNIFICANCE
+    assert not v.explained and v.residual_over_floor == pytest.approx(2.1, rel=1e-12)
+    s = v.sentence()
+    assert s.startswith("Not explained") and "cannot tell" in s and "within noise" not in s
+    # at the ratio itself, explained whatever the test says
+    assert verdict(EXPLAINED_RATIO, 1.0, r, against).explained

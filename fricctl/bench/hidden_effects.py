@@ -56,9 +56,31 @@ are drawn for a closed-loop natural frequency of 2-4.5 Hz, damping 0.7.  The loo
 has the timing of :mod:`fricctl.simulate` (ZOH at Ts, one sample of computation
 delay, backward difference velocity, quantised encoder).
 
+Foreign effects (not causes)
+----------------------------
+``foreign=`` hides, on top, one effect of :data:`FOREIGN` that no cause of the registry
+represents (issue 21, item 5: the diagnosis must name no cause for it and must not call the
+record explained while the residual stays above the floor).  Its magnitudes are drawn after
+every other draw, so a seed gives the same record with or without it, apart from the effect:
+
+* ``time_sine``: a periodic torque disturbance in *time*, unrelated to position or speed,
+  received by the joint and absent from the recorded torque (a vibrating base, a periodic
+  external load): ``A*sin(2*pi*f*t + phi)``, A 0.2 .. 0.5 Fc (times ``strength``), f 0.3 ..
+  3 Hz, phi uniform;
+* ``torque_gain``: a torque-sensor (or torque-constant) scale error, recorded torque =
+  ``(1 + e) *`` the torque the drive applies, ``|e|`` 5 .. 15 % (times ``strength``), either
+  sign.  Without a nominal model the baseline's I, b and Fc would absorb it exactly: it
+  implies ``nominal=True`` (it is foreign against the nominal model);
+* ``position_gain``: a position-sensor scale error (a wrong encoder count or gear ratio),
+  recorded position (and reference) = ``(1 + e) *`` the encoder's reading, ``|e|`` 5 .. 15 %
+  (times ``strength``), either sign; the refitted I and b would absorb it: it implies
+  ``nominal=True`` too.
+
 Notes
 -----
-Left out: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
+Left out: a friction law of a shape no cause represents (a sub-linear viscous term, a smooth
+Coulomb transition): the bench simulates the registered friction laws only, and a test effect
+is not worth a public law.  Left out as well: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
 delay is whole samples); more than two effects at once.
 """
 
@@ -82,7 +104,8 @@ from ..diagnose import causes
 
 __all__ = ["HIDDEN_CAUSES", "NOMINAL_CAUSES", "HiddenEffectRecord", "hidden_effect_record",
            "ENCODER_RESOLUTION", "LINEAR_ENCODER_RESOLUTION", "EXCITATIONS", "AXES", "TRAVEL",
-           "PAIRS", "compatible", "TORQUE_LIMIT", "TOP_SPEED"]
+           "PAIRS", "compatible", "TORQUE_LIMIT", "TOP_SPEED", "FOREIGN",
+           "ForeignEffect"]
 
 #: Effects the generator hides without a nominal model (``none`` included), from the registry.
 HIDDEN_CAUSES = (causes.NONE,) + tuple(c.name for c in causes.candidates(nominal=False))
@@ -133,6 +156,11 @@ class HiddenEffectRecord:
     impacts : ndarray of int
         Samples at which the joint arrived on a stop with speed (first sample of each
         contact; ground truth); empty when none.
+    foreign : str
+        The foreign effect hidden on top (a name of :data:`FOREIGN`; ``"none"``: none).  Not
+        a cause: it is not in :attr:`causes`.
+    foreign_magnitude : dict
+        Its parameters (SI units; empty for ``"none"``).
     """
 
     run: Run
@@ -145,6 +173,8 @@ class HiddenEffectRecord:
     effect_free: JointModel | None = None
     stops: tuple = ()
     impacts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    foreign: str = "none"
+    foreign_magnitude: dict = field(default_factory=dict)
 
     def weights(self, folds: int = 8) -> dict:
         """How much each hidden effect weighs on this record: per cause, the share of the
@@ -375,11 +405,78 @@ def _actuator(rng, axis, ts, duration, strength, sensors):
     return act, process, measured
 
 
+# ----------------------------------------------------------------------------- foreign effects
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Foreign:
+    """A foreign effect drawn for one record: a torque the joint receives on top of the loop's,
+    and a gain on the recorded torque."""
+
+    disturbance: np.ndarray | None
+    """Torque added to what the joint receives, per sample [N*m], or None."""
+    gain: float
+    """Recorded torque over the torque the drive applies [-]."""
+    position_gain: float = 1.0
+    """Recorded position over the encoder's true reading [-]."""
+    magnitude: dict
+    """The drawn parameters (SI)."""
+
+
+def _time_sine(rng, act, t):
+    amp = float(rng.uniform(0.2, 0.5) * act.coulomb * act.strength)
+    freq = float(rng.uniform(0.3, 3.0))
+    phase = float(rng.uniform(0.0, 2.0 * math.pi))
+    return _Foreign(disturbance=amp * np.sin(2.0 * math.pi * freq * t + phase), gain=1.0,
+                    magnitude=dict(amplitude=amp, frequency=freq, phase=phase))
+
+
+def _torque_gain(rng, act, t):
+    error = float(rng.uniform(0.05, 0.15) * rng.choice((-1.0, 1.0)) * act.strength)
+    return _Foreign(disturbance=None, gain=1.0 + error, magnitude=dict(error=error))
+
+
+def _position_gain(rng, act, t):
+    error = float(rng.uniform(0.05, 0.15) * rng.choice((-1.0, 1.0)) * act.strength)
+    return _Foreign(disturbance=None, gain=1.0, position_gain=1.0 + error,
+                    magnitude=dict(error=error))
+
+
+@dataclass(frozen=True, kw_only=True)
+class ForeignEffect:
+    """An effect the bench hides that is not a cause of the registry."""
+
+    name: str
+    """Its name, the value of ``foreign=``."""
+    physical: str
+    """The effect in one line."""
+    draw: object
+    """``draw(rng, actuator, t)`` -> the drawn effect (None for ``"none"``)."""
+    nominal: bool = False
+    """True when it is foreign only against a nominal model (the refitted baseline absorbs
+    it): it implies ``nominal=True``."""
+
+
+#: Effects the bench hides that are not causes of the registry (``foreign=`` of
+#: :func:`hidden_effect_record`; the module notes give their ranges), by name.
+FOREIGN = {f.name: f for f in (
+    ForeignEffect(name="none", physical="nothing foreign", draw=None),
+    ForeignEffect(name="time_sine", draw=_time_sine,
+                  physical="a periodic torque disturbance in time, received by the joint, "
+                           "unrelated to position or speed"),
+    ForeignEffect(name="torque_gain", draw=_torque_gain, nominal=True,
+                  physical="a torque-sensor scale error: the recorded torque is (1 + e) times "
+                           "the applied one"),
+    ForeignEffect(name="position_gain", draw=_position_gain, nominal=True,
+                  physical="a position-sensor scale error (encoder count, gear ratio): the "
+                           "recorded position is (1 + e) times the encoder's reading"),
+)}
+
+
 # ----------------------------------------------------------------------------- generator
 def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: float = 40.0,
                          sample_time: float = 0.002, nominal: bool = False, noise: bool = True,
                          axis: str = "rotary", excitation: str = "mixed", strength: float = 1.0,
-                         sensors: str = "fixed", end_stops: float = 0.0) -> HiddenEffectRecord:
+                         sensors: str = "fixed", end_stops: float = 0.0,
+                         foreign: str = "none") -> HiddenEffectRecord:
     """Simulate one record with hidden effects (one drawn at random, or the ones named).
 
     Parameters
@@ -396,7 +493,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         Ts [s], 0.0005 .. 0.005 (2 kHz .. 200 Hz).
     nominal : bool
         Also return the nominal model (the true baseline actuator).  Implied by
-        the nominal-model causes.
+        the nominal-model causes and by a foreign effect foreign only against it.
     noise : bool
         Torque noise on (default) or off (the draws are made either way, so a seed
         gives the same record apart from the noise).
@@ -424,6 +521,9 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         The record says where the stops are and when the joint hit them (:attr:`stops`,
         :attr:`impacts`); its ``causes`` are the hidden causes (``end_stop`` is not a cause
         of the registry: :func:`fricctl.diagnose.stops.end_stops` detects it).
+    foreign : str
+        A name of :data:`FOREIGN`: an effect no cause represents, hidden on top of the
+        causes (see the module notes; default ``"none"``).  Its draws come after all others.
 
     Returns
     -------
@@ -433,8 +533,9 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     -----
     The draws come in a fixed sequence: the cause (when not forced), the actuator
     (Jm, Jl, b, Fc, noise level, then the drawn sensors), each effect's magnitudes (the
-    cause module's ``inject``), the excitation, the noise.  With the defaults a seed
-    gives the record it gave before the options existed.
+    cause module's ``inject``), the excitation, the noise (process, then measurement), the
+    foreign effect.  With the defaults a seed gives the record it gave before the options
+    existed.
 
     Examples
     --------
@@ -455,6 +556,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     end_stops = v.real("end_stops", end_stops, nonneg=True)
     if end_stops and not 0.02 <= end_stops <= 0.45:
         raise ValueError(f"end_stops must be 0 or in [0.02, 0.45], got {end_stops:g}")
+    foreign = v.choice("foreign", foreign, tuple(FOREIGN))
     if cause is None:
         pool = (causes.NONE,) + NOMINAL_CAUSES if nominal else HIDDEN_CAUSES
         cause = str(rng.choice(pool))
@@ -465,7 +567,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     if len(names) == 2 and not (causes.NONE not in names and compatible(*names)):
         raise ValueError(f"cause: the bench cannot hide {names[0]!r} and {names[1]!r} together "
                          f"(see compatible())")
-    nominal = nominal or any(c in NOMINAL_CAUSES for c in names)
+    nominal = nominal or any(c in NOMINAL_CAUSES for c in names) or FOREIGN[foreign].nominal
 
     n = int(round(duration / ts))
     actuator, noise_std, meas_std = _actuator(rng, axis, ts, duration, strength, sensors)
@@ -479,6 +581,13 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         rng, n, ts, max(effect.truth.inertia, effect.nominal.inertia), effect.breakaway, b, tmax,
         kinds, actuator.travel)
     torque_noise = rng.normal(0.0, noise_std, n) * (1.0 if noise else 0.0)
+    # the simulation draws nothing: the measurement noise is drawn here, then the foreign effect
+    meas_noise = (rng.normal(0.0, meas_std, n) * (1.0 if noise else 0.0) if meas_std > 0
+                  else None)
+    alien = (_Foreign(disturbance=None, gain=1.0, magnitude={}) if foreign == "none"
+             else FOREIGN[foreign].draw(rng, actuator, np.arange(n) * ts))
+    if alien.disturbance is not None:
+        torque_noise = torque_noise + alien.disturbance
     sim = simulate_schedule(effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
                                                    segment_start=start),
                             sample_time=ts, max_torque=tmax,
@@ -504,13 +613,15 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         impacts = sim.impacts
         stops = tuple(lim for side, lim in ((-1, sim.lower), (1, sim.upper))
                       if np.any(sim.impact_side == side))
-    recorded = sim.torque_motor
-    if meas_std > 0:
-        recorded = recorded + rng.normal(0.0, meas_std, n) * (1.0 if noise else 0.0)
-    run = Run(t=sim.t, torque=recorded, position=sim.q_meas, reference=sim.reference, units=axis,
+    recorded = sim.torque_motor * alien.gain
+    if meas_noise is not None:
+        recorded = recorded + meas_noise
+    run = Run(t=sim.t, torque=recorded, position=sim.q_meas * alien.position_gain,
+              reference=sim.reference * alien.position_gain, units=axis,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
     ordered = tuple(c for c in causes.CAUSES if c in names)
     return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,
                               cause=ordered[0], causes=ordered, magnitude=effect.magnitude,
                               truth=effect.truth, excitation=segs, effect_free=effect.nominal,
-                              stops=stops, impacts=impacts)
+                              stops=stops, impacts=impacts, foreign=foreign,
+                              foreign_magnitude=alien.magnitude)

@@ -289,10 +289,18 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         said += " " + _capital(stops) + "."
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
-        return (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque residual "
-                f"net of the measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %); "
-                f"held-out torque RMS {_num(gain.torque_rms_before, '.3g')} {u.torque}." + said
-                + cannot)
+        supported = sum(score >= MIN_SCORE for _, score in ranking)
+        if supported:  # they reached the score and were dropped: the reasons follow
+            head = (f"none: {supported} candidate{'s' if supported > 1 else ''} remove "
+                    f"{100 * MIN_SCORE:.0f} % of the held-out torque residual net of the "
+                    f"measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %), but "
+                    f"none can be named on this record (each one's reason follows)")
+        else:
+            head = (f"none: no candidate removes {100 * MIN_SCORE:.0f} % of the held-out torque "
+                    f"residual net of the measuring chain's share (best: {best[0]} with "
+                    f"{100 * best[1]:.1f} %)")
+        return (f"{head}; held-out torque RMS {_num(gain.torque_rms_before, '.3g')} {u.torque}."
+                + said + cannot)
     parts = []
     for i, (st, body) in enumerate(zip(steps, bodies)):
         lead = "" if i == 0 else "Then "

@@ -10,6 +10,17 @@ the fraction the same term removes on the record's effect-free twin
 record can resolve) and whose extended model simulates the held-out windows better is
 named -- one that lowers the torque residual but re-simulates worse is tried and
 rejected, with the reason -- and the search repeats until no candidate reaches it.
+
+With a nominal model, a supported candidate must also remove at least as much of the
+held-out residual as a scale error of the recorded torque (:func:`torque_scale`: the model's torque times
+``1 + e``, a torque-sensor gain or torque-constant error, which is not a cause of the list):
+a record whose residual is the model's own torque scaled cannot tell a friction level, an
+inertia or a load-dependent friction from it, and naming them would be a wrong cause (issue
+21, item 5).  A candidate the scale beats is still told when, on top of the scale, it
+removes :data:`MIN_SCORE` of what the scale leaves (an effect of its own beside a scale
+error).  One the scale beats is set aside for the step, not dropped: once another
+cause is named the scale may no longer match it.  Without a nominal model the refitted
+baseline absorbs such a scale exactly.
 """
 
 from __future__ import annotations
@@ -26,7 +37,8 @@ from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
-           "COLLINEAR_SHARE", "MIN_SCORE"]
+           "torque_scale", "position_scale", "sensor_scales", "SensorScale", "COLLINEAR_SHARE",
+           "MIN_SCORE"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
@@ -100,8 +112,10 @@ class Selection:
     """First step: per candidate, the held-out fraction of the windowed simulation error
     (position, sum of squares) its term removes [-] (computed for the supported ones)."""
     not_identifiable: dict = field(default_factory=dict)
-    """Candidates that reached the score but cannot be told on this record, and those whose
-    term cannot be added to the model (:func:`not_applicable`), with the reason."""
+    """Candidates that reached the score but cannot be told on this record, those whose
+    term cannot be added to the model (:func:`not_applicable`), and those a scale error of
+    the recorded torque explained better when last scored (:func:`torque_scale`; never
+    named), with the reason."""
     test: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """Held-out SSE per block of the final model."""
     baseline_test: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -166,9 +180,10 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                                key=lambda kv: -kv[1]))
         state = replace(state, last_ranking=ranking,
                         first_ranking=state.first_ranking if state.steps else ranking)
-        verdict = _tell(problem, state, scored, ranking)
+        verdict = _tell(problem, state, scored, ranking, sse_prev)
         # a cause that cannot be told on this record is not tried again
         state = replace(state, not_told={**state.not_told, **verdict.reasons},
+                        aside={**state.aside, **verdict.aside},
                         remaining=tuple(c for c in state.remaining
                                         if c.name not in verdict.reasons))
         if not verdict.told:
@@ -180,10 +195,12 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                         remaining=tuple(c for c in named.remaining if c.name not in rejected))
         if len(state.steps) == before:  # every told candidate re-simulated worse
             break
+    named = {s.cause.name for s in state.selected}
+    aside = {k: r for k, r in state.aside.items() if k not in named and k not in state.not_told}
     return Selection(selected=state.selected, steps=state.steps,
                      first_ranking=state.first_ranking, last_ranking=state.last_ranking,
                      simulation_scores=state.simulation_scores,
-                     not_identifiable=dict(state.not_told), test=state.test,
+                     not_identifiable={**state.not_told, **aside}, test=state.test,
                      baseline_test=state.baseline_test, sim_before=state.sim_before,
                      sim_after=state.sim)
 
@@ -220,6 +237,9 @@ class _State:
     """The ranking of the last step if it named nothing, else ()."""
     simulation_scores: Mapping[str, float] = field(default_factory=dict)
     """First step that named a cause: the simulation score of each candidate told."""
+    aside: Mapping[str, str] = field(default_factory=dict)
+    """Candidates a scale error of the recorded torque explained as well, at the latest step
+    that scored them, with why (:func:`torque_scale`)."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -254,7 +274,10 @@ class _Verdict:
     told: tuple
     """The :class:`_Told` ones, best score first."""
     reasons: Mapping[str, str]
-    """The others, with why not."""
+    """The others that cannot be told on this record, with why not (not tried again)."""
+    aside: Mapping[str, str] = field(default_factory=dict)
+    """Those a scale error of the recorded torque explains as well, with why (tried again
+    at the next step)."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -282,15 +305,101 @@ def _start(problem: Problem, base: Baseline, candidates: tuple,
                   not_told=not_told)
 
 
+def _fixed_for(selected: tuple) -> Callable[[int], tuple]:
+    """Per fold, the variants of the causes named (chosen on that fold's training blocks)."""
+    def fixed_for(f):
+        return tuple(s.fold_variants[f] if s.fold_variants[f] is not None else s.variant
+                     for s in selected)
+    return fixed_for
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class SensorScale:
+    """A scale error of a sensor, held out as the candidates are (:func:`torque_scale`,
+    :func:`position_scale`)."""
+
+    test: np.ndarray | None
+    """Held-out SSE per block with the scale in the model (None without a nominal model)."""
+    gain: float
+    """The fitted scale of the sensor, recorded over true, on all data [-] (NaN: none)."""
+    variant: object = None
+    """Its column, as a :class:`~fricctl.diagnose.crossval.Variant`."""
+    what: str = ""
+    """The error in words, with the fitted gain (for the reason a candidate is set aside)."""
+
+
+#: Relative step of the finite difference of the nominal friction along a scaled motion [-].
+_MOTION_STEP = 1e-3
+
+
+def _scale(problem: Problem, base: Baseline, selected: tuple, column: np.ndarray, name: str,
+           gain_of: Callable[[float], float], what: Callable[[float], str]) -> SensorScale:
+    variant = base.variant(name, column, (0,))
+    cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
+    fit = full_fit(problem, [variant], tuple(s.variant for s in selected))
+    gain = math.nan if fit is None else gain_of(float(fit.theta[-1]))
+    return SensorScale(test=cv.test, gain=gain, variant=variant, what=what(gain))
+
+
+def torque_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> SensorScale:
+    """A scale error of the recorded torque, held out as the candidates are, after the causes
+    ``selected`` (they stay in the model with their own terms); without a nominal model
+    nothing (the refitted baseline absorbs a scale exactly).
+
+    The column is the nominal model's low-passed torque along the measured motion
+    (:attr:`Baseline.model_torque`); a recorded torque ``(1 + e)`` times the applied one
+    leaves the nominal residual ``e`` times it, plus noise.
+    """
+    if base.fit_mode:
+        return SensorScale(test=None, gain=math.nan)
+    return _scale(problem, base, selected, base.model_torque, "torque_scale",
+                  lambda c: 1.0 + c,
+                  lambda g: f"a scale error of the recorded torque (the model's torque x {g:.3f}: "
+                            f"a torque-sensor gain or torque-constant error, not a cause of the "
+                            f"list)")
+
+
+def position_scale(problem: Problem, base: Baseline, selected: tuple = ()) -> SensorScale:
+    """A scale error of the recorded position (an encoder count or a gear ratio), held out as
+    the candidates are, after the causes ``selected``; without a nominal model nothing (the
+    refitted inertia and viscous coefficient absorb it).
+
+    A position recorded ``(1 + e)`` times the true one makes the nominal model's torque
+    along the recorded motion ``pred((1 + e) q)``: the nominal residual is, to first order,
+    ``-e/(1 + e)`` times the column ``d pred(s q)/ds`` at ``s = 1`` -- ``I*a`` plus the
+    derivative of the nominal friction along the scaled motion (a finite difference; a
+    Coulomb level does not change, a viscous term does).  An elastic nominal model's load
+    term is left out of the column.
+    """
+    if base.fit_mode:
+        return SensorScale(test=None, gain=math.nan)
+    sig, nominal = base.sig, base.nominal
+    f0 = nominal.friction.along_motion(sig.qf, sig.w, base.torque, sig.t)
+    f1 = nominal.friction.along_motion(sig.qf * (1 + _MOTION_STEP), sig.w * (1 + _MOTION_STEP),
+                                       base.torque, sig.t)
+    column = nominal.inertia * sig.a + sig.filt((f1 - f0) / _MOTION_STEP)
+    units = base.labels
+    return _scale(problem, base, selected, column, "position_scale",
+                  lambda c: 1.0 / (1.0 + c) if c > -1.0 else math.inf,
+                  lambda g: f"a scale error of the recorded position (the motion x {g:.3f} of the "
+                            f"true one: an encoder count or gear ratio error, in "
+                            f"{units.position}, not a cause of the list)")
+
+
+def sensor_scales(problem: Problem, base: Baseline, selected: tuple = ()) -> tuple:
+    """The sensor scale errors a candidate must beat (nominal model only): the torque's and
+    the position's."""
+    if base.fit_mode:
+        return ()
+    return (torque_scale(problem, base, selected), position_scale(problem, base, selected))
+
+
 def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:
     """Every remaining candidate held out after the causes named (``name -> _Scored``); the
     chain's share is asked only once all are cross-validated."""
     step, total = len(state.steps) + 1, len(state.remaining)
     selected = state.selected
-
-    def fixed_for(f):
-        return tuple(s.fold_variants[f] if s.fold_variants[f] is not None else s.variant
-                     for s in selected)
+    fixed_for = _fixed_for(selected)
 
     if progress is not None:
         progress(step, 0, total)
@@ -312,22 +421,58 @@ def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) ->
     return scored
 
 
-def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple) -> _Verdict:
-    """The supported candidates, best first, fitted on all data and checked: collinear with
-    the model, or not identifiable by the cause's own test, is not told."""
-    told, reasons = [], {}
+def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
+          sse_prev: float) -> _Verdict:
+    """The supported candidates, best first, fitted on all data and checked: one that a
+    scale error of the recorded torque matches (nominal model: :func:`torque_scale`),
+    collinear with the model, or not identifiable by the cause's own test, is not told."""
+    told, reasons, aside = [], {}, {}
     fixed = tuple(s.variant for s in state.selected)
+    scales = None
     for name, score in ranking:
         if not score >= MIN_SCORE:
             continue
         cause = scored[name].cause
         fit = full_fit(problem, state.base.variants(cause, None), fixed)
         reason = _why_not_told(problem, state, cause, fit, fixed)
-        if reason is None:
-            told.append(_Told(cause=cause, fit=fit))
-        else:
+        if reason is not None:
             reasons[name] = reason
-    return _Verdict(told=tuple(told), reasons=reasons)
+            continue
+        if scales is None:  # asked once per step, and only when a candidate can be told
+            scales = sensor_scales(problem, state.base, state.selected)
+        reason = next((r for r in (_scale_matches(problem, state, scored[name], sc, sse_prev)
+                                   for sc in scales) if r is not None), None)
+        if reason is not None:  # set aside for this step only: once another cause is in,
+            aside[name] = reason  # the scale may no longer match it
+        else:
+            told.append(_Told(cause=cause, fit=fit))
+    return _Verdict(told=tuple(told), reasons=reasons, aside=aside)
+
+
+def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: SensorScale,
+                   sse_prev: float) -> str | None:
+    """Why a sensor's scale error explains the record better than the candidate ``s`` and
+    leaves it nothing to add (held out), or None: no nominal model, the candidate removes at
+    least as much, or on top of the scale it still removes :data:`MIN_SCORE` of what the
+    scale leaves (an effect of its own beside a scale error)."""
+    if scale.test is None or not np.all(np.isfinite(scale.test)):
+        return None
+    sse_scale, sse_cause = float(np.sum(scale.test)), float(np.sum(s.test))
+    # strictly more, beyond round-off: once an inertia is named, a scale of the model's torque
+    # spans what a friction level does (the same fit): the cause of the list is kept
+    if sse_scale >= sse_cause - 1e-9 * sse_prev:
+        return None
+    fixed_for = _fixed_for(state.selected)
+    cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
+                        lambda f: fixed_for(f) + (scale.variant,))
+    both = float(np.sum(np.where(np.isnan(cv.test), scale.test, cv.test)))
+    on_top = 1.0 - both / sse_scale if sse_scale > 0 else 0.0
+    if on_top >= MIN_SCORE:
+        return None
+    return (f"tried, rejected: {scale.what} removes more of the held-out residual "
+            f"({100 * (1 - sse_scale / sse_prev):.0f} % against {100 * s.gross:.0f} %) and the "
+            f"term adds {100 * max(on_top, 0.0):.0f} % on top of it: the record cannot tell the "
+            f"two apart")
 
 
 def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | None,

@@ -15,7 +15,9 @@ included (a closed loop feeds encoder noise into ``Tm``) -- and the fit slides t
 with I, b, Fc shrunk.  Built on the model's low-passed torque, the column holds neither
 the recorded noise nor the rectified noise of the acceleration estimate, and without
 braking phases it is the baseline's own prediction: collinear with the baseline's
-columns, which the selection reports as "cannot be told".
+columns, which the selection reports as "cannot be told"; with a nominal model it is the
+nominal torque, which a scale error of the recorded torque fits as well: the cause's own
+identifiability test reports it (:data:`SCALE_SHARE`).
 """
 
 from __future__ import annotations
@@ -32,14 +34,23 @@ from .base import Cause
 MAX_LOAD_COEFFICIENT = 0.5
 
 
-def _variants(base, fold):
+#: Share of the column's energy (sliding samples) outside the nominal model's own torque below
+#: which, with a nominal model, the term cannot be told from a scale of that torque [-] (the
+#: selection's collinearity share).
+SCALE_SHARE = 1e-3
+
+
+def _column(base):
     # |T|*sign(w) = T - 2*T*[T*sign(w) < 0]: the baseline's own (low-passed) prediction, less
     # twice the model's torque where the recorded torque brakes (opposes the motion) -- so
     # without braking the column is the baseline's prediction exactly, and neither the
     # recorded noise nor the model's low-pass ringing at starts and stops enters it
     braking = (base.torque * base.sign < 0).astype(float)
-    col = base.model_torque - 2.0 * base.sig.filt(base.model_torque_raw * braking)
-    yield base.variant(None, col, (1,), upper=(MAX_LOAD_COEFFICIENT,))
+    return base.model_torque - 2.0 * base.sig.filt(base.model_torque_raw * braking)
+
+
+def _variants(base, fold):
+    yield base.variant(None, _column(base), (1,), upper=(MAX_LOAD_COEFFICIENT,))
 
 
 def _extend(model, term, base):
@@ -62,11 +73,29 @@ def _evidence(base, term, extended):
             f"sliding samples); fitted friction + {extended.friction.load_coefficient:.3g} x |Tm|")
 
 
+def _outside_model_torque(base) -> float:
+    """Share of the column's energy (sliding samples) outside the model's own torque [-]."""
+    m = base.sig.moving
+    c, t = _column(base)[m], base.model_torque[m]
+    cc, tt = float(c @ c), float(t @ t)
+    if cc == 0.0 or tt == 0.0:
+        return 1.0
+    return max(1.0 - float(c @ t) ** 2 / (cc * tt), 0.0)
+
+
 def _identifiable(base, term):
     if term.coef[0] >= 0.999 * MAX_LOAD_COEFFICIENT:
         return (f"the load coefficient sits at its bound ({MAX_LOAD_COEFFICIENT}): the record does "
                 f"not determine it (the drive brakes on {100 * _braking(base):.1f} % of the "
                 f"sliding samples)")
+    # with a nominal model there are no baseline columns for the selection's collinearity test
+    # to see it: without braking the column is the nominal torque itself, which a scale error
+    # of the recorded torque (a sensor gain, a torque constant) fits exactly as well
+    if not base.fit_mode and _outside_model_torque(base) < SCALE_SHARE:
+        return (f"the drive brakes on {100 * _braking(base):.1f} % of the sliding samples: its "
+                f"column is the nominal model's own torque (only "
+                f"{100 * _outside_model_torque(base):.2g} % of it lies outside), which a scale "
+                f"error of the recorded torque (a sensor gain, a torque constant) fits as well")
     return None
 
 

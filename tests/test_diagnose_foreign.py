@@ -1,0 +1,148 @@
+"""Effects that are not causes (issue 21, item 5): the bench hides an effect no cause of the
+list represents (:data:`fricctl.bench.hidden_effects.FOREIGN`), the diagnosis must name no
+cause for it and must not call the record explained while its residual stays above twice
+the floor.
+
+A cause named on such a record is wrong unless its extension is the foreign effect's physics;
+no cause of the registry models a torque disturbance in time or a scale error of the torque
+sensor, so *every* cause named on these records is counted wrong (``thermal_drift`` on a time
+sinusoid, ``inertia`` + ``friction_scale`` or ``load_dependent`` on a torque gain, ``inertia``
++ ``drag`` on a position gain: each fits part of it, none is what happened).
+
+Seeds: ``[7100, i]``, ``[7300, i]``, ``[7600, i]`` and ``[7700, i]`` were used while building
+the method (not here), and ``[7500, i]``: the first sweep, which found ``load_dependent``
+named on a torque gain when the drive never brakes (its column is then the nominal torque
+itself; fixed in the cause's identifiability); ``[7400, i]`` for the fast cases, ``[7800, i]``
+for the slow sweep (not looked at before the fix).
+"""
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from fricctl.bench.hidden_effects import EXCITATIONS, FOREIGN, hidden_effect_record
+from fricctl.diagnose import diagnose
+from fricctl.diagnose.verdict import EXPLAINED_RATIO
+
+#: The foreign effects of the bench (``none`` is not one).
+NAMES = tuple(name for name in FOREIGN if name != "none")
+
+
+def _wrong(d) -> set:
+    """The causes a diagnosis named on a record whose only effect is foreign: all of them."""
+    return set(d.causes) - {"none"}
+
+
+def _honest(d) -> bool:
+    """The verdict keeps the issue's rule: never explained above twice the floor."""
+    return not (d.explained and d.verdict.residual_over_floor > EXPLAINED_RATIO)
+
+
+# ----------------------------------------------------------------------------- the bench
+def test_foreign_effects_are_drawn_after_everything_else():
+    # the same seed without and with a torque gain: the same actuator, excitation and noise,
+    # so the same motion, and the recorded torque exactly (1 + e) times the other (no
+    # measurement noise on the default sensors): a closed form, to round-off
+    rng_args = [7400, 99]
+    plain = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
+                                 nominal=True)
+    gained = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
+                                  foreign="torque_gain")
+    e = gained.foreign_magnitude["error"]
+    assert 0.05 <= abs(e) <= 0.15
+    assert gained.nominal is not None and gained.causes == ("none",)  # implies a nominal model
+    assert gained.foreign == "torque_gain" and plain.foreign == "none"
+    np.testing.assert_array_equal(gained.run.position, plain.run.position)
+    np.testing.assert_allclose(gained.run.torque, (1.0 + e) * plain.run.torque, rtol=1e-12,
+                               atol=0.0)
+    # a position gain: the same torque, the positions (and reference) scaled
+    scaled = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
+                                  foreign="position_gain")
+    ep = scaled.foreign_magnitude["error"]
+    assert 0.05 <= abs(ep) <= 0.15 and scaled.nominal is not None
+    np.testing.assert_array_equal(scaled.run.torque, plain.run.torque)
+    np.testing.assert_allclose(scaled.run.position, (1.0 + ep) * plain.run.position, rtol=1e-12,
+                               atol=0.0)
+    # a disturbance in time moves the joint; what was drawn before it is the same
+    sine = hidden_effect_record(np.random.default_rng(rng_args), cause="none", duration=10.0,
+                                foreign="time_sine")
+    m = sine.foreign_magnitude
+    fc = sine.effect_free.friction.coulomb_pos
+    assert 0.2 * fc <= m["amplitude"] <= 0.5 * fc and 0.3 <= m["frequency"] <= 3.0
+    assert sine.excitation == plain.excitation and sine.truth == plain.truth
+    assert sine.nominal is None
+    assert not np.array_equal(sine.run.position, plain.run.position)
+
+
+def test_an_unknown_foreign_effect_is_refused():
+    with pytest.raises(ValueError, match="foreign must be one of"):
+        hidden_effect_record(np.random.default_rng(0), foreign="backlash")
+
+
+# ----------------------------------------------------------------------------- the diagnosis
+@pytest.mark.parametrize("seed", range(2))
+@pytest.mark.parametrize("name", NAMES)
+def test_no_cause_for_a_foreign_effect(name, seed):
+    rec = hidden_effect_record(np.random.default_rng([7400, seed]), cause="none",
+                               duration=20.0, foreign=name)
+    d = diagnose(rec.run, rec.nominal)
+    assert not _wrong(d), d.report()
+    assert _honest(d), d.report()
+    if not d.explained:
+        assert "within noise" not in d.evidence and "within noise" not in d.report()
+    if FOREIGN[name].nominal:
+        # a sensor's scale error: the candidates that reached the score were tried against a
+        # scale of that sensor and rejected, the fitted scale within 1 % of the true one
+        # (torque noise 1-3 % of Fc)
+        gain = 1.0 + rec.foreign_magnitude["error"]
+        sensor = "scale error of the recorded " + name.split("_")[0]  # torque, position
+        scale = [r for r in d.not_identifiable.values() if sensor in r]
+        assert scale, d.report()
+        fitted = float(re.search(r" x (\d+\.\d+)", scale[0]).group(1))
+        assert fitted == pytest.approx(gain, rel=0.01)
+
+
+def test_a_torque_gain_on_a_drive_that_never_brakes():
+    # torque triangles and pulses just above breakaway (the "stuck" excitation): the recorded
+    # torque never opposes the motion, so load_dependent's column |T|*sign(w) is the nominal
+    # torque itself -- exactly what a torque gain scales; it cannot be told from it
+    rec = hidden_effect_record(np.random.default_rng([7400, 2]), cause="none", duration=20.0,
+                               foreign="torque_gain", excitation="stuck")
+    d = diagnose(rec.run, rec.nominal)
+    assert not _wrong(d), d.report()
+    assert _honest(d), d.report()
+    why = d.not_identifiable.get("load_dependent", "")
+    assert "scale error of the recorded torque" in why, d.report()
+
+
+@pytest.mark.slow
+def test_foreign_effects_sweep():
+    # >= 8 records per foreign effect (10), seeds [7800, i] never looked at while building;
+    # every excitation of the bench, both axes, full and reduced strength (an effect near the
+    # floor is where an "explained" verdict could be wrong); the time disturbance also
+    # against a nominal model.  Target of issue 21: 0 wrong causes, 0 "explained" verdicts
+    # with a residual above twice the floor.
+    settings = [(name, False) for name in NAMES] + [("time_sine", True)]
+    rows = []
+    for name, nominal in settings:
+        for i in range(10):
+            rec = hidden_effect_record(
+                np.random.default_rng([7800, i]), cause="none", duration=20.0, foreign=name,
+                nominal=nominal, excitation=tuple(EXCITATIONS)[i % len(EXCITATIONS)],
+                axis="linear" if i % 4 == 1 else "rotary", strength=(1.0, 0.3)[i % 2])
+            d = diagnose(rec.run, rec.nominal)
+            rows.append((name, rec.nominal is not None, i, tuple(sorted(_wrong(d))), d.explained,
+                         d.verdict.residual_over_floor))
+    for name, nominal in sorted(set((r[0], r[1]) for r in rows)):
+        mine = [r for r in rows if r[:2] == (name, nominal)]
+        ratios = [r[5] for r in mine]
+        print(f"{name} (nominal model: {nominal}): {len(mine)} records, "
+              f"{sum(bool(r[3]) for r in mine)} with a wrong cause "
+              f"{sorted({c for r in mine for c in r[3]})}, {sum(r[4] for r in mine)} explained, "
+              f"residual/floor {min(ratios):.2f} .. {max(ratios):.2f}")
+    assert all(len([r for r in rows if r[0] == name]) >= 8 for name in NAMES)
+    assert not [r for r in rows if r[3]], rows
+    assert not [r for r in rows if r[4] and r[5] > EXPLAINED_RATIO], rows
+    assert all(math.isfinite(r[5]) for r in rows), rows
