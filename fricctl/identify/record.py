@@ -240,9 +240,20 @@ class _Fit:
     """Why there is no refinement (``""`` when there is, or none was asked)."""
 
     @property
+    def lost(self) -> tuple:
+        """The parameters the equation error identifies and DIDIM does not (at a bound, or a
+        std as large as the value): a replay the model cannot follow (an effect it lacks,
+        a stop the detector missed) drove the refinement off."""
+        if self.refined is None:
+            return ()
+        return tuple(n for n, a, b in zip(self.start.names, self.start.identified,
+                                          self.refined.identified) if a and not b)
+
+    @property
     def chosen(self) -> IdentificationResult:
-        """DIDIM when it ran (consistent), else the equation error."""
-        return self.start if self.refined is None else self.refined
+        """DIDIM when it ran (consistent) and identified what the equation error does, else
+        the equation error."""
+        return self.start if self.refined is None or self.lost else self.refined
 
     @property
     def apart(self) -> tuple:
@@ -394,7 +405,12 @@ def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
         out.append(f"the record could not be replayed ({fit.why_not}): the equation error is "
                    f"reported, and it is biased toward zero inertia where the encoder step is "
                    f"coarse against the motion per sample")
-    if fit.apart:
+    if fit.lost:
+        out.append("the simulation error (DIDIM) does not identify " + ", ".join(fit.lost)
+                   + " (at a bound, or a std as large as the value), which the equation error "
+                     "identifies: the equation error is reported; the replay cannot follow the "
+                     "record with this model (an effect it lacks: fricctl diagnose)")
+    elif fit.apart:
         out.append("the equation error and the simulation error disagree beyond their standard "
                    "errors on " + ", ".join(f"{n} {a:.4g} vs {b:.4g} ({abs(a - b) / c:.1f} std)"
                                             for n, a, b, c in fit.apart)
