@@ -28,7 +28,7 @@ from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_gr
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult, RecordIdentification
 
-__all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
+__all__ = ["diagnose", "judged_by_removal", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
            "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
 
 #: Peak memory of ``fricctl diagnose`` per sample of the record, the whole process (CSV
@@ -187,6 +187,9 @@ class _Setup:
     """The baseline every candidate extends."""
     problem: Problem
     """The record's normal equations."""
+    held: tuple = ()
+    """The causes whose effect the supplied model held, removed to be judged
+    (:func:`judged_by_removal`)."""
 
 
 def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
@@ -206,9 +209,30 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
         from ..identify import identify_record
 
         ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False)
-    base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
+    core, held = (None, ()) if model is None else judged_by_removal(model)
+    base = Baseline(sig, core, None if fit0 is None else fit0.estimates.copy())
     return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
-                  problem=Problem(sig, base.columns))
+                  problem=Problem(sig, base.columns), held=held)
+
+
+def judged_by_removal(model: JointModel) -> tuple:
+    """``(core, held)``: ``model`` without every effect a cause can remove from it
+    (:attr:`~fricctl.diagnose.causes.Cause.remove`), and the names of the causes whose
+    effect it held, in candidate order.
+
+    A supplied model's offset, asymmetric levels or Stribeck excess are claims about the
+    record like any cause's: the diagnosis starts from the core and the selection names
+    again, by the same held-out tests and in the order they earn it, what the record
+    supports -- so that the causes do not depend on what a model happened to hold (on EMPS
+    the IDIM-LS model's constant offset is a viscous asymmetry seen at the record's
+    plateau speeds; fit mode names the asymmetry, and so does the diagnosis of that model).
+    """
+    core, held = model, []
+    for cause in causes.candidates(nominal=True):
+        if cause.held_by(core):
+            core = cause.remove(core)
+            held.append(cause.name)
+    return core, tuple(held)
 
 
 class _ChainShares:
@@ -312,9 +336,11 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm})
+    held = _held_text(setup.held, model, named, sel, sig.units)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
-                                            sel.not_identifiable, sig.units, said),
+                                            sel.not_identifiable, sig.units, said) + held,
+                     held=setup.held, supplied=model,
                      baseline=baseline_model, extended=extended, gain=gain,
                      simulation_scores=sel.simulation_scores,
                      fit=ext.fit or (setup.ident.result if setup.ident else setup.fit0), t=sig.t,
@@ -325,6 +351,30 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, notes=_notes(sel))
+
+
+def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection,
+               units_: str) -> str:
+    """What became of each effect the supplied model held: named again by the record (held
+    and supported) or not (held, not supported: with the score it reached)."""
+    if not held:
+        return ""
+    pm = model.parameters()
+    last = dict(sel.last_ranking)
+    out = []
+    for name in held:
+        core = causes.get(name).remove(model).parameters()
+        what = ", ".join(f"{k} {pm.get(k, 0.0):.4g}" for k in sorted(set(pm) | set(core))
+                         if pm.get(k, 0.0) != core.get(k, 0.0))
+        if name in named:
+            out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
+                       f"the record supports it (named above, its term refitted)")
+        else:
+            score = last.get(name)
+            at = "" if score is None else f" (it removes {100 * score:.1f} % of what is left, net)"
+            out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
+                       f"the record does not support it{at}: left out of the extended model")
+    return "".join(s + "." for s in out)
 
 
 def _gain(sig: Signals, sel: Selection) -> Gain:

@@ -112,6 +112,13 @@ class Diagnosis:
     verdict : Verdict
         Whether the final model explains the record (its held-out residual against the
         measuring chain's floor) and where the rest lives (:mod:`.verdict`).
+    held : tuple of str
+        The causes whose effect the supplied model held (its offset, asymmetric levels,
+        Stribeck excess ...): removed to be judged, ``baseline`` is the supplied model
+        without them, and each is in :attr:`causes` only if the record supports it
+        (:func:`~fricctl.diagnose.api.judged_by_removal`); empty in fit mode.
+    supplied : JointModel or None
+        The model as supplied (None in fit mode).
     """
 
     cause: str
@@ -140,6 +147,14 @@ class Diagnosis:
     cutoff: float = float("nan")
     notes: dict = None
     verdict: Verdict = None
+    held: tuple = ()
+    supplied: JointModel | None = None
+
+    @property
+    def origin(self) -> dict:
+        """Per named cause: ``"held by the supplied model"`` or ``"found"``."""
+        return {c: "held by the supplied model" if c in self.held else "found"
+                for c in self.causes if c != causes.NONE}
 
     @property
     def explained(self) -> bool:
@@ -172,6 +187,9 @@ class Diagnosis:
             "chain_rms": float(self.chain_rms),
             "cutoff": float(self.cutoff),
             "nominal_model": self.nominal,
+            "origin": self.origin,
+            "held_by_model": list(self.held),
+            "supplied": None if self.supplied is None else self.supplied.parameters(),
             "units": self.units}
         notes = dict(self.notes or {})
         undefined: dict = {}
@@ -196,7 +214,13 @@ class Diagnosis:
         lines = [f"# Diagnosis: {title}", ""]
         if self.verdict is not None:
             lines += [f"**{self.verdict.sentence()}**", ""]
-        lines += [f"*{c}: {causes.physical(c)}*" for c in self.causes]
+        lines += [f"*{c}: {causes.physical(c)}*" + (" (held by the supplied model)"
+                                                   if c in self.held else "")
+                  for c in self.causes]
+        if self.held:
+            lines += ["", f"The supplied model holds {', '.join(self.held)}: removed to be "
+                          f"judged by the same held-out tests (the baseline below is the "
+                          f"supplied model without them)."]
         lines += ["", "## Evidence", "", self.evidence, "",
                   "## Steps (held-out, blocked cross-validation)", ""]
         if self.steps:
