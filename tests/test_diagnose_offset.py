@@ -39,14 +39,15 @@ def test_twin_carries_the_models_offset():
 # ----------------------------------------------------------------------------- judged by removal
 def test_supplied_terms_are_removed_to_be_judged():
     from fricctl.diagnose import judged_by_removal
-    from fricctl.friction import Coulomb, Stribeck, Viscous
+    from fricctl.friction import Coulomb, PositionRipple, Stribeck, Viscous
     from fricctl.plant import JointModel
 
     m = JointModel(inertia=2.0, friction=Viscous(pos=3.0, neg=5.0) + Coulomb(pos=1.2, neg=0.8)
-                   + Stribeck(0.4, 0.05), offset=-0.3)
+                   + Stribeck(0.4, 0.05) + PositionRipple(0.1, 0.2, 0.3), offset=-0.3)
     core, held = judged_by_removal(m)
-    # candidate order (registry): stribeck, asymmetry, ..., offset
-    assert held == ("stribeck", "asymmetry", "offset")
+    # candidate order (registry): stribeck, asymmetry, position_ripple, ..., offset
+    assert held == ("stribeck", "asymmetry", "position_ripple", "offset")
+    assert core.friction.ripple_amplitude == 0.0
     fr = core.friction
     # neutral values by hand: mean levels both ways, no excess, no offset
     assert (fr.viscous_pos, fr.viscous_neg) == (4.0, 4.0)
@@ -93,3 +94,60 @@ def test_offset_injected_as_a_constant_torque():
     sig = estimate_signals(rec.run, 8)
     r = predict(rec.truth, sig).residual[sig.moving]
     assert abs(np.mean(r)) < 0.1 * abs(off)
+
+
+# ----------------------------------------------------------------------------- rates (slow)
+KINDS = ("offset", "asymmetry", "none")
+
+
+def _rate_record(cause: str, axis: str, i: int):
+    key = {"rotary": 2142, "linear": 2143}[axis]
+    return hidden_effect_record(np.random.default_rng([key, 100 * KINDS.index(cause) + i]),
+                                cause=cause, axis=axis)
+
+
+@pytest.mark.slow
+def test_offset_named_on_unseen_seeds():
+    # issue 21's target for the new causes hidden alone: >= 85 % named exactly, on 20 records
+    # (10 rotary, 10 linear; seeds never looked at while building); the asymmetry (now a
+    # viscous split) still named; effect-free records: no cause
+    from fricctl.diagnose import diagnose
+
+    named = {k: [] for k in KINDS}
+    for cause, n in (("offset", 10), ("asymmetry", 4), ("none", 4)):
+        for axis in ("rotary", "linear"):
+            for i in range(n):
+                named[cause].append(diagnose(_rate_record(cause, axis, i).run).causes)
+    assert sum(c == ("offset",) for c in named["offset"]) >= 0.85 * len(named["offset"]), named
+    assert sum(c == ("asymmetry",) for c in named["asymmetry"]) >= 0.75 * len(named["asymmetry"]), named
+    assert all(c == ("none",) for c in named["none"]), named
+
+
+# ----------------------------------------------------------------------------- EMPS (slow)
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["DATA_EMPS.mat", "DATA_EMPS_PULSES.mat"])
+def test_emps_same_causes_with_and_without_model(data_dir, tmp_path, capsys, name):
+    # issue 21, item 4: `fricctl diagnose` names the same causes with and without --model
+    # from `fricctl identify --recipe idim_ls` on the same file (which holds the -3.16 N
+    # offset); the offset is judged by removal and the record supports the viscous
+    # asymmetry instead; every named parameter physical (viscous > 0 both ways)
+    import json
+
+    from fricctl.cli import main
+
+    path = str(data_dir / "emps" / name)
+    model = tmp_path / "idim.json"
+    assert main(["identify", path, "--recipe", "idim_ls", "--no-validation",
+                 "--out", str(model)]) == 0
+    capsys.readouterr()
+    out = {}
+    for key, extra in (("fit", []), ("model", ["--model", str(model)])):
+        assert main(["diagnose", path, "--json", *extra]) == 0
+        out[key] = json.loads(capsys.readouterr().out)
+    assert out["fit"]["causes"] == out["model"]["causes"] == ["asymmetry"]
+    assert out["model"]["held_by_model"] == ["offset"] and out["fit"]["held_by_model"] == []
+    assert out["model"]["origin"] == {"asymmetry": "found"}
+    for o in out.values():
+        ext = o["extended"]
+        assert 0 < ext["viscous_pos"] < ext["viscous_neg"]
+        assert not o["explained"] and o["residual_over_floor"] > 2
