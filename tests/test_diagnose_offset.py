@@ -151,3 +151,23 @@ def test_emps_same_causes_with_and_without_model(data_dir, tmp_path, capsys, nam
         ext = o["extended"]
         assert 0 < ext["viscous_pos"] < ext["viscous_neg"]
         assert not o["explained"] and o["residual_over_floor"] > 2
+
+
+def test_unsupported_offset_of_a_supplied_model_is_left_out_and_said():
+    # a supplied model holding an offset the record does not have: removed to be judged, not
+    # named, left out of the extended model with its provenance saying why; none named, as
+    # without the model
+    from dataclasses import replace
+
+    from fricctl.diagnose import diagnose
+
+    rec = hidden_effect_record(np.random.default_rng([2141, 3]), cause="none", duration=20.0,
+                               nominal=True)
+    wrong = replace(rec.nominal, offset=0.3 * rec.nominal.friction.coulomb_pos)
+    d = diagnose(rec.run, wrong)
+    assert d.causes == ("none",) and d.held == ("offset",) and d.origin == {}
+    assert d.extended.offset == 0.0 and d.supplied is wrong
+    prov = d.extended.provenance["offset"]
+    assert prov.source == "diagnosed" and "not supported" in prov.note
+    assert "the record does not support it" in d.evidence
+    assert d.as_dict()["held_by_model"] == ["offset"]

@@ -330,8 +330,14 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted if setup.ident is None
                                     else _identified(setup.ident, run), run, sig, model)
-    extended = (baseline_model if not sel.selected else
-                _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named))
+    # with terms removed to be judged, what changed is told against the model as supplied
+    # (a removed offset the record does not support is marked "diagnosed" at 0, not left
+    # with the supplied value's provenance)
+    supplied = None if not setup.held else _record_fields(model, run, sig, model)
+    unsupported = tuple(c for c in setup.held if c not in named)
+    extended = (baseline_model if not sel.selected and not setup.held else
+                _diagnosed(_record_fields(ext.model, run, sig, model),
+                           supplied or baseline_model, named, unsupported))
     chain_rms = _twin(base).rms
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
@@ -426,19 +432,23 @@ def _identified(ident, run: Run) -> JointModel:
              f"signals)")
 
 
-def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple) -> JointModel:
+def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple,
+               removed: tuple = ()) -> JointModel:
     """``extended`` with provenance "diagnosed" on every value the diagnosis added or changed
-    (the other values keep the baseline's provenance)."""
+    (the other values keep the baseline's provenance); ``removed``: the supplied model's
+    effects removed to be judged that the record does not support."""
     pb, pe = baseline.parameters(), extended.parameters()
     prov = dict(baseline.provenance)
     prov.update({k: extended.provenance[k] for k in ("sample_time", "encoder_resolution")
                  if k in extended.provenance})
-    note = "fricctl diagnose: " + " + ".join(named)
+    note = "fricctl diagnose: " + " + ".join(named) + (
+        f" ({', '.join(removed)} of the supplied model removed: not supported by the record)"
+        if removed else "")
     for name in set(pb) | set(pe):
         if pb.get(name, 0.0) != pe.get(name, 0.0):
             prov[_provenance_key(name)] = Provenance(source="diagnosed", note=note)
     source = (extended.source + "; " if extended.source else "") + note
-    return replace(extended, provenance=prov, source=source if named != (causes.NONE,)
+    return replace(extended, provenance=prov, source=source if named != (causes.NONE,) or removed
                    else extended.source)
 
 
