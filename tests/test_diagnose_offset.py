@@ -119,7 +119,8 @@ def test_offset_named_on_unseen_seeds():
             for i in range(n):
                 named[cause].append(diagnose(_rate_record(cause, axis, i).run).causes)
     assert sum(c == ("offset",) for c in named["offset"]) >= 0.85 * len(named["offset"]), named
-    assert sum(c == ("asymmetry",) for c in named["asymmetry"]) >= 0.75 * len(named["asymmetry"]), named
+    asym = named["asymmetry"]
+    assert sum(c == ("asymmetry",) for c in asym) >= 0.75 * len(asym), named
     assert all(c == ("none",) for c in named["none"]), named
 
 

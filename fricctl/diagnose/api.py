@@ -28,8 +28,9 @@ from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_gr
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult, RecordIdentification
 
-__all__ = ["diagnose", "judged_by_removal", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
-           "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
+__all__ = ["diagnose", "judged_by_removal", "torque_residual", "prediction_errors",
+           "TorqueResidual", "PredictionErrors", "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET",
+           "AGREEMENT", "check_model_agrees"]
 
 #: Peak memory of ``fricctl diagnose`` per sample of the record, the whole process (CSV
 #: reading, interpreter and compiled code included), measured at the former limit: 615 384
@@ -342,7 +343,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm})
-    held = _held_text(setup.held, model, named, sel, sig.units)
+    held = _held_text(setup.held, model, named, sel)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
                                             sel.not_identifiable, sig.units, said) + held,
@@ -359,8 +360,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      cutoff=sig.cutoff, notes=_notes(sel))
 
 
-def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection,
-               units_: str) -> str:
+def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection) -> str:
     """What became of each effect the supplied model held: named again by the record (held
     and supported) or not (held, not supported: with the score it reached)."""
     if not held:
@@ -448,8 +448,8 @@ def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple,
         if pb.get(name, 0.0) != pe.get(name, 0.0):
             prov[_provenance_key(name)] = Provenance(source="diagnosed", note=note)
     source = (extended.source + "; " if extended.source else "") + note
-    return replace(extended, provenance=prov, source=source if named != (causes.NONE,) or removed
-                   else extended.source)
+    return replace(extended, provenance=prov,
+                   source=source if named != (causes.NONE,) or removed else extended.source)
 
 
 def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None):

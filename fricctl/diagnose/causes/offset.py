@@ -59,8 +59,9 @@ def _evidence(base, term, extended):
     text = (f"the baseline residual averages {pos:+.3g} {u.torque} moving forward and "
             f"{neg:+.3g} {u.torque} moving backward (a constant torque shifts both alike); "
             f"fitted offset {c:+.3g} {u.torque} (the model's offset {extended.offset:+.3g} "
-            f"{u.torque}: the joint receives Tm - offset), {100 * abs(extended.offset) / max(fc, 1e-12):.0f} % "
-            f"of the Coulomb level {fc:.3g} {u.torque}")
+            f"{u.torque}: the joint receives Tm - offset), "
+            f"{100 * abs(extended.offset) / max(fc, 1e-12):.0f} % of the Coulomb level "
+            f"{fc:.3g} {u.torque}")
     if abs(extended.offset) > fc:
         return text + (f"; it exceeds the Coulomb level: under zero torque the joint would "
                        f"drift, which no friction does")
