@@ -182,7 +182,7 @@ def test_bench_pairs():
 
 
 def test_two_effects_are_both_named():
-    # the pair: direction-dependent friction and a position ripple, hidden together
+    # the pair: direction-dependent (viscous) friction and a position ripple, together
     rec = _record(("asymmetry", "position_ripple"), 10)
     d = diagnose(rec.run)
     assert set(d.causes) == {"asymmetry", "position_ripple"}, d.report()
@@ -190,7 +190,7 @@ def test_two_effects_are_both_named():
     # each step starts where the previous one ended
     assert d.steps[1].torque_rms_before == pytest.approx(d.steps[0].torque_rms_after, rel=1e-12)
     fr = d.extended.friction
-    assert fr.coulomb_pos != fr.coulomb_neg and fr.ripple_amplitude > 0
+    assert fr.viscous_pos != fr.viscous_neg and fr.ripple_amplitude > 0
 
 
 @pytest.mark.parametrize("ts, axis, excitation, sensors", [

@@ -588,12 +588,15 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
              else FOREIGN[foreign].draw(rng, actuator, np.arange(n) * ts))
     if alien.disturbance is not None:
         torque_noise = torque_noise + alien.disturbance
+    # a constant torque (the truth's offset) acts at the joint with the noise: it receives
+    # Tm - offset (the recorded torque is Tm)
+    at_joint = torque_noise - effect.truth.offset
     sim = simulate_schedule(effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
                                                    segment_start=start),
                             sample_time=ts, max_torque=tmax,
                             encoder_resolution=actuator.encoder_resolution,
                             substeps=int(effect.substeps), delay=int(effect.delay),
-                            noise=torque_noise)
+                            noise=at_joint)
     if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
     stops, impacts = (), np.zeros(0, dtype=int)
@@ -608,7 +611,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
             effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
                                    segment_start=start),
             sample_time=ts, max_torque=tmax, encoder_resolution=actuator.encoder_resolution,
-            substeps=sim.info.substeps, delay=int(effect.delay), noise=torque_noise,
+            substeps=sim.info.substeps, delay=int(effect.delay), noise=at_joint,
             lower=lo, upper=hi)
         impacts = sim.impacts
         stops = tuple(lim for side, lim in ((-1, sim.lower), (1, sim.upper))

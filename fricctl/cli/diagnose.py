@@ -3,8 +3,10 @@
 Reads a record (CSV header ``t,torque,position[,reference]``, SI units, uniform
 sampling, any rate; see :class:`fricctl.datasets.Run`; or a ``.mat`` file in the
 EMPS layout, a linear axis), fits the rigid baseline (or takes ``--model FILE``, a
-``fricctl.joint_model`` JSON file, as given: its units, sample time and encoder
-count must agree with the record's),
+``fricctl.joint_model`` JSON file: its units, sample time and encoder count must agree
+with the record's; the effects a cause can judge -- its offset, asymmetric levels,
+Stribeck excess -- are removed and named again only where the record supports them,
+so that the causes are the same with and without the model),
 re-simulates it over 0.5 s windows, names every cause the record supports one
 step at a time by blocked cross-validation (or ``none``), extends the model and
 reports the held-out gain and the verdict: is the record explained?  ``--json`` prints one
@@ -23,8 +25,10 @@ re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl 
 ``simulation_rms_before``, ``simulation_rms_after``, ...), all on held-out data,
 ``chain_rms``, ``cutoff`` and ``end_stops`` (the end stops the record hits: ``positions``,
 ``impacts``, ``excluded_samples``, ``description``; their contacts are left out of the fit,
-the re-simulation windows, the floor and the verdict, and the text says so).
-A linear axis: ``# units: linear`` in the file or
+the re-simulation windows, the floor and the verdict, and the text says so); with
+``--model``, ``held_by_model`` (the causes whose effect the model held, removed to be
+judged), ``origin`` (per named cause: "found" or "held by the supplied model") and
+``supplied`` (the model's parameters).  A linear axis: ``# units: linear`` in the file or
 ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),

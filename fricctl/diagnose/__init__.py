@@ -10,8 +10,11 @@ an engineer does when simulation and experiment disagree:
    modelled.
 1. **Baseline.**  Fit the rigid model ``I*q'' = Tm - b*w - Fc*sign(w)`` (stiction at
    Fc) by inverse-dynamics least squares, or take a supplied nominal
-   :class:`~fricctl.plant.JointModel` as given (its JSON file format is in
-   :mod:`fricctl.plant.model`).
+   :class:`~fricctl.plant.JointModel` (its JSON file format is in
+   :mod:`fricctl.plant.model`) without the effects a cause can judge: its offset,
+   asymmetric levels, Stribeck excess are removed (:func:`judged_by_removal`) and
+   named again only if the record supports them (marked "held by the supplied
+   model"), so that the causes do not depend on what the model happened to hold.
 2. **What the simulation gets wrong.**  Re-simulate the model driven by the
    measured torque over short windows (0.5 s), each started from the measured
    state, and compare position and velocity with the measurement
@@ -69,7 +72,8 @@ optimistic).
 """
 
 from .api import (BYTES_PER_SAMPLE, MAX_SAMPLES, PredictionErrors, TorqueResidual,
-                  check_model_agrees, diagnose, prediction_errors, torque_residual)
+                  check_model_agrees, diagnose, judged_by_removal, prediction_errors,
+                  torque_residual)
 from .causes import CAUSES, NOMINAL_ONLY
 from .report import Diagnosis, Gain
 from .selection import MIN_SCORE, Step
@@ -80,4 +84,5 @@ __all__ = [
     "WindowedSimulation", "Diagnosis", "diagnose", "windowed_simulation",
     "prediction_errors", "torque_residual", "Gain", "SimulationRMS", "TorqueResidual",
     "PredictionErrors", "Step", "MAX_SAMPLES", "BYTES_PER_SAMPLE", "check_model_agrees",
+    "judged_by_removal",
 ]

@@ -29,8 +29,9 @@ from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_gr
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult, RecordIdentification
 
-__all__ = ["diagnose", "torque_residual", "prediction_errors", "TorqueResidual", "PredictionErrors",
-           "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET", "AGREEMENT", "check_model_agrees"]
+__all__ = ["diagnose", "judged_by_removal", "torque_residual", "prediction_errors",
+           "TorqueResidual", "PredictionErrors", "MAX_SAMPLES", "BYTES_PER_SAMPLE", "MEMORY_BUDGET",
+           "AGREEMENT", "check_model_agrees"]
 
 #: Peak memory of ``fricctl diagnose`` per sample of the record, the whole process (CSV
 #: reading, interpreter and compiled code included), measured at the former limit: 615 384
@@ -193,6 +194,9 @@ class _Setup:
     the twin and the verdict."""
     dropped: int
     """Re-simulation windows dropped for holding a contact with an end stop."""
+    held: tuple = ()
+    """The causes whose effect the supplied model held, removed to be judged
+    (:func:`judged_by_removal`)."""
 
 
 def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
@@ -215,10 +219,11 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
 
         ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False,
                                 stops=stops)
-    base = Baseline(sig, model, None if fit0 is None else fit0.estimates.copy())
+    core, held = (None, ()) if model is None else judged_by_removal(model)
+    base = Baseline(sig, core, None if fit0 is None else fit0.estimates.copy())
     return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
                   problem=Problem(sig, base.columns), stops=stops,
-                  dropped=whole.starts.size - grid.starts.size)
+                  dropped=whole.starts.size - grid.starts.size, held=held)
 
 
 def _clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGrid:
@@ -236,6 +241,26 @@ def _clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGr
                          f"contact with an end stop ({stops.description}): shorten --window, or "
                          f"record more motion clear of the stops")
     return WindowGrid(starts=grid.starts[keep], length=grid.length)
+
+
+def judged_by_removal(model: JointModel) -> tuple:
+    """``(core, held)``: ``model`` without every effect a cause can remove from it
+    (:attr:`~fricctl.diagnose.causes.Cause.remove`), and the names of the causes whose
+    effect it held, in candidate order.
+
+    A supplied model's offset, asymmetric levels or Stribeck excess are claims about the
+    record like any cause's: the diagnosis starts from the core and the selection names
+    again, by the same held-out tests and in the order they earn it, what the record
+    supports -- so that the causes do not depend on what a model happened to hold (on EMPS
+    the IDIM-LS model's constant offset is a viscous asymmetry seen at the record's
+    plateau speeds; fit mode names the asymmetry, and so does the diagnosis of that model).
+    """
+    core, held = model, []
+    for cause in causes.candidates(nominal=True):
+        if cause.held_by(core):
+            core = cause.remove(core)
+            held.append(cause.name)
+    return core, tuple(held)
 
 
 class _ChainShares:
@@ -333,8 +358,14 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted if setup.ident is None
                                     else _identified(setup.ident, run), run, sig, model)
-    extended = (baseline_model if not sel.selected else
-                _diagnosed(_record_fields(ext.model, run, sig, model), baseline_model, named))
+    # with terms removed to be judged, what changed is told against the model as supplied
+    # (a removed offset the record does not support is marked "diagnosed" at 0, not left
+    # with the supplied value's provenance)
+    supplied = None if not setup.held else _record_fields(model, run, sig, model)
+    unsupported = tuple(c for c in setup.held if c not in named)
+    extended = (baseline_model if not sel.selected and not setup.held else
+                _diagnosed(_record_fields(ext.model, run, sig, model),
+                           supplied or baseline_model, named, unsupported))
     chain_rms = _twin(base).rms
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
@@ -346,10 +377,12 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
             f"re-simulation "
             f"windows held a contact and were dropped, and the measuring chain's floor is "
             f"measured without the contacts too"))
+    held = _held_text(setup.held, model, named, sel)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,
                      evidence=evidence_text(sel.steps, bodies, sel.first_ranking, gain,
                                             sel.not_identifiable, sig.units, said,
-                                            stops.description if stops.found else ""),
+                                            stops.description if stops.found else "") + held,
+                     held=setup.held, supplied=model,
                      baseline=baseline_model, extended=extended, gain=gain,
                      simulation_scores=sel.simulation_scores,
                      fit=ext.fit or (setup.ident.result if setup.ident else setup.fit0), t=sig.t,
@@ -360,6 +393,29 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, notes=_notes(sel), end_stops=stops)
+
+
+def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection) -> str:
+    """What became of each effect the supplied model held: named again by the record (held
+    and supported) or not (held, not supported: with the score it reached)."""
+    if not held:
+        return ""
+    pm = model.parameters()
+    last = dict(sel.last_ranking)
+    out = []
+    for name in held:
+        core = causes.get(name).remove(model).parameters()
+        what = ", ".join(f"{k} {pm.get(k, 0.0):.4g}" for k in sorted(set(pm) | set(core))
+                         if pm.get(k, 0.0) != core.get(k, 0.0))
+        if name in named:
+            out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
+                       f"the record supports it (named above, its term refitted)")
+        else:
+            score = last.get(name)
+            at = "" if score is None else f" (it removes {100 * score:.1f} % of what is left, net)"
+            out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
+                       f"the record does not support it{at}: left out of the extended model")
+    return "".join(s + "." for s in out)
 
 
 def _gain(sig: Signals, sel: Selection) -> Gain:
@@ -411,20 +467,24 @@ def _identified(ident, run: Run) -> JointModel:
              f"signals)")
 
 
-def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple) -> JointModel:
+def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple,
+               removed: tuple = ()) -> JointModel:
     """``extended`` with provenance "diagnosed" on every value the diagnosis added or changed
-    (the other values keep the baseline's provenance)."""
+    (the other values keep the baseline's provenance); ``removed``: the supplied model's
+    effects removed to be judged that the record does not support."""
     pb, pe = baseline.parameters(), extended.parameters()
     prov = dict(baseline.provenance)
     prov.update({k: extended.provenance[k] for k in ("sample_time", "encoder_resolution")
                  if k in extended.provenance})
-    note = "fricctl diagnose: " + " + ".join(named)
+    note = "fricctl diagnose: " + " + ".join(named) + (
+        f" ({', '.join(removed)} of the supplied model removed: not supported by the record)"
+        if removed else "")
     for name in set(pb) | set(pe):
         if pb.get(name, 0.0) != pe.get(name, 0.0):
             prov[_provenance_key(name)] = Provenance(source="diagnosed", note=note)
     source = (extended.source + "; " if extended.source else "") + note
-    return replace(extended, provenance=prov, source=source if named != (causes.NONE,)
-                   else extended.source)
+    return replace(extended, provenance=prov,
+                   source=source if named != (causes.NONE,) or removed else extended.source)
 
 
 def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None):

@@ -117,6 +117,13 @@ class Diagnosis:
         The record's end stops (:func:`~fricctl.diagnose.stops.end_stops`): their contacts
         are left out of the equation error, the re-simulation windows, the twin and the
         verdict, and its description says so (None: not looked for).
+    held : tuple of str
+        The causes whose effect the supplied model held (its offset, asymmetric levels,
+        Stribeck excess ...): removed to be judged, ``baseline`` is the supplied model
+        without them, and each is in :attr:`causes` only if the record supports it
+        (:func:`~fricctl.diagnose.api.judged_by_removal`); empty in fit mode.
+    supplied : JointModel or None
+        The model as supplied (None in fit mode).
     """
 
     cause: str
@@ -146,6 +153,14 @@ class Diagnosis:
     notes: dict = None
     verdict: Verdict = None
     end_stops: "EndStops | None" = None
+    held: tuple = ()
+    supplied: JointModel | None = None
+
+    @property
+    def origin(self) -> dict:
+        """Per named cause: ``"held by the supplied model"`` or ``"found"``."""
+        return {c: "held by the supplied model" if c in self.held else "found"
+                for c in self.causes if c != causes.NONE}
 
     @property
     def explained(self) -> bool:
@@ -179,7 +194,10 @@ class Diagnosis:
             "cutoff": float(self.cutoff),
             "nominal_model": self.nominal,
             "units": self.units,
-            "end_stops": None if self.end_stops is None else self.end_stops.as_dict()}
+            "end_stops": None if self.end_stops is None else self.end_stops.as_dict(),
+            "origin": self.origin,
+            "held_by_model": list(self.held),
+            "supplied": None if self.supplied is None else self.supplied.parameters()}
         notes = dict(self.notes or {})
         undefined: dict = {}
 
@@ -205,7 +223,13 @@ class Diagnosis:
             lines += [f"**{self.verdict.sentence()}**", ""]
         if self.end_stops is not None and self.end_stops.found:
             lines += [f"**{_capital(self.end_stops.description)}.**", ""]
-        lines += [f"*{c}: {causes.physical(c)}*" for c in self.causes]
+        lines += [f"*{c}: {causes.physical(c)}*" + (" (held by the supplied model)"
+                                                   if c in self.held else "")
+                  for c in self.causes]
+        if self.held:
+            lines += ["", f"The supplied model holds {', '.join(self.held)}: removed to be "
+                          f"judged by the same held-out tests (the baseline below is the "
+                          f"supplied model without them)."]
         lines += ["", "## Evidence", "", self.evidence, "",
                   "## Steps (held-out, blocked cross-validation)", ""]
         if self.steps:

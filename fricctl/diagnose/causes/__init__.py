@@ -14,6 +14,9 @@ Adding a cause
 2. Give it the next free ``order`` (ties in score go to the lower number).
 3. Run ``tests/test_diagnose_causes.py``: every registered cause is hidden by the bench and
    must be named, and its extension must change the model.
+4. If a supplied model can hold the effect (a model file's offset, Stribeck excess ...), give
+   it ``remove=`` (the model without it): the diagnosis then judges the model's term by the
+   same held-out tests instead of trusting it (:func:`fricctl.diagnose.judged_by_removal`).
 
 Examples
 --------

@@ -101,6 +101,13 @@ class Cause:
     hyper-parameter at the end of what the record resolves, a resonance above the band the
     excitation reaches.  Collinearity of the term's columns with the model's is checked for
     every cause by the selection itself."""
+    remove: Callable[[JointModel], JointModel] | None = None
+    """``remove(model)``: ``model`` without this effect (the parameters it acts on at their
+    neutral values: no offset, equal levels both ways, no Stribeck excess ...), or None when
+    the effect has no neutral value (a nominal model's inertia or friction level).  A
+    supplied model's terms are judged by removal: the diagnosis removes every term a cause
+    can remove, and the selection names again what the record supports from there
+    (:func:`~fricctl.diagnose.diagnose`), each marked as held by the supplied model."""
 
     def __post_init__(self):
         if not (isinstance(self.name, str) and self.name.isidentifier()):
@@ -110,6 +117,10 @@ class Cause:
         for name in ("variants", "extend", "evidence", "inject", "identifiable"):
             if not callable(getattr(self, name)):
                 raise ValueError(f"Cause {self.name}: {name} must be a function")
+
+    def held_by(self, model: JointModel) -> bool:
+        """True when ``model`` holds this effect (:attr:`remove` changes it)."""
+        return self.remove is not None and self.remove(model).parameters() != model.parameters()
 
     @property
     def n_extra(self) -> int:
@@ -338,7 +349,8 @@ class BenchActuator:
         return float(ratio) ** self.strength
 
     def rigid(self, *, magnitude: Mapping, friction=None, breakaway: float | None = None,
-              delay: int = 0, inertia: float | None = None, substeps: int = 4) -> "Injection":
+              delay: int = 0, inertia: float | None = None, offset: float = 0.0,
+              substeps: int = 4) -> "Injection":
         """The injection of an effect that keeps the joint rigid.
 
         Parameters
@@ -354,6 +366,9 @@ class BenchActuator:
             The joint receives the torque this many samples late.
         inertia : float, optional
             The true inertia (default: the baseline's) [kg*m^2].
+        offset : float
+            A constant torque at the joint (it receives ``Tm - offset``; the bench
+            simulates the truth's offset) [N*m].
         substeps : int
             RK4 sub-intervals per sample of the bench simulation.
         """
@@ -361,6 +376,7 @@ class BenchActuator:
         true_inertia = self.inertia if inertia is None else inertia
         return Injection(joint=RigidJoint(inertia=true_inertia, friction=fr),
                          truth=JointModel(inertia=true_inertia, friction=fr,
+                                          offset=v.real("offset", offset),
                                           delay=delay * self.sample_time, units=self.units),
                          nominal=self.nominal(), magnitude=dict(magnitude),
                          breakaway=self.coulomb if breakaway is None else breakaway,
@@ -372,7 +388,8 @@ class Injection:
     """An effect hidden in a bench actuator: what the bench simulates and what is true."""
 
     joint: RigidJoint | FlexibleJoint
-    """The joint the bench simulates."""
+    """The joint the bench simulates (a constant torque, :attr:`truth`'s ``offset``, is
+    applied to it by the bench)."""
     truth: JointModel
     """The complete true model (baseline + effect)."""
     nominal: JointModel

@@ -24,7 +24,7 @@ extended model re-simulates and travels beyond the record without running away.
 
 What it does not tell: a constant torque (its long-period cosine is one) -- the
 identifiability rule below leaves a load that is a constant over this travel to the offset
-(:mod:`.asymmetry`); a load with a sharper shape (a cam, a hard stop) is fitted by its
+(:mod:`.offset`); a load with a sharper shape (a cam, a hard stop) is fitted by its
 first wave only.
 """
 
@@ -175,7 +175,7 @@ def _shape_share(base, period) -> float:
 def _identifiable(base, term):
     """A shape over the travel: the travel spans :data:`MIN_COUNTS` encoder counts, and the
     load's shape removes :data:`MIN_SHAPE_SHARE` of what a constant torque leaves (else over
-    this travel it is a constant: an offset, told by :mod:`.asymmetry`)."""
+    this travel it is a constant: an offset, told by :mod:`.offset`)."""
     sig, u = base.sig, base.labels
     lo, hi = _travel(sig)
     if sig.resolution > 0 and hi - lo < MIN_COUNTS * sig.resolution:

@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 from scipy import signal
 
-from ...friction import PositionRipple
+from ...friction import FrictionModel, PositionRipple
 from .base import Cause, coulomb_level
 
 
@@ -92,6 +92,14 @@ def _extend(model, term, base):
     return replace(model, friction=model.friction + ripple)
 
 
+def _remove(model):
+    d = model.friction.as_dict()
+    default = FrictionModel().as_dict()
+    for key in ("ripple_amplitude", "ripple_period", "ripple_phase"):
+        d[key] = default[key]
+    return replace(model, friction=FrictionModel.from_dict(d))
+
+
 def _evidence(base, term, extended):
     u = base.labels
     fr = extended.friction
@@ -116,4 +124,4 @@ CAUSE = Cause(
     changes=("ripple_amplitude", "ripple_period", "ripple_phase"),
     params=("ripple_sin", "ripple_cos"), variants=_variants, per_fold=True, per_step=True,
     refine=_refine, identifiable=_identifiable,
-    extend=_extend, evidence=_evidence, inject=_inject)
+    extend=_extend, evidence=_evidence, inject=_inject, remove=_remove)

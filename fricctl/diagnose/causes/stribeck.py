@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...friction import Stribeck
+from ...friction import FrictionModel, Stribeck
 from .base import Cause, coulomb_level
 
 
@@ -42,6 +42,13 @@ def _evidence(base, term, extended):
             f"{u.torque}), Stribeck velocity {vs:.3g} {u.velocity}")
 
 
+def _remove(model):
+    d = model.friction.as_dict()
+    d["stribeck_pos"] = d["stribeck_neg"] = 0.0
+    d["stribeck_velocity"] = FrictionModel().as_dict()["stribeck_velocity"]
+    return replace(model, friction=FrictionModel.from_dict(d))
+
+
 def _inject(rng, act):
     fc = act.coulomb
     mag = dict(excess=rng.uniform(0.5, 1.0) * fc * act.strength,
@@ -55,4 +62,4 @@ CAUSE = Cause(
     physical="friction at low speed exceeds the Coulomb level and decays toward it with speed",
     changes=("stribeck_pos", "stribeck_neg", "stribeck_velocity"),
     params=("stribeck_excess",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject)
+    inject=_inject, remove=_remove)
