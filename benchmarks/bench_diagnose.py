@@ -27,7 +27,10 @@ RMS); a weaker one is *below the line* and the expected answer leaves it out.  T
 independent bench has no exact model of its laws in fricctl: its effects are drawn well
 above the line and all expected.
 
-Run:  .venv/bin/python benchmarks/bench_diagnose.py [timing|singles|pairs|none|line|independent ...]
+``issue21``: the causes issue 21 added hidden alone, end stops, effects that are not causes
+(``foreign=``) and no effect, on seeds ``[12201..12204, ...]``; not in the default run.
+
+Run:  .venv/bin/python benchmarks/bench_diagnose.py [timing|singles|pairs|none|line|independent|issue21 ...]
 (all sets by default; nice it on a shared machine).
 """
 
@@ -146,6 +149,81 @@ def independent():
     return rows
 
 
+#: The causes issue 21 added, hidden alone on seeds [12201, ...] (never used while building).
+NEW_CAUSES = tuple(c for c in ("backlash", "position_load", "offset", "drag") if c in FIT_CAUSES)
+
+
+def _row_full(rec, kind: str, label: str, t0: float) -> dict:
+    """:func:`_row` with the verdict (explained, residual over floor) and the stops found."""
+    d = diagnose(rec.run, rec.nominal)
+    weights = rec.weights() if rec.foreign == "none" else {}
+    expected = ({c for c, w in weights.items() if w >= MIN_SCORE} if rec.foreign == "none"
+                else set())
+    return dict(kind=kind, label=label, hidden=tuple(c for c in rec.causes if c != "none"),
+                weights=weights, expected=expected, named=set(d.causes) - {"none"},
+                explained=d.explained, ratio=d.verdict.residual_over_floor,
+                stops=len(d.end_stops.positions) if d.end_stops is not None else 0,
+                seconds=time.perf_counter() - t0)
+
+
+def issue21():
+    """Issue 21's targets: the new causes alone (2 axes x 2 excitations x 2 rates), end stops
+    with no cause and with four others, effects that are not causes (foreign), no effect."""
+    from fricctl.bench.hidden_effects import FOREIGN
+
+    rows = []
+    for j, cause in enumerate(NEW_CAUSES):
+        for k, (exc, axis) in enumerate((e, a) for e in EXCITATIONS[:2] for a in AXES):
+            for m in range(2):
+                t0 = time.perf_counter()
+                rec = hidden_effect_record(np.random.default_rng([12201, j, k, m]), cause=cause,
+                                           sample_time=RATES[(j + k + 2 * m) % 4], axis=axis,
+                                           excitation=exc, duration=DURATIONS[(j + k + m) % 4])
+                rows.append(_row_full(rec, "new", f"{cause} {exc} {axis}", t0))
+    for i, cause in enumerate(("none", "none", "stribeck", "time_delay", "offset", "thermal_drift")):
+        for m in range(2):
+            t0 = time.perf_counter()
+            try:
+                rec = hidden_effect_record(np.random.default_rng([12202, i, m]), cause=cause,
+                                           excitation=("mixed", "closed_loop")[m],
+                                           duration=20.0, end_stops=0.05 + 0.05 * (i % 3))
+            except ValueError:  # a stop the bench cannot place with this effect
+                continue
+            rows.append(_row_full(rec, "stops", f"{cause} + end stops", t0))
+    for i, name in enumerate(f for f in FOREIGN if f != "none"):
+        for m in range(4):
+            t0 = time.perf_counter()
+            rec = hidden_effect_record(np.random.default_rng([12203, i, m]), cause="none",
+                                       foreign=name, excitation=EXCITATIONS[m % 3],
+                                       axis=AXES[m % 2], duration=20.0)
+            rows.append(_row_full(rec, "foreign", f"foreign {name}", t0))
+    for m in range(8):
+        t0 = time.perf_counter()
+        rec = hidden_effect_record(np.random.default_rng([12204, m]), cause="none",
+                                   excitation=EXCITATIONS[m % 3], axis=AXES[m % 2],
+                                   sample_time=RATES[m % 4], duration=20.0, sensors="drawn")
+        rows.append(_row_full(rec, "none", "none", t0))
+    for kind in ("new", "stops", "foreign", "none"):
+        sel = [r for r in rows if r["kind"] == kind]
+        exact = sum(r["named"] == r["expected"] for r in sel)
+        wrong = sum(bool(r["named"] - set(r["hidden"])) for r in sel)
+        falsely = sum(r["explained"] and r["ratio"] > 2 for r in sel)
+        print(f"{kind}: {len(sel)} records, named exactly {exact} ({100 * exact / max(len(sel), 1):.0f} %), "
+              f"a cause not hidden named on {wrong}, 'explained' above 2x the floor {falsely}")
+        if kind == "new":
+            for cause in NEW_CAUSES:
+                s2 = [r for r in sel if r["label"].startswith(cause + " ")]
+                print(f"  {cause}: {sum(r['named'] == r['expected'] for r in s2)}/{len(s2)}")
+        for r in sel:
+            if r["named"] != r["expected"] or (r["explained"] and r["ratio"] > 2):
+                print(f"  - {r['label']}: expected {sorted(r['expected']) or ['none']}, named "
+                      f"{sorted(r['named']) or ['none']}, ratio {r['ratio']:.2f}, "
+                      f"{r['seconds']:.0f} s")
+    print(f"time per record: median {np.median([r['seconds'] for r in rows]):.1f} s, "
+          f"max {max(r['seconds'] for r in rows):.0f} s")
+    return rows
+
+
 def report(rows, title):
     """Confusion table (rows: expected causes; columns: named) and the rates.
 
@@ -210,6 +288,8 @@ if __name__ == "__main__":
     chosen = sys.argv[1:] or ["timing", "singles", "pairs", "none", "line", "independent"]
     if "timing" in chosen:
         timing()
+    if "issue21" in chosen:
+        issue21()
     titles = dict(singles="single effects", pairs="two effects at once", none="no effect",
                   line="near the 10 % line", independent="independent bench")
     for name in ("singles", "pairs", "none", "line", "independent"):

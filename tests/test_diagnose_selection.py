@@ -105,7 +105,10 @@ def test_resonance_above_the_band_cannot_be_told():
     base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
     hook = REGISTRY["compliance"].identifiable
     wl_in = 2 * np.pi * 0.3 * sig.cutoff
-    assert hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.3 * base.inertia]))) is None
+    # inside the band and below the bound: only the backlash comparison may refuse a spring
+    # (on this effect-free record the made-up term explains nothing, a fine dead band a little)
+    in_band = hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.3 * base.inertia])))
+    assert in_band is None or in_band.startswith("the spring does not stay a spring")
     reason = hook(base, Term(h=(2 * np.pi * 2 * sig.cutoff, 0.05), coef=np.array([0.3 * base.inertia])))
     assert reason is not None and "above the band" in reason
     at_bound = hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.95 * base.inertia])))
@@ -113,8 +116,9 @@ def test_resonance_above_the_band_cannot_be_told():
     # the bound is the share of the inertia fitted with the term (a rigid fit of a
     # compliant joint sees mostly the motor side): not at the bound of a heavier model
     heavier = base.fitted.__class__(inertia=3 * base.inertia, friction=base.fitted.friction)
-    assert hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.95 * base.inertia]),
-                           extended=heavier)) is None
+    heavy = hook(base, Term(h=(wl_in, 0.05), coef=np.array([0.95 * base.inertia]),
+                            extended=heavier))
+    assert heavy is None or heavy.startswith("the spring does not stay a spring")
 
 
 def test_no_braking_leaves_the_load_term_collinear():

@@ -137,16 +137,19 @@ def test_stops_are_found_where_they_are(stopped):
 
 
 def test_a_side_hit_once_hard_is_a_stop():
-    # a mixed record (seed 7022, made while choosing LONE) whose lower stop is hit once, at
-    # 7.8 rad/s: 22x what torque and friction can take (30x was asked before, and the
-    # impact stayed in the record: 21x the floor and the hidden asymmetry not named)
-    rec = hidden_effect_record(np.random.default_rng(7022), cause="asymmetry", duration=20.0,
+    # a mixed record one of whose stops is hit once, 10-30x faster than torque and friction
+    # can stop it (seed 7022 while choosing LONE; 7027 since the asymmetry is hidden as a
+    # viscous split: the first seed of 7000.. with such a side and both sides hit)
+    rec = hidden_effect_record(np.random.default_rng(7027), cause="asymmetry", duration=20.0,
                                end_stops=0.062)
-    low = [i for i in rec.impacts if rec.run.position[i] < np.mean(rec.run.position)]
-    assert len(rec.stops) == 2 and len(low) == 1
+    mid = np.mean(rec.run.position)
+    sides = ([i for i in rec.impacts if rec.run.position[i] < mid],
+             [i for i in rec.impacts if rec.run.position[i] >= mid])
+    once = [s[0] for s in sides if len(s) == 1]
+    assert len(rec.stops) == 2 and len(once) == 1
     es = end_stops(rec.run)
     assert len(es.positions) == 2
-    assert es.mask[low[0]] and LONE <= es.ratio[np.argmin(np.abs(es.impacts - low[0]))] < 30
+    assert es.mask[once[0]] and LONE <= es.ratio[np.argmin(np.abs(es.impacts - once[0]))] < 30
 
 
 @pytest.mark.parametrize("excitation", ["mixed", "closed_loop", "stuck"])
