@@ -48,6 +48,7 @@ import numpy as np
 
 from ...plant import FlexibleJoint, JointModel
 from ..signals import backlash_load, contact_damping_ratio
+from ...plant.stability import fastest_rate, required_substeps
 from .base import Cause, Injection
 
 #: Largest share of the inertia a fitted load behind the gap may hold [-].
@@ -230,7 +231,11 @@ def _inject(rng, act):
                             friction=friction, backlash=gap),
         truth=JointModel(inertia=jm + jl, friction=friction, load_inertia=jl, stiffness=kst,
                          damping=dmp, backlash=gap, units=act.units),
-        nominal=act.nominal(), breakaway=act.coulomb, substeps=10,
+        nominal=act.nominal(), breakaway=act.coulomb,
+        # the contact rings at fc: at a slow rate its RK4 sub-steps are set by the contact
+        substeps=max(10, required_substeps(sample_time=act.sample_time, rate=fastest_rate(
+            inertia=jm, friction=friction.model(), load_inertia=jl, stiffness=kst,
+            damping=dmp))),
         magnitude=dict(backlash=gap, backlash_deg=math.degrees(gap / act.travel),
                        motor_inertia=jm, load_inertia=jl, contact_stiffness=kst,
                        contact_damping=dmp, contact_resonance_hz=fc))

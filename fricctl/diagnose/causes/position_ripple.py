@@ -2,8 +2,11 @@
 
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods ``P``
 at the three highest peaks of the periodogram in position of the training residual of the
-model as it stands (per block left out, again after each named cause), and a finer period
-grid around each peak (steps of ``1/(12*span)`` in spatial frequency).  Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
+model as it stands (per block left out, again after each named cause), from the longer of
+30 encoder counts and two samples of motion at the median sliding speed (the Nyquist limit
+in position) up to half the travel, and a finer period grid around each peak (steps of
+``1/(12*span)`` in spatial frequency).
+Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
 """
 
 from __future__ import annotations
@@ -33,7 +36,11 @@ def _variants(base, fold):
     q = sig.qf[rows]
     span = float(np.ptp(q))
     res = sig.resolution if sig.resolution > 0 else 1e-6 * span
-    pmin = max(30 * res, 2e-5 * span)
+    # the shortest period searched: 30 encoder counts, and two samples of motion at the
+    # median sliding speed (a shorter one is an alias of the sampling: it would take the
+    # periodogram's peaks and be refused, leaving a resolvable ripple untried -- EMPS's
+    # 62 um alias hid the 2.50 mm ripple of one motor revolution)
+    pmin = max(30 * res, 2e-5 * span, 2.0 * _per_sample(sig))
     pmax = span / 2
     out = []
     if pmax > 2 * pmin:
@@ -71,13 +78,18 @@ def _refine(base, variants):
     return out
 
 
+def _per_sample(sig) -> float:
+    """The motion of one sample at the record's median sliding speed [rad] ([m])."""
+    return float(np.median(np.abs(sig.w[sig.moving]))) * sig.ts if np.any(sig.moving) else 0.0
+
+
 def _identifiable(base, term):
     """A period the record can resolve: at the median sliding speed the joint crosses it in
     at least two samples (the Nyquist limit in position); a shorter one is an alias of the
-    sampling, not a ripple of the drive."""
+    sampling, not a ripple of the drive (the periodogram's search starts there; the finer
+    grid around a peak may step below)."""
     sig = base.sig
-    speed = float(np.median(np.abs(sig.w[sig.moving])))
-    per_sample = speed * sig.ts
+    per_sample = _per_sample(sig)
     if term.h < 2.0 * per_sample:
         u = base.labels
         return (f"the fitted period ({term.h:.3g} {u.position}) is shorter than two samples of "
