@@ -9,7 +9,8 @@ limit).  Per-direction values: ``--coulomb-neg``/``--viscous-neg`` (positive mag
 the breakaway level ``--static`` (Fs >= Fc) with ``--stribeck-velocity``; any other
 coefficient of a registered friction law as ``--friction NAME=VALUE`` (repeatable).  A bare
 number is in the SI unit on the load side: N*m, rad, kg*m^2 (``--units linear``: N, m, kg);
-a number may carry its unit (``--sample-time 2ms``, ``--coulomb 150mN*m``,
+a number of an option may carry its unit (``--friction NAME=VALUE`` takes SI values;
+``--sample-time 2ms``, ``--coulomb 150mN*m``,
 ``--stribeck-velocity 5deg/s``, ``--encoder-resolution 0.01deg``; the accepted ones are in
 :data:`fricctl.units.SUFFIXES`).
 

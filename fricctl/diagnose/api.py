@@ -374,8 +374,8 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(
             f"{stops.description}; {setup.dropped} of {setup.dropped + setup.grid.starts.size} "
-            f"re-simulation "
-            f"windows held a contact and were dropped, and the measuring chain's floor is "
+            f"re-simulation windows held or followed a contact and were dropped, and the "
+            f"measuring chain's floor is "
             f"measured without the contacts too"))
     held = _held_text(setup.held, model, named, sel)
     return Diagnosis(cause=named[0], causes=named, steps=sel.steps, ranking=sel.first_ranking,

@@ -548,12 +548,16 @@ def _folds(run: Run, model, offset, refine: bool, full: _Fit, mask=None) -> tupl
     def fold(i):
         lo, hi = edges[i], edges[i + 1]
         spans = [(a, b) for a, b in ((0, lo), (hi, n)) if b - a > 0]
+        # the whole record's estimator in every fold: DIDIM only where it was reported (a
+        # record that fell back to the equation error is not replayed four more times)
         f = _fit([_piece(run, a, b) for a, b in spans], model, offset,
-                 refine and full.refined is not None, full.cutoff,
+                 refine and full.chosen is full.refined, full.cutoff,
                  masks=[cut(a, b) for a, b in spans])
         est = f.chosen
         if est.method != full.chosen.method:
-            raise ValueError(f"block {i + 1} of {k}: {f.why_not or 'no refinement'}")
+            why = (f"the simulation error does not identify {', '.join(f.lost)} without it"
+                   if f.lost else f.why_not or "no refinement")
+            raise ValueError(f"block {i + 1} of {k}: {why}")
         return est.estimates, validate(est, _piece(run, lo, hi), exclude=cut(lo, hi))
 
     try:

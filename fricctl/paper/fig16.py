@@ -98,8 +98,10 @@ def describing_function_note(r: Fig16Result, params=None) -> str:
                                                                   "compensated with", s * p.static)):
         cyc = coulomb_limit_cycle(loop, compensation=level, coulomb=fc, static=fs)
         if cyc is None:
-            parts.append(f"{what} ({level:.3f} N*m against Coulomb friction {fc:.3f} N*m) it "
-                         f"predicts no cycle")
+            against = ("exactly the Coulomb friction it cancels: no relay is left"
+                       if math.isclose(level, fc, rel_tol=1e-9) else
+                       f"below the Coulomb friction {fc:.3f} N*m: friction is left")
+            parts.append(f"{what} ({level:.3f} N*m, {against}) it predicts no cycle")
         else:
             parts.append(f"{what} ({level:.3f} N*m) a cycle of {deg(cyc.amplitude):.2f} deg at "
                          f"{cyc.frequency:.2f} Hz, whose pull Kp*A = {cyc.pull:.3f} N*m "

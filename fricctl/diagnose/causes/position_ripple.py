@@ -2,10 +2,10 @@
 
 Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for the periods ``P``
 at the three highest peaks of the periodogram in position of the training residual of the
-model as it stands (per block left out, again after each named cause), from the longer of
-30 encoder counts and two samples of motion at the median sliding speed (the Nyquist limit
-in position) up to half the travel, and a finer period grid around each peak (steps of
-``1/(12*span)`` in spatial frequency).
+model as it stands (per block left out, again after each named cause), from the longest of
+30 encoder counts, ``2e-5*span`` and two samples of motion at the median sliding speed (the
+Nyquist limit in position) up to half the travel, and a finer period grid around each peak
+(steps of ``1/(12*span)`` in spatial frequency, never below that limit).
 Bench: amplitude 0.2 .. 0.5 Fc, period 0.04 .. 0.5 rad, random phase.
 """
 
@@ -83,11 +83,12 @@ def _refine(base, variants):
     out = list(variants)
     sig = base.sig
     span = float(np.ptp(sig.qf[sig.moving]))
+    nu_max = 1.0 / (2.0 * _per_sample(sig)) if _per_sample(sig) > 0 else math.inf
     for v in variants:
         dnu = 1.0 / (6 * span)
         for k in (-1.0, -0.5, 0.5, 1.0):
             nu = 1.0 / v.h + k * dnu
-            if nu <= 0:
+            if not 0 < nu <= nu_max:  # never below the Nyquist limit in position
                 continue
             out.append(_sin_cos(base, 1.0 / nu))
     return out
