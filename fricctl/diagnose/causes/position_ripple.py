@@ -83,7 +83,8 @@ def _refine(base, variants):
     out = list(variants)
     sig = base.sig
     span = float(np.ptp(sig.qf[sig.moving]))
-    nu_max = 1.0 / (2.0 * _per_sample(sig)) if _per_sample(sig) > 0 else math.inf
+    step = _per_sample(sig)
+    nu_max = 1.0 / (2.0 * step) if step > 0 else math.inf
     for v in variants:
         dnu = 1.0 / (6 * span)
         for k in (-1.0, -0.5, 0.5, 1.0):
