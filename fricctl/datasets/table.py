@@ -105,6 +105,25 @@ def _check_lines(path, lines: list[str], want: str) -> None:
                              f"{want})")
 
 
+#: One cell that :func:`fricctl._validate.number_text` reads as a finite number, spaces
+#: around it allowed (no nan/inf: a row holding one takes the line-by-line path, which names it).
+_PLAIN_CELL = r"[ \t]*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?[ \t]*"
+
+
+def _plain_rows(lines: list, width: int):
+    """The data rows as a ``(n, width)`` array when every non-blank line is ``width`` plain
+    decimal cells that are finite as doubles -- the common file, read in one pass; else None
+    (the line-by-line reader then names the first line that is not)."""
+    body = [x for x in lines if x.strip()]
+    if not body:
+        return None
+    row = _PLAIN_CELL + ("," + _PLAIN_CELL) * (width - 1)
+    if re.fullmatch(f"(?:{row}\n)*{row}", "\n".join(body), re.ASCII) is None:
+        return None
+    data = np.fromiter(map(float, ",".join(body).split(",")), dtype=float)
+    return data.reshape(-1, width) if np.isfinite(data).all() else None
+
+
 def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
                  min_rows: int = 0) -> Table:
     r"""Read a CSV file whose header names its columns (in any order).
@@ -188,6 +207,10 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             following = next((x for x in lines[line_no:] if x.strip()), None)
             header = _header(path, cells, required, optional,
                              _dialect_hint(line, following, required + optional))
+            fast = _plain_rows(lines[line_no:], len(header))
+            if fast is not None:  # every row plain: the same numbers, read at once
+                rows = fast
+                break
             continue
         if len(cells) != len(header):
             more = (" (decimal commas? fricctl reads '.' as the decimal mark)"
