@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from concurrent import futures
 import sys
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
@@ -128,7 +129,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     ('time_delay',)
     """
     req = _request(run, model, window, folds, progress)
-    setup = _setup(run, model, req)
+    setup = _setup(run, model, req)  # the reported baseline is fitted in a thread meanwhile
     bar = _ProgressBar(req.show, run.n_samples)
     try:
         sel = forward_selection(setup.problem, setup.base,
@@ -137,6 +138,10 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                                 progress=bar.step if req.show else None)
     finally:
         bar.close()
+        if setup.ident is not None:
+            futures.wait([setup.ident])
+    if setup.ident is not None:
+        setup = replace(setup, ident=setup.ident.result())
     return _diagnosis(run, model, setup, sel, _extension(setup, sel))
 
 
@@ -182,9 +187,9 @@ class _Setup:
     fit0: "IdentificationResult | None"
     """The CasADi equation-error fit of the rigid baseline the candidates extend (fit
     mode), or None with a nominal model."""
-    ident: "RecordIdentification | None"
+    ident: "RecordIdentification | futures.Future | None"
     """The record identified as ``fricctl identify`` does (fit mode): the baseline the
-    diagnosis reports, or None with a nominal model."""
+    diagnosis reports (a future while the selection runs), or None with a nominal model."""
     base: Baseline
     """The baseline every candidate extends."""
     problem: Problem
@@ -217,8 +222,12 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
     if model is None:  # the baseline reported: fricctl identify's own fit of the record
         from ..identify import identify_record
 
-        ident = identify_record(run, model="coulomb_viscous", offset=False, validate=False,
-                                stops=stops)
+        # fitted in a thread while the selection runs (its replays release the GIL: the
+        # second core of a small machine); diagnose() waits for it before reporting
+        pool = futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="fricctl-baseline")
+        ident = pool.submit(identify_record, run, model="coulomb_viscous", offset=False,
+                            validate=False, stops=stops)
+        pool.shutdown(wait=False)
     core, held = (None, ()) if model is None else judged_by_removal(model)
     base = Baseline(sig, core, None if fit0 is None else fit0.estimates.copy())
     return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
