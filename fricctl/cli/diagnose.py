@@ -124,10 +124,7 @@ def write_report(result, folder, *, overwrite: bool = True) -> Path:
     folder each file is written atomically (``overwrite=False``: an existing file is refused,
     also one another run writes meanwhile).  See :mod:`fricctl._atomic`.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure  # not pyplot: a figure saved, never shown
 
     from .._atomic import atomic_folder, write_text
     from ..figures.diagnosis import (plot_diagnosis, plot_residual_spectrum, plot_simulation,
@@ -139,17 +136,18 @@ def write_report(result, folder, *, overwrite: bool = True) -> Path:
         raise ValueError(f"--report: {out} exists and is not a folder")
     out.parent.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
     figs = {}
-    fig = plot_diagnosis(result)
-    figs["residuals.png"] = fig
-    fig2, ax = plt.subplots(2, 1, figsize=(8, 5), layout="constrained", sharex=True)
+    figs["residuals.png"] = plot_diagnosis(result, fig=Figure(figsize=(11, 8.5),
+                                                              layout="constrained"))
+    fig2 = Figure(figsize=(8, 5), layout="constrained")
+    ax = fig2.subplots(2, 1, sharex=True)
     plot_simulation(result, ax=ax[0], quantity="position")
     plot_simulation(result, ax=ax[1], quantity="velocity")
     figs["simulation.png"] = fig2
-    fig3, ax3 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
-    plot_residual_spectrum(result, ax=ax3)
+    fig3 = Figure(figsize=(6.4, 3.6), layout="constrained")
+    plot_residual_spectrum(result, ax=fig3.subplots())
     figs["spectrum.png"] = fig3
-    fig4, ax4 = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
-    plot_steps(result, ax=ax4)
+    fig4 = Figure(figsize=(6.4, 3.6), layout="constrained")
+    plot_steps(result, ax=fig4.subplots())
     figs["steps.png"] = fig4
     text = result.report() + "\n## Figures\n\n" + "\n".join(
         f"![{n[:-4]}]({n})" for n in figs) + "\n"

@@ -155,12 +155,15 @@ def plot_steps(result, *, ax=None):
     return ax
 
 
-def plot_diagnosis(result):
+def plot_diagnosis(result, *, fig=None):
     """Six panels: position and velocity simulation, residual vs velocity, position,
-    time and torque.  Returns the Figure."""
-    import matplotlib.pyplot as plt
+    time and torque, drawn on ``fig`` (an empty Figure; default: a new pyplot figure
+    11 x 8.5 in).  Returns the Figure."""
+    if fig is None:
+        import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(3, 2, figsize=(11, 8.5), layout="constrained")
+        fig = plt.figure(figsize=(11, 8.5), layout="constrained")
+    axes = fig.subplots(3, 2)
     plot_simulation(result, ax=axes[0, 0], quantity="position")
     plot_simulation(result, ax=axes[0, 1], quantity="velocity")
     for ax, against in zip(axes.ravel()[2:], _AGAINST):
