@@ -294,3 +294,25 @@ def test_the_hidden_causes_are_named_on_records_with_stops():
         explained_above += d.explained and d.verdict.residual_over_floor > EXPLAINED_RATIO
     assert exact >= 0.85 * n, (exact, n)
     assert false_on_none == 0 and explained_above == 0
+
+
+def test_one_models_checks_leave_the_contacts_out(stopped):
+    """torque_residual, windowed_simulation and prediction_errors read the record as the
+    diagnosis does: the true model's equation error and replay do not measure the stops."""
+    from fricctl.diagnose import prediction_errors, torque_residual, windowed_simulation
+    from fricctl.diagnose.api import predict
+
+    es = end_stops(stopped.run)
+    tr = torque_residual(stopped.truth, stopped.run)
+    assert not np.any(tr.mask & es.mask)  # no contact sample is in the mask
+    naive = estimate_signals(stopped.run, 1)  # the stops' samples in
+    r0 = predict(stopped.truth, naive).residual[naive.moving]
+    # the impacts were most of the true model's equation error (22-50x on these records)
+    assert np.sqrt(np.mean(r0 ** 2)) > 10 * tr.rms()
+    sim = windowed_simulation(stopped.truth, stopped.run)
+    ends = sim.starts + sim.length
+    hit = np.concatenate([[0], np.cumsum(es.mask)])
+    assert sim.starts.size > 0 and np.all(hit[ends] - hit[sim.starts] == 0)
+    e = prediction_errors(stopped.truth, stopped.run)
+    assert e.torque_rms == pytest.approx(tr.rms(), rel=1e-12)
+    assert e.simulation_rms == sim.rms().position

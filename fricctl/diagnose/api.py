@@ -25,7 +25,8 @@ from .signals import Signals, estimate_signals, predict
 from .stops import EndStops, end_stops
 from .twin import chain_shares, effect_free_twin
 from .verdict import verdict
-from .windows import WindowedSimulation, WindowGrid, simulate_windows, window_grid
+from .windows import (WindowedSimulation, WindowGrid, clear_of_stops, signals_clear_of_stops,
+                      simulate_windows, window_grid)
 
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult, RecordIdentification
@@ -210,7 +211,7 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
     stops = end_stops(run)
     sig = estimate_signals(run, req.folds, exclude=stops.mask if stops.found else None)
     whole = window_grid(sig, req.window)
-    grid = _clear_of_stops(whole, stops, sig)
+    grid = clear_of_stops(whole, stops, sig)
     if model is not None:
         try:
             simulate_windows(model, sig, grid.starts[:1], grid.length)
@@ -233,23 +234,6 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
     return _Setup(sig=sig, grid=grid, fit0=fit0, ident=ident, base=base,
                   problem=Problem(sig, base.columns), stops=stops,
                   dropped=whole.starts.size - grid.starts.size, held=held)
-
-
-def _clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGrid:
-    """The windows that hold no contact with an end stop (a rigid model re-simulated through
-    a stop runs past it: such a window measures the stop, not the model), nor start within
-    the filter's reach after one (the window's first velocity is a filtered estimate: the
-    border :func:`window_grid` keeps from the record's ends)."""
-    if not stops.found:
-        return grid
-    border = max(int(math.ceil(2.0 / (sig.cutoff * sig.ts))), 10)
-    hit = np.concatenate([[0], np.cumsum(stops.mask)])
-    keep = hit[grid.starts + grid.length] - hit[np.maximum(grid.starts - border, 0)] == 0
-    if not keep.any():
-        raise ValueError(f"every {grid.length}-sample re-simulation window of the record holds a "
-                         f"contact with an end stop ({stops.description}): shorten --window, or "
-                         f"record more motion clear of the stops")
-    return WindowGrid(starts=grid.starts[keep], length=grid.length)
 
 
 def judged_by_removal(model: JointModel) -> tuple:
@@ -581,10 +565,11 @@ def torque_residual(model: JointModel, run: Run) -> TorqueResidual:
     """Equation-error residual of ``model`` on ``run`` and the mask of sliding samples.
 
     ``residual = LP(Tm received) - LP(model torque along the measured motion)`` [N*m];
-    meaningful where ``mask`` is true (the joint slides).
+    meaningful where ``mask`` is true (the joint slides, clear of any contact with an end
+    stop, as :func:`diagnose` reads the record).
     """
     v.instance("model", model, JointModel)
-    sig = estimate_signals(_check_run(run), 1)
+    sig, _ = signals_clear_of_stops(_check_run(run))
     return TorqueResidual(residual=predict(model, sig).residual, mask=sig.moving)
 
 
@@ -601,7 +586,8 @@ class PredictionErrors:
 
 
 def prediction_errors(model: JointModel, run: Run, *, window: float = 0.5) -> PredictionErrors:
-    """How well ``model`` predicts another record (no refit): RMS errors.
+    """How well ``model`` predicts another record (no refit): RMS errors (contacts with end
+    stops left out, as :func:`diagnose` leaves them out).
 
     Returns
     -------
@@ -610,9 +596,9 @@ def prediction_errors(model: JointModel, run: Run, *, window: float = 0.5) -> Pr
     _check_run(run)
     v.instance("model", model, JointModel)
     window = v.real("window", window, positive=True, unit="s")
-    sig = estimate_signals(run, 1)
+    sig, stops = signals_clear_of_stops(run)
     r = predict(model, sig).residual[sig.moving]
-    grid = window_grid(sig, window)
+    grid = clear_of_stops(window_grid(sig, window), stops, sig)
     rms = simulate_windows(model, sig, grid.starts, grid.length).rms()
     return PredictionErrors(torque_rms=float(np.sqrt(np.mean(r ** 2))),
                             simulation_rms=rms.position, velocity_rms=rms.velocity)

@@ -19,9 +19,10 @@ from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import replay
 from .signals import Signals, delay_in_samples, delayed, estimate_signals
+from .stops import EndStops, end_stops
 
 __all__ = ["SimulationRMS", "WindowedSimulation", "WindowGrid", "window_grid", "simulate_windows",
-           "windowed_simulation"]
+           "windowed_simulation", "clear_of_stops", "signals_clear_of_stops"]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -168,7 +169,8 @@ def windowed_simulation(model: JointModel, run: Run, *, window: float = 0.5) -> 
 
     Each window starts from the measured state (filtered position, estimated
     velocity, or rest where the encoder stands still) and runs open loop on the
-    recorded torque (delayed and offset as the model says).
+    recorded torque (delayed and offset as the model says).  Windows holding a contact
+    with an end stop are left out, as :func:`~fricctl.diagnose.diagnose` leaves them out.
 
     Parameters
     ----------
@@ -184,6 +186,32 @@ def windowed_simulation(model: JointModel, run: Run, *, window: float = 0.5) -> 
     v.instance("model", model, JointModel)
     v.instance("run", run, Run, "a fricctl.datasets.Run")
     window = v.real("window", window, positive=True, unit="s")
-    sig = estimate_signals(run, 1)
-    grid = window_grid(sig, window)
+    sig, stops = signals_clear_of_stops(run)
+    grid = clear_of_stops(window_grid(sig, window), stops, sig)
     return simulate_windows(model, sig, grid.starts, grid.length)
+
+
+def clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGrid:
+    """The windows that hold no contact with an end stop (a rigid model re-simulated through
+    a stop runs past it: such a window measures the stop, not the model), nor start within
+    the filter's reach after one (the window's first velocity is a filtered estimate: the
+    border :func:`window_grid` keeps from the record's ends)."""
+    if not stops.found:
+        return grid
+    border = max(int(math.ceil(2.0 / (sig.cutoff * sig.ts))), 10)
+    hit = np.concatenate([[0], np.cumsum(stops.mask)])
+    keep = hit[grid.starts + grid.length] - hit[np.maximum(grid.starts - border, 0)] == 0
+    if not keep.any():
+        raise ValueError(f"every {grid.length}-sample re-simulation window of the record holds a "
+                         f"contact with an end stop ({stops.description}): shorten --window, or "
+                         f"record more motion clear of the stops")
+    return WindowGrid(starts=grid.starts[keep], length=grid.length)
+
+
+def signals_clear_of_stops(run: Run) -> tuple:
+    """``(signals, stops)``: the record's signals in one block for one model's check, and its
+    end stops, whose contacts (found as :func:`~fricctl.diagnose.diagnose` finds them) are left
+    out of the sliding mask with the filter's reach -- a rigid model's equation error at an
+    impact measures the stop, not the model."""
+    stops = end_stops(run)
+    return estimate_signals(run, 1, exclude=stops.mask if stops.found else None), stops
