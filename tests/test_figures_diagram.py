@@ -20,7 +20,7 @@ def test_draws_the_labelled_blocks(closed):
     out = plot_compensation_loop(ax, closed=closed)
     assert out is ax
     text = "\n".join(_texts(ax))
-    for label in ("ZOH", "joint", "encoder", "velocity estimate", "net", "$z^{-1}$", "$s$",
+    for label in ("ZOH", "joint", "encoder", "velocity estimate", "net", "$z^{-1}$", "$\\times s$",
                   "$T_m(k)$", "$T_c(k)$"):
         assert label in text, label
     assert ("P / PD" in text) is closed          # the controller only in the closed loop

@@ -97,12 +97,14 @@ def plot_compensation_loop(ax=None, *, closed: bool = False):
     _path(ax, [(jr, y_fwd), (el, y_fwd)])
     ax.text((jr + el) / 2, y_fwd + 0.08, "$q(t)$", ha="center", va="bottom", fontsize=8)
     # feedback path: encoder -> velocity estimate -> net -> s -> sum
-    vl, vr, vb, vt = _box(ax, 7.3, y_fb, 1.5, h, "velocity estimate\n$\\hat\\omega(k)$")
+    vl, vr, vb, vt = _box(ax, 7.3, y_fb, 1.75, h, "velocity estimate\n$\\hat\\omega(k)$",
+                          fontsize=8)
     _path(ax, [(7.3, y_fwd - h / 2), (7.3, vt)])
     nl, nr, nb, nt = _box(ax, 4.4, y_fb, 1.8, h, "net\n$\\hat T_{at}(T_m, \\hat\\omega)$")
     _path(ax, [(vl, y_fb), (nr, y_fb)])
     ax.text((vl + nr) / 2, y_fb + 0.08, "$\\hat\\omega(k)$", ha="center", va="bottom", fontsize=8)
-    sl, sr, sb, st = _box(ax, xs, y_fb, 0.55, 0.5, "$s$")
+    # a gain, written as one: a block labelled "s" alone reads as a differentiator
+    sl, sr, sb, st = _box(ax, xs, y_fb, 0.7, 0.5, "$\\times s$")
     _path(ax, [(nl, y_fb), (sr, y_fb)])
     ax.text((nl + sr) / 2, y_fb + 0.08, "$\\hat T_{at}(k)$", ha="center", va="bottom", fontsize=8)
     _path(ax, [(xs, st), (xs, y_fwd - 0.16)])
@@ -120,7 +122,7 @@ def plot_compensation_loop(ax=None, *, closed: bool = False):
     if closed:
         xc, xr = -0.55, -2.1
         cl, cr, cb, ct = _box(ax, xc, y_fwd, 1.75, h + 0.1,
-                              "P / PD\n$T_c = K_p(r - \\hat q) - K_d\\hat\\omega$", fontsize=8)
+                              "P / PD\n$K_p(r - \\hat q) - K_d\\hat\\omega$", fontsize=8)
         _sum(ax, xr, y_fwd, signs=(("+", -0.28, 0.16), ("$-$", 0.17, 0.3)))
         ax.text(xr - 0.75, y_fwd, "$r$", ha="center", va="center", fontsize=10)
         _path(ax, [(xr - 0.6, y_fwd), (xr - 0.16, y_fwd)])
