@@ -96,8 +96,8 @@ plt.show()
 #   training data's range, and the target the whole friction, $\hat T_{at} = \hat T$.
 #   The velocity range is tens of rad/s, so every velocity below a few tenths of a rad/s
 #   is "zero" to the net.
-# * **fricctl**: $c = 0$, $s_T$ the largest torque held at rest, $s_\omega = \Delta q/T_s$,
-#   one encoder count $\Delta q$ [rad] per sample [s] -- the smallest non-zero velocity the
+# * **fricctl**: $c = 0$, $s_T$ the largest torque held at rest, $s_\omega = \Delta/T_s$,
+#   one encoder count $\Delta$ [rad] per sample [s] -- the smallest non-zero velocity the
 #   loop measures is one unit of input; the target is the nonlinear part,
 #   $\hat T_{at} = \hat b\,\omega + \hat T$, with $\hat b$ [N m s/rad] fitted by least
 #   squares on the sliding patterns; and at-rest patterns kept only where the encoder
@@ -248,7 +248,7 @@ plt.show()
 # * at rest, $g_{\min} \le \partial\hat T/\partial T_m \le g_{\max}$ inside the band
 #   $0.98 \le g \le 0.99$ on 2001 torques over $|T_m| \le$ the largest torque held at rest;
 # * at rest over the whole torque range (201 torques), the slope at most 0.99;
-# * while sliding, at $\omega = \pm k\,\Delta q/T_s$ ($k = 1, 2, \dots$, the velocities a
+# * while sliding, at $\omega = \pm k\,\Delta/T_s$ ($k = 1, 2, \dots$, the velocities a
 #   quantised loop measures), $|\partial\hat T/\partial T_m| \le 0.3$;
 # * no offset at rest: $\hat T(0, 0) = 0$.
 #
@@ -279,7 +279,7 @@ print(f"certified in {len(SEEDS)} of {len(SEEDS)} seeds; paper pipeline: certifi
 # there, all with $T_{at} = T_m$.  They are the start of a motion the encoder has not
 # counted yet.  After a torque step to $T_m > F_s$ the joint breaks loose at once, but
 # its position grows as $\tfrac12 a t^2$ with $a = (|T_m| - F_s)/I$ at most at first, so
-# the first count $\Delta q$ comes up to $\sqrt{2\,\Delta q\, I/(|T_m| - F_s)}$ later: one or
+# the first count $\Delta$ comes up to $\sqrt{2\,\Delta\, I/(|T_m| - F_s)}$ later: one or
 # two samples after a step to twice $F_s$ or more, but several after a step just above
 # $F_s$.  Each such pattern is off by $|T_m|$ minus the true friction.  The check below
 # finds the count within the bound for every one of them:

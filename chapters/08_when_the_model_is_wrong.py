@@ -60,6 +60,7 @@ plot_simulation(d, ax=ax[0, 0], span=(5.0, 7.0))
 plot_residual(d, "velocity", ax=ax[0, 1], after=True)
 plot_residual(d, "position", ax=ax[1, 0], after=True)
 plot_residual_spectrum(d, ax=ax[1, 1])
+plt.show()
 
 # %% [markdown]
 # ## 3. Naming the causes: blocked cross-validation, one step at a time
@@ -94,6 +95,7 @@ print(f"stopped: best remaining candidate {best[0]} with {100 * best[1]:.1f} %")
 assert len(d.steps) == 2 and all(s.score >= MIN_SCORE for s in d.steps)
 assert best[1] < MIN_SCORE
 plot_steps(d)
+plt.show()
 
 # %% [markdown]
 # ## 4. Extend and measure the gain (held out)
@@ -254,30 +256,46 @@ if est is not None:
 #    with load-dependent friction, and diagnose it.  Why can the load term not be told
 #    from inertia and friction there?
 
-# %% [markdown]
-# ### Solution to exercise 2
-#
-# A fitted baseline refits the inertia and the friction level with every candidate:
-# a heavier link or a lower friction level is simply absorbed into `I`, `b` and `Fc`
-# (and there are no `inertia` or `friction_scale` candidates without a nominal model).
-# What is left is the record's own structure, which the paper's case does not have.
+# %% tags=["solution"]
+# Exercise 1.  The bench draws the delay in whole samples, so strength 0.1 already hides
+# one sample (2 ms at 500 Hz) -- and one sample is named: it is the smallest delay a record
+# can show.  The delay costs the torque residual Tm(t) - Tm(t - d) ~ d dTm/dt, which
+# matters only at the torque's steps; the windowed simulation integrates that mismatch
+# twice over each window, so its position error grows with the window.  Below, the true
+# model without its delay against the true model: the ratio of the errors.
+import dataclasses  # noqa: E402
 
-# %%
+for strength in (0.1, 0.5, 1.0):
+    rec_d = hidden_effect_record(np.random.default_rng(8), cause="time_delay",
+                                 strength=strength, duration=20.0)
+    found = diagnose(rec_d.run).causes
+    late = prediction_errors(dataclasses.replace(rec_d.truth, delay=0.0), rec_d.run)
+    true = prediction_errors(rec_d.truth, rec_d.run)
+    ratio_t, ratio_s = late.torque_rms / true.torque_rms, late.simulation_rms / true.simulation_rms
+    print(f"strength {strength}: delay {1e3 * rec_d.truth.delay:.0f} ms "
+          f"({rec_d.truth.delay / rec_d.run.sample_time:.0f} samples), named {found}; "
+          f"ignoring it multiplies the torque residual by {ratio_t:.1f}, "
+          f"the simulation error by {ratio_s:.1f}")
+    assert found == ("time_delay",) and ratio_s > ratio_t > 1
+    if strength == 0.1:
+        assert round(rec_d.truth.delay / rec_d.run.sample_time) == 1
+
+# %% tags=["solution"]
+# Exercise 2.  A fitted baseline refits the inertia and the friction level with every
+# candidate: a heavier link or a lower friction level is simply absorbed into I, b and Fc
+# (and there are no inertia or friction_scale candidates without a nominal model).  What
+# is left is the record's own structure, which the paper's case does not have.
 d_fit = diagnose(run)
 print("fitted baseline:", d_fit.causes, f"inertia {d_fit.baseline.inertia:.5f} kg m^2")
 assert d_fit.causes == ("none",)
 assert abs(d_fit.baseline.inertia / (p.inertia + PAPER_LINK_INERTIA) - 1) < 0.05
 
-# %% [markdown]
-# ### Solution to exercise 3
-#
-# When the torque always has the sign of the velocity, `|Tm| sign(w) = Tm`: the load
-# term is the baseline's own prediction, a column inside the span of the baseline's
-# columns, so the refitted `I`, `b`, `Fc` absorb it (scaled by `1/(1 - mu)`) and no
-# held-out residual is left for it.  Only braking phases (torque against the motion)
-# tell the two apart.
-
-# %%
+# %% tags=["solution"]
+# Exercise 3.  When the torque always has the sign of the velocity, |Tm| sign(w) = Tm:
+# the load term is the baseline's own prediction, a column inside the span of the
+# baseline's columns, so the refitted I, b, Fc absorb it (scaled by 1/(1 - mu)) and no
+# held-out residual is left for it.  Only braking phases (torque against the motion) tell
+# the two apart.
 from fricctl.diagnose.causes import Baseline  # noqa: E402
 from fricctl.diagnose.crossval import Problem, baseline_fit  # noqa: E402
 from fricctl.diagnose.selection import COLLINEAR_SHARE, collinearity  # noqa: E402
