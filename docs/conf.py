@@ -77,6 +77,11 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 
 # -- HTML ------------------------------------------------------------------------------------
+# code that scrolls on screen and wraps on paper, solutions opened for printing, figures that
+# open at full size on a click (issue 24): docs/_static/fricctl.css and fricctl.js
+html_static_path = ["_static"]
+html_css_files = ["fricctl.css"]
+html_js_files = ["fricctl.js"]
 html_theme = "sphinx_book_theme"
 html_title = "fricctl"
 html_theme_options = {

@@ -118,6 +118,24 @@ def test_every_chapter_has_a_page_in_the_navigation(book):
         assert (book / page).is_file(), f"no {page}"
 
 
+def test_every_chapter_downloads_as_an_executed_notebook(book):
+    """The download menu of each chapter offers the executed ``.ipynb`` (issue 24) beside the
+    jupytext ``.py``; both links resolve, and the notebook holds the chapter's outputs."""
+    import json
+
+    for chapter in CHAPTERS:
+        page = book / "chapters" / f"{chapter.stem}.html"
+        links = {unquote(urlsplit(a.get("href", "")).path) for a in parse(page).find("a")}
+        for suffix in (".ipynb", ".py"):
+            link = next((h for h in links if h.endswith(f"_sources/chapters/{chapter.stem}{suffix}")),
+                        None)
+            assert link, f"{page.name}: no {suffix} download"
+            assert (page.parent / link).resolve().is_file(), f"{page.name}: {link} missing"
+        nb = json.loads((book / "_sources" / "chapters" / f"{chapter.stem}.ipynb").read_text())
+        code = [c for c in nb["cells"] if c["cell_type"] == "code"]
+        assert nb["nbformat"] == 4 and code and sum(bool(c.get("outputs")) for c in code) > 0
+
+
 def test_every_image_resolves_to_a_file(book):
     count = 0
     for page in _pages(book):
@@ -268,3 +286,21 @@ def test_pages_render_in_a_browser(book, browser):
             assert r["errors"] == 0, f"{name}: {r['errors']} TeX errors"
         assert not any(r["solutions"]), f"{name}: a solution is open"
     assert _browse(browser, pages[1])["solutions"], "chapter 1 shows no collapsed solution"
+
+
+def test_printing_opens_the_solutions_and_figures_zoom(book, browser):
+    """Paper holds the solutions (fricctl.js opens every collapsed block before printing and
+    closes it after); a chapter's figure opens at full size when clicked."""
+    browser.get((book / "chapters" / f"{CHAPTERS[0].stem}.html").as_uri())
+    opened = browser.execute_script("""
+        const closed = () => [...document.querySelectorAll("details")].filter(d => !d.open).length;
+        const before = closed();
+        window.dispatchEvent(new Event("beforeprint"));
+        const during = closed();
+        window.dispatchEvent(new Event("afterprint"));
+        return [before, during, closed(),
+                document.querySelectorAll("div.cell_output img.fricctl-zoom").length];
+    """)
+    before, during, after, zoom = opened
+    assert before > 0 and during == 0 and after == before, opened
+    assert zoom > 0, "no figure of chapter 1 opens at full size"

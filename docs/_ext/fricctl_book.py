@@ -13,6 +13,9 @@
 * ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
+* Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
+  build, outputs included) beside its jupytext ``.py`` in the theme's download menu
+  (:func:`notebook_download`).
 * In the API reference, the reST sections of a *module* docstring (``Notes``, ``Modules``)
   become rubrics: a page's sections are its modules, and two modules' ``Notes`` must not
   collide as labels.
@@ -22,6 +25,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -218,6 +222,24 @@ def module_sections_as_rubrics(app, what, name, obj, options, lines) -> None:
     lines[:] = out
 
 
+def notebook_download(app, pagename, templatename, context, doctree) -> None:
+    """``html-page-context``, before the theme's download menu (priority 501): a chapter's
+    executed notebook, written by myst-nb into its output folder, is copied beside the page's
+    source in ``_sources/`` and named in ``ipynb_source``, which sphinx-book-theme offers as
+    ".ipynb".  A chapter without its notebook fails the build (the reader would get a dead
+    link)."""
+    if not pagename.startswith("chapters/") or context.get("page_source_suffix") != ".py":
+        return
+    src = Path(app.env.mystnb_config.output_folder) / f"{pagename}.ipynb"
+    if not src.is_file():
+        raise ExtensionError(f"{pagename}: myst-nb wrote no notebook ({src}); the page's "
+                             f".ipynb download would be a dead link")
+    dest = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(src, dest)
+    context["ipynb_source"] = f"{pagename}.ipynb"
+
+
 def setup(app):
     app.add_config_value("fricctl_reproduce_dir", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
@@ -227,4 +249,5 @@ def setup(app):
     app.connect("builder-inited", run_reproduce)
     app.connect("source-read", on_source_read)
     app.connect("autodoc-process-docstring", module_sections_as_rubrics)
+    app.connect("html-page-context", notebook_download, priority=500)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
