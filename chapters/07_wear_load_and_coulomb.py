@@ -360,8 +360,9 @@ plt.show()
 #   cycle whose pull is far below the breakaway level -- an overshoot and a stop; on a stiff
 #   P loop it predicts a sustained cycle, and the simulation matched its amplitude.
 # * The small step of Fig. 17 never moves without compensation; with it, every fricctl seed
-#   stops inside its predicted band.  Fig. 18's sawtooth asks a torque below breakaway of
-#   the loop, so stick-slip without compensation needs a larger amplitude than the paper's.
+#   stops inside its predicted band.  Fig. 18's sawtooth never asks the loop for the
+#   breakaway torque, so stick-slip without compensation needs a larger amplitude than the
+#   paper's.
 # * Over friction scale and link inertia the compensated error stays below the
 #   uncompensated one everywhere and grows with the friction scale; robustness is reported
 #   as the share of seeds within the accuracy at each grid point.
