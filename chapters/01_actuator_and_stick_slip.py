@@ -48,7 +48,7 @@
 # * **Judge** when the rigid model is enough, from the flexible joint's resonance against
 #   the loop's bandwidth and the Nyquist frequency.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -117,7 +117,7 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # of the mechanical parameters only the link inertia $I_s$ (0.0046 kg m², the SCARA link of
 # Figs. 16-18); its friction values are the subject of Section 2.  The actuator's inertia
 # $n^2 I_r$ is *derived* (the one value that makes the paper's P design self-consistent,
-# [Chapter 6](06_gain_design_and_closed_loop.py)); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
+# [Chapter 6](06_gain_design_and_closed_loop)); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
 # *assumptions*, so $I_r$ itself is known only through the assumed $n$.  The cell below
 # reads all of them from the simulator's own joint objects and checks that their
 # accelerations are the right-hand sides above.

@@ -45,7 +45,7 @@
 # * **Judge** the bias/noise trade-off of an estimator's settings (polynomial degree,
 #   filter cut-off).
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -126,7 +126,7 @@ assert np.allclose(np.diff(sim.q_meas) / res, np.round(np.diff(sim.q_meas) / res
 # * **Butterworth + central differences**
 #   ([`butterworth_central`](#fricctl.estimation.butterworth_central)): zero-phase low-pass,
 #   then differences (the recipe of the EMPS benchmark used in
-#   [Chapter 3](03_identifying_friction.py)).
+#   [Chapter 3](03_identifying_friction)).
 #
 # The last three are non-causal: they use future samples.  That is fine for
 # building a training set offline, not inside the control loop.
@@ -250,7 +250,7 @@ plt.show()
 # %% [markdown]
 # And the "experimental friction" `Tm - I a_hat` of the paper's estimator against
 # velocity, with the true friction law: this cloud is what Chapters 3 and
-# [4](04_neural_network.py) learn from.
+# [4](04_neural_network) learn from.
 
 # %%
 poly = estimates[1]

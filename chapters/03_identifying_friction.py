@@ -17,7 +17,7 @@
 # *Gervini, Gomes & da Rosa (2003), Section 4 (friction from measured torque and
 # acceleration); the EMPS benchmark (Janot, Gautier & Brunot 2019) for real data.*
 #
-# [Chapter 2](02_measuring_acceleration.py) turned an encoder record into velocity and acceleration.  Here we fit a
+# [Chapter 2](02_measuring_acceleration) turned an encoder record into velocity and acceleration.  Here we fit a
 # friction *model* to them.  The inverse dynamic identification model (IDIM) reads
 # the joint's equation backwards: at each sample $k$,
 #
@@ -69,7 +69,7 @@
 # * **Judge** estimators on a coarse encoder in closed loop -- equation error, instrumental
 #   variables, DIDIM -- by their held-out validation.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os

@@ -41,7 +41,7 @@
 # * **Explain** the network's gain at rest $g$, why the paper's recipe gives $g > 1$, and how
 #   a trainer can certify it inside a band.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -206,7 +206,7 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 #
 # ## 5. The gain at rest: why the paper's recipe gives g > 1, and the certified band
 #
-# [Chapter 5](05_open_loop_compensation_and_dead_zone.py) shows that one number of the net decides what the compensator does while the
+# [Chapter 5](05_open_loop_compensation_and_dead_zone) shows that one number of the net decides what the compensator does while the
 # joint is stuck: the at-rest gain
 #
 # $$ g = \left.\frac{\partial \hat T_{at}}{\partial T_m}\right|_{\omega = 0}, $$

@@ -23,7 +23,7 @@
 # torque (Fig. 10).  This chapter first works out what the compensated loop does while the
 # joint is stuck -- a fixed point that sets the dead zone and decides between a joint that
 # follows its control torque and one that runs away -- and then repeats both experiments
-# with the two training pipelines of [Chapter 4](04_neural_network.py), over several training seeds.
+# with the two training pipelines of [Chapter 4](04_neural_network), over several training seeds.
 
 # %% [markdown]
 # ## What you will learn
@@ -38,7 +38,7 @@
 #   dead zone.
 # * **Design** the pair $(s, g)$ against the band a stuck position loop may stop in.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -185,7 +185,7 @@ plt.show()
 # while the torque exceeds breakaway and sticks around every velocity reversal.  A
 # compensated joint must not stick -- and must still follow its control torque.  Three
 # checks decide the second (`fricctl.paper.runaway`; [`wind_up`](#fricctl.paper.wind_up),
-# [`reversal`](#fricctl.paper.reversal), [`coast`](#fricctl.paper.coast)): no **wind-up** ($|T_m|$ never exceeds
+# [`reversal`](#fricctl.paper.reversal), [`coast_decay`](#fricctl.paper.coast_decay)): no **wind-up** ($|T_m|$ never exceeds
 # $|T_c| + F_s + b|\omega|$ for more than 5 samples), the velocity **reverses** in every
 # period, and a **coast** test (a torque pulse, then $T_c = 0$) decays at least like the
 # linear viscous actuator.
@@ -332,7 +332,7 @@ assert np.all(meas >= pred - 0.0005) and np.all(meas - pred <= 0.0015)  # within
 #
 # of its reference.  A small dead zone is a narrow band; $g$ close to one buys it, and
 # $s g \ge 1$ loses the band altogether (the joint runs away instead of stopping).  With
-# the paper's P and PD gains ([Chapter 6](06_gain_design_and_closed_loop.py)), at the ends of the certified band and at $s = 1$:
+# the paper's P and PD gains ([Chapter 6](06_gain_design_and_closed_loop)), at the ends of the certified band and at $s = 1$:
 
 # %%
 gains = paper_gains(p)
@@ -504,7 +504,7 @@ assert n_noisy == n_quiet >= 2
 # [`predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone),
 # [`paper_gains`](#fricctl.bench.experiments.paper_gains),
 # the runaway checks [`wind_up`](#fricctl.paper.wind_up), [`reversal`](#fricctl.paper.reversal)
-# and [`coast`](#fricctl.paper.coast),
+# and [`coast_decay`](#fricctl.paper.coast_decay),
 # [`stick_intervals_after_motion`](#fricctl.paper.stick_intervals_after_motion),
 # [`plot_compensation_loop`](#fricctl.figures.plot_compensation_loop),
 # [`plot_fig9`](#fricctl.figures.plot_fig9), [`plot_fig10`](#fricctl.figures.plot_fig10),

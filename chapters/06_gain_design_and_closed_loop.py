@@ -21,8 +21,8 @@
 # viscous friction)": the classic second-order design from a rise time and a
 # damping ratio.  This chapter does that design with python-control, checks it on
 # the sampled 500 Hz loop, runs the *nonlinear* joint of
-# [Chapter 1](01_actuator_and_stick_slip.py) with those gains and no compensation, and
-# then closes the loop with the network of [Chapter 4](04_neural_network.py).
+# [Chapter 1](01_actuator_and_stick_slip) with those gains and no compensation, and
+# then closes the loop with the network of [Chapter 4](04_neural_network).
 # Two results of the linear analysis carry the chapter: full compensation removes
 # the only damping of the P loop (and the sampled loop turns unstable), and a
 # stuck compensated joint stops anywhere inside a band whose width the at-rest
@@ -42,7 +42,7 @@
 # * **Judge** compensated closed loops over training seeds: the band $F_s(1 - s g)/K_p$ a
 #   stuck joint stops in, and runaways.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -229,7 +229,7 @@ assert abs(run_pd.torque_motor[-1] - d_pd.kp * e_ss) <= d_pd.kp * p.encoder_reso
 # remaining torque `Kp e` is smaller than the breakaway level and nothing in the loop
 # grows to overcome it (there is no integral action).  The joint stays stuck with a
 # constant error inside the dead band, and the motor keeps pushing against static
-# friction with exactly the torque printed above.  [Chapter 5](05_open_loop_compensation_and_dead_zone.py)'s compensator adds the
+# friction with exactly the torque printed above.  [Chapter 5](05_open_loop_compensation_and_dead_zone)'s compensator adds the
 # estimated friction to that torque.
 
 # %%
@@ -255,7 +255,7 @@ plt.show()
 # $$ T_m(k+1) = T_c(k) + s\,\hat T^{at}\big(T_m(k), \hat\omega(k)\big), $$
 #
 # with $s$ the compensation scale [-] (1 here, 0.95 for the aged actuator of
-# [Chapter 7](07_wear_load_and_coulomb.py)) and $\hat T^{at}$ the network's output [N m].  The motor torque feeds
+# [Chapter 7](07_wear_load_and_coulomb)) and $\hat T^{at}$ the network's output [N m].  The motor torque feeds
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 

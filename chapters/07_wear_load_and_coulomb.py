@@ -21,7 +21,7 @@
 # compensation scale to $s = 0.95$ and compares with the classic model-based
 # compensator, $F_c\,\operatorname{sign}(\hat\omega)$.  On the virtual bench the aged
 # actuator is modelled as the true friction scaled by $\varphi = 0.95$ -- an
-# *assumption*, since the bench has no wear.  As in [Chapter 6](06_gain_design_and_closed_loop.py), a claim about a
+# *assumption*, since the bench has no wear.  As in [Chapter 6](06_gain_design_and_closed_loop), a claim about a
 # trained network is checked on several training seeds of both pipelines.  The
 # chapter ends with a sweep over friction scale and link inertia: where does a net
 # trained once keep the PD accuracy of 0.3 deg?
@@ -40,7 +40,7 @@
 # * **Judge** a net's robustness to wear and load as a share of seeds over a grid of
 #   friction scales and link inertias.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -271,7 +271,7 @@ plt.show()
 # %% [markdown]
 # Stick-slip needs an amplitude above $F_s/K_p$, about twice the paper's 0.1 rad
 # (printed); the extra (right panel) shows it for a larger, slower ramp.  The
-# [paper-consistency study](../paper_consistency.md) found no bench on which Fig. 18's
+# [paper-consistency study](../paper_consistency) found no bench on which Fig. 18's
 # stick-slip and the P design's rise time hold together under the usual reading of
 # "rise time".  With compensation, the sawtooth is followed as closely as the
 # compensation cancels the friction at the ramp's low speed: both the deviation and

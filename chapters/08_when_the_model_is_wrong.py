@@ -22,7 +22,7 @@
 #   "not explained" can be the honest verdict.
 # * **Explain** why some causes cannot be told apart on a given record.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os

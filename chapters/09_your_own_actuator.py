@@ -11,7 +11,7 @@
 # tell.  One file carries the actuator from step to step: the **model file**
 # (`fricctl.joint_model`, version 2, read and written by
 # [`JointModel`](#fricctl.plant.JointModel)).  The page
-# [Your own actuator](../your_own_actuator.md) runs the same chain as seven `fricctl`
+# [Your own actuator](../your_own_actuator) runs the same chain as seven `fricctl`
 # commands.
 
 # %% [markdown]
@@ -27,7 +27,7 @@
 #   network's fit against its gain at rest.
 # * **Judge** a compensator by simulated steps and held-out data before exporting it to C.
 #
-# Symbols and units are collected on the [notation page](../notation.md).
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import hashlib
@@ -85,7 +85,7 @@ warnings.simplefilter("ignore", DesignWarning)  # the designs' warnings are in D
 # file gives the loop: the sample time $T_s$ (`sample_time`) [s], one encoder count $\Delta$
 # (`encoder_resolution`) [rad], the torque limit $T_{max}$ (`max_torque`) [N m].  A linear
 # axis reads N, m, kg instead.  The paper's actuator ships as one (generated from
-# [`fricctl.params`](#fricctl.params), the values of [Chapter 1](01_actuator_and_stick_slip.py)):
+# [`fricctl.params`](#fricctl.params), the values of [Chapter 1](01_actuator_and_stick_slip)):
 
 # %%
 paper = JointModel.load(paper_actuator_file())
@@ -148,13 +148,13 @@ if est is not None:
 # %% [markdown]
 # **The axis never rests.**  There is no breakaway in these records: nothing in them says
 # what the friction does below the Coulomb level, where the paper's compensator does its
-# most delicate work ([Chapter 5](05_open_loop_compensation_and_dead_zone.py)).  Keep this in
+# most delicate work ([Chapter 5](05_open_loop_compensation_and_dead_zone)).  Keep this in
 # mind; it decides step 5.
 #
 # ## 3. Identify, and write the model file
 # The benchmark's IDIM-LS gives the published estimates with their standard deviations.
 # Its model, per sample $k$, is the joint equation read backwards
-# ([Chapter 3](03_identifying_friction.py); [`idim_ls`](#fricctl.identify.idim_ls)):
+# ([Chapter 3](03_identifying_friction); [`idim_ls`](#fricctl.identify.idim_ls)):
 #
 # $$ F_{m,k} = M\,\ddot q_k + F_v\,\dot q_k + F_c\,\operatorname{sign}(\dot q_k) + o
 #    + \varepsilon_k, $$
