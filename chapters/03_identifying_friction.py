@@ -364,8 +364,9 @@ assert ident.held_out.simulation_fit > 95
 # %% [markdown]
 # And on EMPS: every estimator fitted on `DATA_EMPS.mat` and checked on
 # `DATA_EMPS_PULSES.mat` (its torque replayed: position fit; and the force predicted
-# by the EMPS recipe: relative error, published 5.9824 % for IDIM-LS).  With its
-# 5e-8 m encoder, EMPS has no errors in variables to speak of: every estimator lands
+# by the EMPS recipe: relative error, published 5.9824 % for IDIM-LS).  With its fine
+# encoder (one count is printed in [Chapter 9](09_your_own_actuator)), EMPS has no errors in
+# variables to speak of: every estimator lands
 # within a few standard errors of the published IDIM-LS.  The default reports DIDIM,
 # whose mass is only known to a few per cent on this stiff closed loop (the replayed
 # position carries little of it) -- and says so, pointing at the equation error, which

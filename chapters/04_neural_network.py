@@ -201,8 +201,8 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 # %% [markdown]
 # With exact patterns the four tanh units come close to (or reach) the paper's
 # 98 %: the architecture is not the bottleneck, the acceleration estimate is.
-# The paper's number is plausible for a good measuring chain; ours, from an encoder
-# of 3.14e-5 rad at 500 Hz and torque steps, is not that good.
+# The paper's number is plausible for a good measuring chain; ours, the paper's encoder
+# sampled at 500 Hz under torque steps, is not that good.
 #
 # ## 5. The gain at rest: why the paper's recipe gives g > 1, and the certified band
 #

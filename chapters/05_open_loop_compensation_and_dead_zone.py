@@ -398,9 +398,10 @@ assert dz[1] < dz[0] / 10 and dz[2] == 0.0        # certified g: 10x narrower; p
 assert np.degrees(dz[0] / gains.pd_kp) > 0.3      # the paper's 6x and its 0.3 deg do not meet
 
 # %% [markdown]
-# The paper's factor of about 6 needs $g = 0.833$: a dead zone of 30 mN m, which leaves a
-# stuck joint up to 1.4 degrees (PD) from its reference -- the paper's 6x dead-zone
-# reduction and its 0.3-degree accuracy cannot both hold with one smooth net (printed).
+# The paper's factor of about 6 needs $g = 1 - 1/6$: a dead zone of $F_s/6$, which leaves a
+# stuck joint further than 0.3 degrees from its reference even with the PD gain (printed)
+# -- the paper's 6x dead-zone reduction and its 0.3-degree accuracy cannot both hold with
+# one smooth net.
 # The certified band's $g \approx 0.99$ narrows the dead zone more than tenfold further,
 # and the paper pipeline's $g > 1$ has no band at all.
 
