@@ -290,7 +290,7 @@ plt.show()
 # ## Exercises
 #
 # 1. Change the encoder to 500 counts per rotor revolution
-#    (`p = paper_actuator(encoder_counts=500)`) and rerun the table.  Which
+#    (`p = `[`paper_actuator`](#fricctl.params.paper_actuator)`(encoder_counts=500)`) and rerun the table.  Which
 #    estimator degrades most, and why does the backward-difference acceleration
 #    get so much worse?
 # 2. Vary `order` of `polynomial_segments` (2, 4, 6, 8) and the `cutoff` of

@@ -370,7 +370,7 @@ plt.show()
 # %% [markdown]
 # ## Exercises
 #
-# 1. Rerun Fig. 16 with white torque noise (`simulate(..., noise_std=0.003,
+# 1. Rerun Fig. 16 with white torque noise ([`simulate`](#fricctl.simulate.simulate)`(..., noise_std=0.003,
 #    rng=np.random.default_rng(0))`, using `r16.runs["Coulomb"].info` for the setup).
 #    Does the Coulomb compensator chatter now?  And the NN?
 # 2. Sweep the compensation scale `s` (`robustness_sweep(..., compensation_scale=s)`)
