@@ -35,6 +35,21 @@
 # [kg m²], $T_m$ the motor torque [N m] and $T_{at}$ the friction torque [N m]:
 # friction only ever takes energy out of the joint.
 
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** the elastic joint of paper Eq. (1) and the rigid joint of Eq. (2), and
+#   say which of the actuator's parameters the paper gives and which are derived or assumed.
+# * **Explain** the friction law (viscous, Coulomb, Stribeck) and why, at rest, friction is
+#   a reaction anywhere between $-F_s$ and $F_s$ rather than a function of velocity.
+# * **Derive** the dead band $|e| \le F_s/K_p$ of a proportional position loop and
+#   **measure** it on the simulated joint.
+# * **Explain** stick-slip under a slow ramp, and predict how long each stuck interval lasts.
+# * **Judge** when the rigid model is enough, from the flexible joint's resonance against
+#   the loop's bandwidth and the Nyquist frequency.
+#
+# Symbols and units are collected on the [notation page](../notation).
+
 # %%
 import os
 import sys
@@ -57,7 +72,7 @@ RAMP_DURATION = 6.0 if FAST else 12.0  # length of the stick-slip experiment [s]
 # %% [markdown]
 # ## 1. The model: the paper's actuator
 #
-# `paper_actuator()` collects the actuator's parameters.  Each field records its
+# [`paper_actuator()`](#fricctl.params.paper_actuator) collects the actuator's parameters.  Each field records its
 # unit and its provenance: `paper` (a value the paper gives), `derived`
 # (computed from paper values) or `assumption` (a plausible value the paper does
 # not give).  Keep an eye on the provenance column: a conclusion that depends on an
@@ -102,7 +117,7 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # of the mechanical parameters only the link inertia $I_s$ (0.0046 kg m², the SCARA link of
 # Figs. 16-18); its friction values are the subject of Section 2.  The actuator's inertia
 # $n^2 I_r$ is *derived* (the one value that makes the paper's P design self-consistent,
-# Chapter 6); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
+# [Chapter 6](06_gain_design_and_closed_loop)); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
 # *assumptions*, so $I_r$ itself is known only through the assumed $n$.  The cell below
 # reads all of them from the simulator's own joint objects and checks that their
 # accelerations are the right-hand sides above.
@@ -134,7 +149,7 @@ assert np.isclose(acc, (tm - t_at) / (n**2 * i_r + p_link.link_inertia), rtol=1e
 # %% [markdown]
 # ## 2. Friction laws
 #
-# The nominal friction is the sum of three laws from `fricctl.friction`:
+# The nominal friction is the sum of three laws from [`fricctl.friction`](#fricctl.friction):
 #
 # * viscous $b\,\omega$, proportional to the velocity $\omega = \dot q$ [rad/s], with
 #   $b$ [N m s/rad];
@@ -204,8 +219,8 @@ assert above.q[-1] > 0.0 and not above.stuck[-1]      # ...and breaks loose just
 # ## 4. Design and simulate: a P loop stuck inside its dead band
 #
 # Now close a proportional loop `Tc = Kp (r - q)` with the paper's P gain (rise
-# time 0.2 s, damping 0.3, designed on the linear viscous model; Chapter 6 explains
-# the design).  Once the joint stops, it stays stuck as long as the controller's
+# time 0.2 s, damping 0.3, designed on the linear viscous model by
+# [`design_p`](#fricctl.design.design_p); Chapter 6 explains the design).  Once the joint stops, it stays stuck as long as the controller's
 # torque $K_p\,|r - q|$ is below the breakaway level $F_s$ [N m].  Every error
 # inside the band
 #
@@ -319,8 +334,8 @@ plt.show()
 #
 # Paper Eq. (1) (Section 1) models the flexspline as a spring $K$ (with a little
 # damping $d$) between the actuator inertia $n^2 I_r$ and the link $I_s$; Eq. (2) lumps
-# both into one rigid inertia $I$.  The simulator has both (`plant="rigid"` or
-# `plant="flexible"`).  Run the same PD step with the SCARA link attached, on both plants,
+# both into one rigid inertia $I$.  The simulator,
+# [`simulate`](#fricctl.simulate.simulate), has both (`plant="rigid"` or `plant="flexible"`).  Run the same PD step with the SCARA link attached, on both plants,
 # and compare.  The two-mass system of Eq. (1) has, with the motor free, the resonance
 #
 # $$ \omega_r = \sqrt{K\left(\frac{1}{n^2 I_r} + \frac{1}{I_s}\right)} \quad \text{[rad/s]}, $$
@@ -359,6 +374,25 @@ assert flex.resonance > 10 * d_pd.wn  # resonance well above the loop's bandwidt
 # in Section 1): Exercise 3 asks when it breaks down.
 
 # %% [markdown]
+# ## Summary
+#
+# * The simulator integrates the elastic joint of paper Eq. (1) and the rigid joint of
+#   Eq. (2); their accelerations were checked against the right-hand sides.  Of the
+#   mechanical parameters the paper gives only the link inertia: the actuator's inertia is
+#   derived, and the gear ratio, stiffness and damping are assumptions.
+# * Friction is viscous plus Coulomb plus a Stribeck excess near zero speed; at rest it is a
+#   reaction between $-F_s$ and $F_s$.  Below the breakaway torque the simulated joint does
+#   not move at all, not even by a fraction of a count; just above it, it breaks loose.
+# * A proportional loop stops anywhere inside its dead band $|e| \le F_s/K_p$: a step whose
+#   first torque $K_p r$ is below $F_s$ never starts, a larger one freezes short of the
+#   reference, and the band shrinks as $1/K_p$.
+# * Under a slow ramp the same loop stick-slips: each stuck interval lasts until $K_p e$ has
+#   grown back to $F_s$, the start-up $F_s/(K_p v)$ for a ramp speed $v$ (Exercise 2).
+# * With the assumed stiffness the flexspline's twist is far smaller than the error friction
+#   leaves and its resonance far above the loop's bandwidth, so the rigid Eq. (2) is enough
+#   for these controllers -- a conclusion that holds only as far as the assumed stiffness.
+
+# %% [markdown]
 # ## Exercises
 #
 # 1. Repeat the exact-stick experiment with `p.friction_model().scaled(1.1)`
@@ -369,7 +403,7 @@ assert flex.resonance > 10 * d_pd.wn  # resonance well above the loop's bandwidt
 #    stick-slip after the start-up?
 # 3. Lower the stiffness with `p_link.replace(stiffness=...)` until the flexible
 #    and rigid runs visibly differ.  Compare the resonance
-#    (`FlexibleJoint.from_params(...).resonance`) with the Nyquist frequency
+#    ([`FlexibleJoint`](#fricctl.plant.FlexibleJoint)`.from_params(...).resonance`) with the Nyquist frequency
 #    `pi / p.sample_time` of the 500 Hz loop.
 
 # %% tags=["solution"]
@@ -447,3 +481,25 @@ plt.show()
 # natural frequency -- far below the Nyquist frequency.  Even the nominal resonance
 # (K = 2000) lies below pi/Ts, so the 500 Hz loop samples it rather than aliasing it; with
 # a much stiffer joint (or a slower loop) the resonance would fold back below Nyquist.
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: the actuator, Eqs. (1)-(2), the P design.
+# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
+#   tools and compensation methods for the control of machines with friction",
+#   *Automatica* 30(7), 1994: the friction laws (Coulomb, viscous, Stribeck), stick and
+#   stick-slip.
+#
+# In fricctl: [`paper_actuator`](#fricctl.params.paper_actuator) and
+# [`ActuatorParams`](#fricctl.params.ActuatorParams),
+# [`to_rotor_side`](#fricctl.units.to_rotor_side), [`Viscous`](#fricctl.friction.Viscous),
+# [`Coulomb`](#fricctl.friction.Coulomb), [`Stribeck`](#fricctl.friction.Stribeck),
+# [`RigidJoint`](#fricctl.plant.RigidJoint), [`FlexibleJoint`](#fricctl.plant.FlexibleJoint),
+# [`simulate`](#fricctl.simulate.simulate) and its [`SimResult`](#fricctl.simulate.SimResult),
+# the controllers [`open_loop`](#fricctl.controllers.open_loop),
+# [`p_control`](#fricctl.controllers.p_control) and [`pd_control`](#fricctl.controllers.pd_control),
+# [`design_p`](#fricctl.design.design_p), [`design_pd`](#fricctl.design.design_pd),
+# [`plot_response`](#fricctl.figures.plot_response).

@@ -31,6 +31,22 @@
 # acceleration and friction next to the measured encoder signal, so every
 # estimator can be scored.
 
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** why one encoder count per sample, $\Delta/T_s$, limits what a
+#   differentiated encoder can say about the Stribeck region of friction.
+# * **Derive** the quantisation error of the backward-difference acceleration,
+#   $\Delta/(\sqrt{2}\,T_s^2)$ in RMS, and **measure** it on the simulated record.
+# * **Explain** the paper's polynomial-segment estimator as a linear least-squares problem,
+#   and check it against an independent fit.
+# * **Measure** four velocity and acceleration estimators against the simulator's truth,
+#   as velocity, acceleration and friction errors.
+# * **Judge** the bias/noise trade-off of an estimator's settings (polynomial degree,
+#   filter cut-off).
+#
+# Symbols and units are collected on the [notation page](../notation).
+
 # %%
 import os
 
@@ -96,16 +112,21 @@ assert np.allclose(np.diff(sim.q_meas) / res, np.round(np.diff(sim.q_meas) / res
 # ## 3. Estimators
 #
 # Four ways to get velocity and acceleration from `(t, q_meas)`, all in
-# `fricctl.estimation`:
+# [`fricctl.estimation`](#fricctl.estimation):
 #
-# * **backward difference**, twice: what the controller has, noisy and lagging,
+# * **backward difference** ([`backward_difference`](#fricctl.estimation.backward_difference)),
+#   twice: what the controller has, noisy and lagging,
 #   $\hat\alpha_k = (\hat\omega_k - \hat\omega_{k-1})/T_s = (y_k - 2y_{k-1} + y_{k-2})/T_s^2$;
-# * **polynomial segments**, the paper's method: cut the record where the raw
+# * **polynomial segments** ([`polynomial_segments`](#fricctl.estimation.polynomial_segments)),
+#   the paper's method: cut the record where the raw
 #   velocity is non-zero, fit each moving segment with a 6th-order least-squares
 #   polynomial in time, differentiate the polynomial analytically (written out below);
-# * **Savitzky-Golay**: a local polynomial in a sliding window;
-# * **Butterworth + central differences**: zero-phase low-pass, then differences
-#   (the recipe of the EMPS benchmark used in Chapter 3).
+# * **Savitzky-Golay** ([`savitzky_golay`](#fricctl.estimation.savitzky_golay)): a local
+#   polynomial in a sliding window;
+# * **Butterworth + central differences**
+#   ([`butterworth_central`](#fricctl.estimation.butterworth_central)): zero-phase low-pass,
+#   then differences (the recipe of the EMPS benchmark used in
+#   [Chapter 3](03_identifying_friction)).
 #
 # The last three are non-causal: they use future samples.  That is fine for
 # building a training set offline, not inside the control loop.
@@ -228,8 +249,8 @@ plt.show()
 
 # %% [markdown]
 # And the "experimental friction" `Tm - I a_hat` of the paper's estimator against
-# velocity, with the true friction law: this cloud is what Chapters 3 and 4 learn
-# from.
+# velocity, with the true friction law: this cloud is what Chapters 3 and
+# [4](04_neural_network) learn from.
 
 # %%
 poly = estimates[1]
@@ -245,17 +266,38 @@ ax.legend(fontsize="small")
 plt.show()
 
 # %% [markdown]
+# ## Summary
+#
+# * One encoder count per sample, $\Delta/T_s$, is of the same order as the Stribeck
+#   velocity: the raw velocity cannot resolve the region where friction drops from its
+#   static to its Coulomb level.
+# * The backward-difference acceleration carries the encoder's quantisation divided by
+#   $T_s^2$; its RMS error is predicted by $\Delta/(\sqrt{2}\,T_s^2)$ (and, as friction,
+#   $I$ times that), which the simulated record confirmed.
+# * The paper's estimator fits a degree-6 polynomial by linear least squares to the
+#   backward differences of each moving segment, in overlapping windows; an independent
+#   numpy fit of one segment gave the same velocity and acceleration.
+# * Scored against the simulator's truth on the moving samples, the polynomial segments
+#   were the most accurate on velocity, acceleration and friction: each segment runs from
+#   one stop to the next, where the other filters smear the stop over their window.
+# * Savitzky-Golay, Butterworth and the polynomial segments are non-causal: they build a
+#   training set offline, not a velocity for the control loop.
+# * The exercises show the backward difference degrading with a coarser encoder roughly in
+#   proportion to $\Delta$, a flat optimum of the polynomial degree against a sharp one of the
+#   Butterworth cut-off, and torque noise that reaches the joint but not the record.
+
+# %% [markdown]
 # ## Exercises
 #
 # 1. Change the encoder to 500 counts per rotor revolution
-#    (`p = paper_actuator(encoder_counts=500)`) and rerun the table.  Which
+#    (`p = `[`paper_actuator`](#fricctl.params.paper_actuator)`(encoder_counts=500)`) and rerun the table.  Which
 #    estimator degrades most, and why does the backward-difference acceleration
 #    get so much worse?
 # 2. Vary `order` of `polynomial_segments` (2, 4, 6, 8) and the `cutoff` of
 #    `butterworth_central` (5 to 100 Hz).  Plot the friction RMS error against
 #    each setting: where is the bias/noise trade-off?
 # 3. Add white torque noise to the experiment
-#    (`simulate(..., noise_std=0.005, rng=np.random.default_rng(0))`).  Note that
+#    ([`simulate`](#fricctl.simulate.simulate)`(..., noise_std=0.005, rng=np.random.default_rng(0))`).  Note that
 #    `torque_motor` is the *commanded* torque: the noise reaches the joint but not
 #    the record.  How does that show up in the friction error?
 
@@ -336,3 +378,24 @@ for seed in (0, 1, 2):
     assert 0.8 * NOISE < np.sqrt(np.mean(perfect ** 2)) < 1.2 * NOISE
     assert s_poly[1] > 2 * scores["polynomial_segments"][1]  # further from the true acceleration
     assert s_poly[2] < 0.5 * NOISE                               # ...but not from the friction
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: Section 4 and Fig. 4, the polynomial velocity estimate.
+# * A. Savitzky and M. J. E. Golay, "Smoothing and differentiation of data by simplified
+#   least squares procedures", *Analytical Chemistry* 36(8), 1964: the Savitzky-Golay filter.
+# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
+#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the Butterworth
+#   and central-difference recipe.
+#
+# In fricctl: [`backward_difference`](#fricctl.estimation.backward_difference),
+# [`polynomial_segments`](#fricctl.estimation.polynomial_segments),
+# [`savitzky_golay`](#fricctl.estimation.savitzky_golay),
+# [`butterworth_central`](#fricctl.estimation.butterworth_central) and their
+# [`DerivativeEstimate`](#fricctl.estimation.DerivativeEstimate),
+# [`paper_actuator`](#fricctl.params.paper_actuator), [`simulate`](#fricctl.simulate.simulate),
+# [`open_loop`](#fricctl.controllers.open_loop), [`sinusoid`](#fricctl.controllers.sinusoid),
+# [`plot_velocity_estimates`](#fricctl.figures.plot_velocity_estimates).

@@ -17,7 +17,7 @@
 # *Gervini, Gomes & da Rosa (2003), Section 4 (friction from measured torque and
 # acceleration); the EMPS benchmark (Janot, Gautier & Brunot 2019) for real data.*
 #
-# Chapter 2 turned an encoder record into velocity and acceleration.  Here we fit a
+# [Chapter 2](02_measuring_acceleration) turned an encoder record into velocity and acceleration.  Here we fit a
 # friction *model* to them.  The inverse dynamic identification model (IDIM) reads
 # the joint's equation backwards: at each sample $k$,
 #
@@ -55,6 +55,22 @@
 # formula assumes independent, identically distributed errors; Section 3 shows what
 # happens when they are not.
 
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** why a friction model that is nonlinear in the velocity is linear in its
+#   parameters, and pose its identification as a bounded least-squares problem.
+# * **Derive** the standard deviations of the estimates from the residual, and **judge**
+#   when they cannot be trusted (systematic errors, not noise).
+# * **Design** a torque-ramp experiment that measures the breakaway level, and explain its
+#   error from the time the first encoder count takes.
+# * **Measure** the published IDIM-LS identification of a real axis (the EMPS benchmark) and
+#   its cross-validation.
+# * **Judge** estimators on a coarse encoder in closed loop -- equation error, instrumental
+#   variables, DIDIM -- by their held-out validation.
+#
+# Symbols and units are collected on the [notation page](../notation).
+
 # %%
 import os
 
@@ -76,7 +92,7 @@ RAMP_SLOPE = 0.1                  # torque ramp of the breakaway test [N*m/s]
 # ## 1. Experiment on the virtual bench
 #
 # The same open-loop experiment as in Chapter 2: a sinusoidal torque above the
-# breakaway level.  `SimResult.to_run()` keeps only what a real bench would record
+# breakaway level.  [`SimResult.to_run()`](#fricctl.simulate.SimResult.to_run) keeps only what a real bench would record
 # (time, motor torque, encoder position): the identification does not see the truth.
 
 # %%
@@ -90,7 +106,8 @@ print(f"record: {run.n_samples} samples at {1 / run.sample_time:.0f} Hz, torque 
 # ## 2. First check the solver, with the true derivatives
 #
 # Before blaming data, make sure the fit itself is right.  Feed the simulator's
-# *true* velocity and acceleration (moving samples only) to a Stribeck fit: the
+# *true* velocity and acceleration (moving samples only) to a Stribeck fit
+# ([`fit_friction`](#fricctl.identify.fit_friction)): the
 # friction law of the bench is exactly that model, so the parameters must come back.
 
 # %%
@@ -107,10 +124,10 @@ for name, true_value in truth.items():
 # %% [markdown]
 # ## 3. Identify from the encoder alone
 #
-# Now the real situation: `identify_run` estimates velocity and acceleration with
+# Now the real situation: [`identify_run`](#fricctl.identify.identify_run) estimates velocity and acceleration with
 # the paper's polynomial segments (Chapter 2), drops the samples at rest (an inverse
 # model learns nothing there) and fits the Coulomb + viscous model.  After it, the same
-# problem is rebuilt by hand, the regressor $X$ from `fricctl.identify.regressor` and
+# problem is rebuilt by hand, the regressor $X$ from [`fricctl.identify.regressor`](#fricctl.identify.regressor) and
 # the solution from numpy's unconstrained `lstsq` (none of the bounds is active here),
 # to check that the CasADi fit and its standard deviations are the formulas above.
 
@@ -210,10 +227,11 @@ assert p.static <= breakaway < 1.02 * p.static  # one count late, so slightly hi
 # ## 5. Real data: the EMPS benchmark
 #
 # EMPS is a real prismatic axis (motor, ball screw, cart) with a published IDIM-LS
-# identification.  `fricctl.identify.idim_ls` follows its recipe: zero-phase
+# identification.  [`fricctl.identify.idim_ls`](#fricctl.identify.idim_ls) follows its recipe: zero-phase
 # Butterworth at 100 Hz, central differences, decimation by 10, least squares (in
 # CasADi here).  The data are not shipped with fricctl: set `FRICCTL_DATA` to the
-# folder that holds `emps/DATA_EMPS.mat`; without it this part is skipped.  This is
+# folder that holds `emps/DATA_EMPS.mat` ([`fricctl.datasets.emps`](#fricctl.datasets.emps));
+# without it this part is skipped.  This is
 # a linear axis: forces in N, mass in kg.  The quality figure of the EMPS reports is the
 # relative error $100\,\lVert y - X\hat\theta \rVert / \lVert y \rVert$ [%].
 
@@ -281,16 +299,17 @@ if emps_est is not None:
 # a *filtered, twice differentiated, quantised* position.  When the encoder step is
 # coarse against the motion per sample, that regressor carries an error correlated with
 # the motion, and least squares pulls the inertia toward zero ("errors in variables").
-# The EMPS authors answer it two ways: **IDIM-IV** (instrumental variables: the same
+# The EMPS authors answer it two ways: **IDIM-IV** ([`idim_iv`](#fricctl.identify.idim_iv); instrumental variables: the same
 # regressors built from the motion the *model* simulates, Janot, Vandanjon & Gautier
-# 2014) and **DIDIM** (the simulation error minimised over the parameters, Gautier,
-# Janot & Vandanjon 2013).  `fricctl identify`'s default, `identify_record`, starts with
+# 2014) and **DIDIM** ([`didim`](#fricctl.identify.didim); the simulation error minimised
+# over the parameters, Gautier, Janot & Vandanjon 2013).  `fricctl identify`'s default,
+# [`identify_record`](#fricctl.identify.identify_record), starts with
 # the equation error on the record's own signals (the low-pass at the band the motion
 # reaches above the quantisation), refines it by DIDIM on the record's torque replayed
 # (no derivative of the encoder, no model of the controller), takes its standard errors
 # from the residual summed over blocks and from a delete-a-block jackknife, and
 # validates on held-out blocks.  Below, a 1 kHz record with 500 counts per revolution, in
-# closed loop -- the issue's hardest corner.
+# closed loop -- the hardest case for an equation-error fit.
 
 # %%
 from dataclasses import replace  # noqa: E402
@@ -333,7 +352,7 @@ assert any("disagree beyond their standard errors" in w for w in r.warnings)
 
 # %% [markdown]
 # The report says which estimator it kept and why; the figure is the held-out
-# validation: each block of the record replayed with the estimate of the *other*
+# validation ([`plot_held_out`](#fricctl.figures.plot_held_out)): each block of the record replayed with the estimate of the *other*
 # blocks (top), and the equation error's torque on the same blocks (bottom).  A
 # model that explains only the data it was fitted to fails here.
 
@@ -345,8 +364,9 @@ assert ident.held_out.simulation_fit > 95
 # %% [markdown]
 # And on EMPS: every estimator fitted on `DATA_EMPS.mat` and checked on
 # `DATA_EMPS_PULSES.mat` (its torque replayed: position fit; and the force predicted
-# by the EMPS recipe: relative error, published 5.9824 % for IDIM-LS).  With its
-# 5e-8 m encoder, EMPS has no errors in variables to speak of: every estimator lands
+# by the EMPS recipe: relative error, published 5.9824 % for IDIM-LS).  With its fine
+# encoder (one count is printed in [Chapter 9](09_your_own_actuator)), EMPS has no errors in
+# variables to speak of: every estimator lands
 # within a few standard errors of the published IDIM-LS.  The default reports DIDIM,
 # whose mass is only known to a few per cent on this stiff closed loop (the replayed
 # position carries little of it) -- and says so, pointing at the equation error, which
@@ -372,7 +392,31 @@ if emps_est is not None:
 # %% [markdown]
 # Compare with Section 3: good identification is mostly about the experiment and
 # the signal processing, not about the solver.
+
+# %% [markdown]
+# ## Summary
 #
+# * The inverse model $T_m = I\hat\alpha + b\hat\omega + F_c\operatorname{sign}\hat\omega + o$ is
+#   linear in its parameters: a bounded least-squares problem, posed in CasADi and solved by
+#   IPOPT.  Fed the true derivatives, the Stribeck fit recovered the bench's parameters; on
+#   the encoder's estimates, the fit and its standard deviations equalled numpy's `lstsq`
+#   and the formula $\sigma_j = \hat\sigma\sqrt{[(X^\top X)^{-1}]_{jj}}$.
+# * Least squares trades the Coulomb level against the viscous slope: the fitted $F_c$ landed
+#   below the true one and $b$ above.
+# * The Stribeck level identified from sliding data was wrong by many of its own standard
+#   deviations, even below the Coulomb level: a standard deviation measures noise, never
+#   bias.
+# * Static friction needs its own experiment: a slow torque ramp reads the breakaway level a
+#   little high, by an error that grows as the ramp's slope to the power 2/3 (Exercise 3).
+# * On the EMPS benchmark the IDIM-LS recipe reproduced the published estimates, relative
+#   error and cross-validation to their printed digits, and the direction-dependent model
+#   fitted better than the symmetric one.
+# * With a coarse encoder in closed loop, equation-error fits lose a large part of the
+#   inertia (errors in variables); `identify_record`, refined by DIDIM on the replayed torque,
+#   came within 5 % of the true inertia and Coulomb level and 10 % of the viscous
+#   coefficient, and passed the held-out validation.
+
+# %% [markdown]
 # ## Exercises
 #
 # 1. Replace `estimator="polynomial_segments"` by `"butterworth_central"` with
@@ -476,3 +520,40 @@ ratios = [errors[RAMP_SLOPE] / errors[RAMP_SLOPE / 2], errors[2 * RAMP_SLOPE] / 
 print(f"doubling the slope multiplies the error by {ratios[0]:.2f} and {ratios[1]:.2f} "
       f"(2^(2/3) = {2 ** (2 / 3):.2f})")
 assert all(1.3 < q < 1.9 for q in ratios)
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: Section 4, friction from measured torque and acceleration.
+# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
+#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the data,
+#   the IDIM-LS recipe and its published results.
+# * M. Gautier, A. Janot and P.-O. Vandanjon, "A new closed-loop output error method for
+#   parameter identification of robot dynamics", *IEEE Transactions on Control Systems
+#   Technology* 21(2), 2013: DIDIM.
+# * A. Janot, P.-O. Vandanjon and M. Gautier, "A generic instrumental variable approach for
+#   industrial robot identification", *IEEE Transactions on Control Systems Technology*
+#   22(1), 2014: IDIM-IV.
+# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
+#   tools and compensation methods for the control of machines with friction",
+#   *Automatica* 30(7), 1994: the Stribeck friction model.
+# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
+#   framework for nonlinear optimization and optimal control", *Mathematical Programming
+#   Computation* 11, 2019.
+# * A. Wächter and L. T. Biegler, "On the implementation of an interior-point filter
+#   line-search algorithm for large-scale nonlinear programming", *Mathematical Programming*
+#   106(1), 2006: IPOPT.
+#
+# In fricctl: [`fit_friction`](#fricctl.identify.fit_friction),
+# [`identify_run`](#fricctl.identify.identify_run), [`regressor`](#fricctl.identify.regressor),
+# [`IdentificationResult`](#fricctl.identify.IdentificationResult),
+# [`idim_ls`](#fricctl.identify.idim_ls), [`cross_validate`](#fricctl.identify.cross_validate),
+# [`idim_iv`](#fricctl.identify.idim_iv), [`didim`](#fricctl.identify.didim),
+# [`identify_record`](#fricctl.identify.identify_record),
+# [`polynomial_segments`](#fricctl.estimation.polynomial_segments),
+# [`at_rest`](#fricctl.estimation.at_rest), [`emps`](#fricctl.datasets.emps),
+# [`simulate`](#fricctl.simulate.simulate), [`design_pd`](#fricctl.design.design_pd),
+# [`plot_identification`](#fricctl.figures.plot_identification),
+# [`plot_held_out`](#fricctl.figures.plot_held_out).

@@ -27,6 +27,22 @@
 # be trusted (its envelope), how it is exported to C for a 500 Hz controller, and
 # how it is saved.
 
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** how friction patterns are measured on a bench, $T_{at} = T_m - I\hat\alpha$,
+#   and why the patterns of a stuck joint are a vertical line at $\omega = 0$.
+# * **Explain** the paper's 2-4-1 network and how the two pipelines scale its inputs and
+#   choose its target.
+# * **Measure** two trainers on the same patterns: back-propagation with momentum and
+#   Levenberg-Marquardt in CasADi.
+# * **Judge** what an accuracy figure means (the fit of system identification against
+#   $R^2$) and whether the network or the measuring chain limits it.
+# * **Explain** the network's gain at rest $g$, why the paper's recipe gives $g > 1$, and how
+#   a trainer can certify it inside a band.
+#
+# Symbols and units are collected on the [notation page](../notation).
+
 # %%
 import os
 import sys
@@ -53,7 +69,7 @@ PIPELINES = ("paper", "fricctl")       # fricctl.nn.pipelines.PIPELINES
 # %% [markdown]
 # ## 1. The patterns (Fig. 5)
 #
-# `train_paper_network` runs the whole pipeline once: open-loop torque steps of
+# [`train_paper_network`](#fricctl.paper.train_paper_network) runs the whole pipeline once: open-loop torque steps of
 # growing amplitude up to the maximum torque, closed-loop P and PD step
 # sequences, the paper's polynomial velocity/acceleration estimator on the encoder
 # record, and an 80/20 split of the patterns into training and held-out sets.
@@ -185,12 +201,12 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 # %% [markdown]
 # With exact patterns the four tanh units come close to (or reach) the paper's
 # 98 %: the architecture is not the bottleneck, the acceleration estimate is.
-# The paper's number is plausible for a good measuring chain; ours, from an encoder
-# of 3.14e-5 rad at 500 Hz and torque steps, is not that good.
+# The paper's number is plausible for a good measuring chain; ours, the paper's encoder
+# sampled at 500 Hz under torque steps, is not that good.
 #
 # ## 5. The gain at rest: why the paper's recipe gives g > 1, and the certified band
 #
-# Chapter 5 shows that one number of the net decides what the compensator does while the
+# [Chapter 5](05_open_loop_compensation_and_dead_zone) shows that one number of the net decides what the compensator does while the
 # joint is stuck: the at-rest gain
 #
 # $$ g = \left.\frac{\partial \hat T_{at}}{\partial T_m}\right|_{\omega = 0}, $$
@@ -272,7 +288,8 @@ print(f"certified in {len(SEEDS)} of {len(SEEDS)} seeds; paper pipeline: certifi
 # ## 6. The envelope: where the net may be trusted
 #
 # A net extrapolates badly.  fricctl stores the box of the training inputs with
-# the net; the compiled loop can clip its inputs to it (`NNCompensator(clip=True)`).
+# the net; the compiled loop can clip its inputs to it
+# ([`NNCompensator`](#fricctl.compensators.NNCompensator)`(clip=True)`).
 # The box is generous: it spans every torque at every velocity, though most of its
 # area held no patterns.  Look at one corner, torque above breakaway at zero velocity: a
 # joint at rest cannot hold more than the breakaway torque $F_s$, yet a few patterns sit
@@ -330,9 +347,10 @@ plt.show()
 # %% [markdown]
 # ## 7. Exporting to C, saving and loading
 #
-# A 500 Hz controller evaluates the net 500 times a second; `c_source` writes a
+# A 500 Hz controller evaluates the net 500 times a second; [`c_source`](#fricctl.nn.c_source) writes a
 # self-contained C function (with the same scaling and optional clipping).  The
-# JSON file keeps weights, scaling, envelope and metadata -- no pickle.
+# JSON file ([`save_net`](#fricctl.nn.save_net), [`load_net`](#fricctl.nn.load_net)) keeps
+# weights, scaling, envelope and metadata -- no pickle.
 
 # %%
 src = c_source(net)
@@ -345,6 +363,29 @@ with tempfile.TemporaryDirectory() as tmp:
     print(f"saved {path.stat().st_size} bytes; metadata keys: {sorted(again.metadata)}")
 tm_grid, w_grid = np.meshgrid(np.linspace(lo[0], hi[0], 21), np.linspace(lo[1], hi[1], 21))
 assert np.array_equal(again(tm_grid, w_grid), net(tm_grid, w_grid))  # round trip is exact
+
+# %% [markdown]
+# ## Summary
+#
+# * The patterns are measured friction, $T_{at} = T_m - I\hat\alpha$: while the joint is
+#   stuck they say $T_{at} = T_m$ for any torque up to breakaway, while it slides roughly
+#   $F_c + b\,\omega$, and a smooth network has to bridge the two at $\omega = 0$.
+# * On the same patterns, Levenberg-Marquardt in CasADi ended at a lower training loss than
+#   the paper's back-propagation; with a schedule, a velocity scale and several starts,
+#   back-propagation reaches it in most seeds (Exercise 2).
+# * The fit and $R^2$ are tied by $\text{fit} = 100\,(1 - \sqrt{1 - R^2})$; on measured
+#   patterns neither reached the paper's 98 %, while the same network trained on exact
+#   patterns fitted far better: the acceleration estimate, not the four tanh units, limits
+#   the accuracy.
+# * The gain at rest $g$ came out above one in every seed of the paper's recipe -- the
+#   stuck and the sliding patterns blended at $\omega = 0$, a property of the target, not of
+#   the estimator (Exercise 1) -- and inside the certified band in every seed of the fricctl
+#   pipeline, checked again by central differences.
+# * Patterns recorded "at rest" above the breakaway level are the start of a motion the
+#   encoder has not counted yet; the fricctl pipeline's at-rest test drops the ones that are
+#   far off.
+# * The network is exported as a self-contained C function and saved as JSON; the round
+#   trip is exact.
 
 # %% [markdown]
 # ## Exercises
@@ -451,3 +492,31 @@ for k in SEEDS:
     at = sl.net(np.array([-0.1, 0.0, 0.1]), np.zeros(3))
     print(f"seed {k}: net(Tm, 0) at Tm = -0.1, 0, 0.1 N*m: {np.round(at, 3)} N*m; g = {sliding_g[-1]:.2f}")
 assert min(sliding_g) > 1
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: the friction patterns (Fig. 5), the 2-4-1 network, Fig. 8.
+# * D. E. Rumelhart, G. E. Hinton and R. J. Williams, "Learning representations by
+#   back-propagating errors", *Nature* 323, 1986: back-propagation.
+# * K. Levenberg, "A method for the solution of certain non-linear problems in least
+#   squares", *Quarterly of Applied Mathematics* 2(2), 1944, and D. W. Marquardt, "An
+#   algorithm for least-squares estimation of nonlinear parameters", *Journal of the Society
+#   for Industrial and Applied Mathematics* 11(2), 1963: the Levenberg-Marquardt trainer.
+# * L. Ljung, *System Identification: Theory for the User*, 2nd ed., Prentice Hall, 1999:
+#   the normalised fit.
+# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
+#   framework for nonlinear optimization and optimal control", *Mathematical Programming
+#   Computation* 11, 2019.
+#
+# In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
+# [`train_network`](#fricctl.bench.experiments.train_network),
+# [`FrictionNet`](#fricctl.nn.FrictionNet), [`fit_percent`](#fricctl.nn.fit_percent),
+# [`r_squared`](#fricctl.nn.r_squared), [`fit_report`](#fricctl.nn.fit_report),
+# [`c_source`](#fricctl.nn.c_source), [`save_net`](#fricctl.nn.save_net),
+# [`load_net`](#fricctl.nn.load_net), [`plot_fig5`](#fricctl.figures.plot_fig5),
+# [`plot_fig8`](#fricctl.figures.plot_fig8),
+# [`plot_training_history`](#fricctl.figures.plot_training_history),
+# [`plot_friction_map`](#fricctl.figures.plot_friction_map).

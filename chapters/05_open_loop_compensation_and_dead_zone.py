@@ -23,7 +23,22 @@
 # torque (Fig. 10).  This chapter first works out what the compensated loop does while the
 # joint is stuck -- a fixed point that sets the dead zone and decides between a joint that
 # follows its control torque and one that runs away -- and then repeats both experiments
-# with the two training pipelines of Chapter 4, over several training seeds.
+# with the two training pipelines of [Chapter 4](04_neural_network), over several training seeds.
+
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** the compensation law of paper Eq. (3) and the inner loop it closes: the net
+#   reads the motor torque the compensator commanded one sample earlier.
+# * **Derive** the fixed point of the stuck loop, $T_m^\star = T_c/(1 - s g)$, the
+#   compensated dead zone $D = F_s\,(1 - s g)$, and why $s g \ge 1$ runs away.
+# * **Measure** the dead zone of both training pipelines open loop (Figs. 9 and 10) over
+#   training seeds, and compare it with the fixed point's prediction from the net alone.
+# * **Judge** a compensator by runaway checks (wind-up, reversal, coast) as well as by its
+#   dead zone.
+# * **Design** the pair $(s, g)$ against the band a stuck position loop may stop in.
+#
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -105,7 +120,7 @@ plt.show()
 # fixed points are where $s\,\hat T_{at}(T_m, 0)$ crosses the line $T_m - T_c$; the
 # iteration climbs from $T_m = 0$ to the first stable crossing, and the joint breaks loose
 # once none lies below $F_s$: $D = \max_{0 \le T_m \le F_s} \big(T_m - s\,\hat T_{at}(T_m, 0)\big)$
-# (`fricctl.bench.experiments.predicted_dead_zone`).
+# ([`fricctl.bench.experiments.predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone)).
 
 # %%
 def fixed_points(net, tc, s=1.0, n=4001):
@@ -169,7 +184,8 @@ plt.show()
 # An open-loop sinusoid of $1.1 F_s$ at 0.5 Hz.  Without compensation the joint moves only
 # while the torque exceeds breakaway and sticks around every velocity reversal.  A
 # compensated joint must not stick -- and must still follow its control torque.  Three
-# checks decide the second (`fricctl.paper.runaway`): no **wind-up** ($|T_m|$ never exceeds
+# checks decide the second (`fricctl.paper.runaway`; [`wind_up`](#fricctl.paper.wind_up),
+# [`reversal`](#fricctl.paper.reversal), [`coast_decay`](#fricctl.paper.coast_decay)): no **wind-up** ($|T_m|$ never exceeds
 # $|T_c| + F_s + b|\omega|$ for more than 5 samples), the velocity **reverses** in every
 # period, and a **coast** test (a torque pulse, then $T_c = 0$) decays at least like the
 # linear viscous actuator.
@@ -243,7 +259,7 @@ for pipe in PIPELINES:
 #
 # ## 5. The dead zone over seeds
 #
-# `dead_zone` runs open-loop sinusoids of growing amplitude (0.25 % to 20 % of Tmax) and
+# [`dead_zone`](#fricctl.bench.experiments.dead_zone) runs open-loop sinusoids of growing amplitude (0.25 % to 20 % of Tmax) and
 # finds the smallest amplitude that moves the encoder by more than 3 counts.  Without
 # compensation it is close to the paper's 12.7 % of Tmax.  With compensation, per
 # pipeline over the seeds, measured and predicted by the fixed point:
@@ -316,7 +332,7 @@ assert np.all(meas >= pred - 0.0005) and np.all(meas - pred <= 0.0015)  # within
 #
 # of its reference.  A small dead zone is a narrow band; $g$ close to one buys it, and
 # $s g \ge 1$ loses the band altogether (the joint runs away instead of stopping).  With
-# the paper's P and PD gains (Chapter 6), at the ends of the certified band and at $s = 1$:
+# the paper's P and PD gains ([Chapter 6](06_gain_design_and_closed_loop)), at the ends of the certified band and at $s = 1$:
 
 # %%
 gains = paper_gains(p)
@@ -382,12 +398,35 @@ assert dz[1] < dz[0] / 10 and dz[2] == 0.0        # certified g: 10x narrower; p
 assert np.degrees(dz[0] / gains.pd_kp) > 0.3      # the paper's 6x and its 0.3 deg do not meet
 
 # %% [markdown]
-# The paper's factor of about 6 needs $g = 0.833$: a dead zone of 30 mN m, which leaves a
-# stuck joint up to 1.4 degrees (PD) from its reference -- the paper's 6x dead-zone
-# reduction and its 0.3-degree accuracy cannot both hold with one smooth net (printed).
+# The paper's factor of about 6 needs $g = 1 - 1/6$: a dead zone of $F_s/6$, which leaves a
+# stuck joint further than 0.3 degrees from its reference even with the PD gain (printed)
+# -- the paper's 6x dead-zone reduction and its 0.3-degree accuracy cannot both hold with
+# one smooth net.
 # The certified band's $g \approx 0.99$ narrows the dead zone more than tenfold further,
 # and the paper pipeline's $g > 1$ has no band at all.
+
+# %% [markdown]
+# ## Summary
 #
+# * The compensated loop of Eq. (3) feeds the commanded motor torque back into the net
+#   through a one-sample delay; while the joint is stuck, that inner loop is the only one
+#   left.
+# * For a linear estimate of gain $g$ the stuck loop settles at $T_m^\star = T_c/(1 - s g)$:
+#   the dead zone shrinks by the factor $1/(1 - s g)$, and for $s g \ge 1$ there is no stable
+#   fixed point near rest -- the loop winds the torque up.  For the real, curved net the
+#   fixed points predict the dead zone from the net alone.
+# * The paper's recipe ($g > 1$ in every seed) latches a motor torque with no control torque
+#   at all.  Its compensated joint never sticks in Fig. 9, but by running away: the coast
+#   test fails in every seed and the peak speed is several times the linear actuator's.  The
+#   fricctl pipeline passes every runaway check and moves like the linear viscous actuator.
+# * Gated by the runaway checks, the paper pipeline passes none of the four claims of
+#   Figs. 9 and 10 and the fricctl pipeline all four, in every seed; its dead zone, measured on
+#   a fine grid, lies within three grid steps above the fixed point's prediction.
+# * A stuck position loop stops within $F_s(1 - s g)/K_p$ of its reference: the paper's
+#   dead-zone factor and its 0.3-degree accuracy cannot both hold with one smooth net, and
+#   $s g \ge 1$ loses the band altogether.
+
+# %% [markdown]
 # ## Exercises
 #
 # 1. For the paper pipeline's net of each seed, find the fixed points with $T_c = 0$ and
@@ -448,3 +487,26 @@ noisy = simulate(p, c, duration=4.0, noise_std=0.005, rng=np.random.default_rng(
 n_quiet, n_noisy = len(stick_intervals_after_motion(quiet)), len(stick_intervals_after_motion(noisy))
 print(f"stick intervals: {n_quiet} without noise, {n_noisy} with noise_std = 0.005 N*m")
 assert n_noisy == n_quiet >= 2
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: the compensation law (Eq. 3), Figs. 9 and 10, the dead-zone
+#   and accuracy claims.
+# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
+#   tools and compensation methods for the control of machines with friction",
+#   *Automatica* 30(7), 1994: friction compensation and its hazards.
+#
+# In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
+# [`FrictionNet.gain_at_rest`](#fricctl.nn.FrictionNet.gain_at_rest),
+# [`dead_zone`](#fricctl.bench.experiments.dead_zone),
+# [`predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone),
+# [`paper_gains`](#fricctl.bench.experiments.paper_gains),
+# the runaway checks [`wind_up`](#fricctl.paper.wind_up), [`reversal`](#fricctl.paper.reversal)
+# and [`coast_decay`](#fricctl.paper.coast_decay),
+# [`stick_intervals_after_motion`](#fricctl.paper.stick_intervals_after_motion),
+# [`plot_compensation_loop`](#fricctl.figures.plot_compensation_loop),
+# [`plot_fig9`](#fricctl.figures.plot_fig9), [`plot_fig10`](#fricctl.figures.plot_fig10),
+# [`plot_coast`](#fricctl.figures.plot_coast), [`simulate`](#fricctl.simulate.simulate).

@@ -20,12 +20,29 @@
 # The paper designs its position controllers "as if the system was linear (only
 # viscous friction)": the classic second-order design from a rise time and a
 # damping ratio.  This chapter does that design with python-control, checks it on
-# the sampled 500 Hz loop, runs the *nonlinear* joint of Chapter 1 with those gains
-# and no compensation, and then closes the loop with the network of Chapter 4.
+# the sampled 500 Hz loop, runs the *nonlinear* joint of
+# [Chapter 1](01_actuator_and_stick_slip) with those gains and no compensation, and
+# then closes the loop with the network of [Chapter 4](04_neural_network).
 # Two results of the linear analysis carry the chapter: full compensation removes
 # the only damping of the P loop (and the sampled loop turns unstable), and a
 # stuck compensated joint stops anywhere inside a band whose width the at-rest
 # gain of the network sets.
+
+# %% [markdown]
+# ## What you will learn
+#
+# * **Design** P and PD position controllers from a rise time and a damping ratio on the
+#   linear viscous model (python-control), and **explain** why one P gain cannot meet both.
+# * **Explain** why the PD acts on the measured velocity (rate feedback) rather than on the
+#   error.
+# * **Measure** the nonlinear joint against the linear prediction: where the real loop stops
+#   and why.
+# * **Derive** why cancelling all friction destabilises the sampled P loop, from the poles
+#   of the loop with a fraction of the viscous term compensated.
+# * **Judge** compensated closed loops over training seeds: the band $F_s(1 - s g)/K_p$ a
+#   stuck joint stops in, and runaways.
+#
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -87,7 +104,7 @@ assert np.allclose(np.sort(control.poles(G).real), [-p.viscous / p.total_inertia
 #
 # one gain, two specifications.  The viscous term alone fixes $2\zeta\omega_n$, so
 # the damping $\zeta$ can only be chosen through $\omega_n$ [rad/s], which also sets
-# the rise time.  `design_p` imposes one specification (here the rise time) and
+# the rise time.  [`design_p`](#fricctl.design.design_p) imposes one specification (here the rise time) and
 # reports how well the other is met.  (The actuator's inertia is itself *derived*
 # from this design, Chapter 1, so both come out right; that is a consistency choice
 # of fricctl, not a measurement.)
@@ -100,7 +117,8 @@ assert np.allclose(np.sort(control.poles(G).real), [-p.viscous / p.total_inertia
 #
 # two free gains for two specifications and no zero.  Both designs are also
 # verified on the sampled-data loop (500 Hz, zero-order hold, backward-difference
-# velocity, one sample of computation delay).
+# velocity, one sample of computation delay); [`design_pd`](#fricctl.design.design_pd)
+# designs it.
 
 # %%
 d_p = design_p(p, rise_time=0.2, damping=0.3, priority="rise_time")
@@ -168,7 +186,7 @@ assert os_error > os_rate
 #
 # Now the real joint, with Coulomb and Stribeck friction, the encoder and the torque
 # limit, against the linear prediction on the same time grid
-# (`linear_response(..., sampled=True)` is the sampled loop with viscous friction
+# ([`linear_response`](#fricctl.design.linear_response)`(..., sampled=True)` is the sampled loop with viscous friction
 # only: the dashed line of the paper's Fig. 12).
 
 # %%
@@ -211,7 +229,7 @@ assert abs(run_pd.torque_motor[-1] - d_pd.kp * e_ss) <= d_pd.kp * p.encoder_reso
 # remaining torque `Kp e` is smaller than the breakaway level and nothing in the loop
 # grows to overcome it (there is no integral action).  The joint stays stuck with a
 # constant error inside the dead band, and the motor keeps pushing against static
-# friction with exactly the torque printed above.  Chapter 5's compensator adds the
+# friction with exactly the torque printed above.  [Chapter 5](05_open_loop_compensation_and_dead_zone)'s compensator adds the
 # estimated friction to that torque.
 
 # %%
@@ -237,7 +255,7 @@ plt.show()
 # $$ T_m(k+1) = T_c(k) + s\,\hat T^{at}\big(T_m(k), \hat\omega(k)\big), $$
 #
 # with $s$ the compensation scale [-] (1 here, 0.95 for the aged actuator of
-# Chapter 7) and $\hat T^{at}$ the network's output [N m].  The motor torque feeds
+# [Chapter 7](07_wear_load_and_coulomb)) and $\hat T^{at}$ the network's output [N m].  The motor torque feeds
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 
@@ -262,7 +280,7 @@ plt.show()
 # $$ T_m(k+1) = K_p\big(r(k) - q(k)\big) + c\,b\,\hat\omega(k), \qquad
 #    \hat\omega(k) = \frac{q(k) - q(k-1)}{T_s}, $$
 #
-# which is `sampled_loop(design, viscous_compensated=c)`.  $c = 0$ leaves the viscous
+# which is [`sampled_loop`](#fricctl.design.sampled_loop)`(design, viscous_compensated=c)`.  $c = 0$ leaves the viscous
 # term in the plant (the loop the design assumed), $c = 1$ is the paper's full
 # compensation.  The damping ratio of the dominant poles, mapped by
 # $s = \ln z / T_s$, and the growth of the oscillation's envelope per second,
@@ -507,7 +525,7 @@ for pipe in PIPELINES:
 
 # %% [markdown]
 # And Fig. 14's nine PD steps (30 deg and the eight of the extra) for every seed,
-# against each net's predicted band (`predicted_dead_zone` over $K_p$); a runaway
+# against each net's predicted band ([`predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone) over $K_p$); a runaway
 # run is marked with a cross:
 
 # %%
@@ -528,6 +546,27 @@ ax.set_xlabel("seeds (fricctl left, paper right); bar: predicted band")
 ax.set_ylabel("|e_ss| [deg]")
 ax.legend(fontsize="small")
 plt.show()
+
+# %% [markdown]
+# ## Summary
+#
+# * On the linear viscous plant $1/(s(Is + b))$ a P loop has $2\zeta\omega_n = b/I$ fixed by
+#   the plant: its one gain meets the rise time or the damping, not both.  Rate feedback
+#   gives the PD two free gains and no zero; a PD on the error has the same poles but
+#   overshoots more.
+# * On the nonlinear joint the paper's P step never moves (its torque $K_p r$ is below
+#   breakaway) and the PD step stops inside its dead band $\pm F_s/K_p$, the motor pushing
+#   against static friction with the torque $K_p e$.
+# * A P loop's only damping is the viscous friction.  Compensating a fraction $c$ of it
+#   lowers the sampled loop's damping until it is lost just below $c = 1$: full compensation
+#   makes the loop unstable, with the bench's ideal estimate as with a network.  The fricctl
+#   pipeline leaves the viscous term in its target and keeps the design's damping.
+# * A stuck compensated joint stops anywhere within $F_s(1 - s g)/K_p$ of its reference;
+#   $K_d$ only decides where inside the band.  At the paper's P gain the band is wider than
+#   the paper's accuracy, at its PD gain narrower.
+# * Over training seeds the paper pipeline's compensated steps are all runaways; the
+#   fricctl pipeline has none, its PD steps end within the accuracy, and its P step follows
+#   the linear prediction in at least half of the seeds.
 
 # %% [markdown]
 # ## Exercises
@@ -606,3 +645,31 @@ cont = d_pd.kd / (2 * np.sqrt(d_pd.kp * p.total_inertia))
 print(f"PD loop: sampled zeta {pd_zeta[0.0]:.3f} (c = 0) -> {pd_zeta[1.0]:.3f} (c = 1); "
       f"continuous Kd/(2 sqrt(Kp I)) = {cont:.3f}")
 assert pd_zeta[1.0] > 0.5 and pd_zeta[1.0] < pd_zeta[0.0]
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: the controller design, Eq. (3), Figs. 11-14.
+# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
+#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
+#   (CDC), 2021: transfer functions, root locus, step responses.
+# * G. F. Franklin, J. D. Powell and A. Emami-Naeini, *Feedback Control of Dynamic
+#   Systems*, Pearson: second-order design from rise time and damping, the root locus.
+# * G. F. Franklin, J. D. Powell and M. L. Workman, *Digital Control of Dynamic Systems*,
+#   3rd ed., Addison-Wesley, 1998: the sampled loop, poles mapped by $s = \ln z / T_s$.
+#
+# In fricctl: [`plant_tf`](#fricctl.design.plant_tf), [`design_p`](#fricctl.design.design_p),
+# [`design_pd`](#fricctl.design.design_pd), [`Design`](#fricctl.design.Design),
+# [`LinearLoop`](#fricctl.design.LinearLoop), [`sampled_loop`](#fricctl.design.sampled_loop),
+# [`linear_response`](#fricctl.design.linear_response),
+# [`paper_designs`](#fricctl.design.paper_designs), [`design_table`](#fricctl.design.design_table),
+# [`paper_gains`](#fricctl.bench.experiments.paper_gains),
+# [`NNCompensator`](#fricctl.compensators.NNCompensator),
+# [`simulate_batch`](#fricctl.simulate.simulate_batch),
+# [`paper_claims`](#fricctl.paper.paper_claims),
+# [`aggregate_claims`](#fricctl.paper.aggregate_claims),
+# [`plot_root_locus`](#fricctl.figures.plot_root_locus), [`plot_step`](#fricctl.figures.plot_step),
+# [`plot_compensation_loop`](#fricctl.figures.plot_compensation_loop),
+# [`plot_fig12`](#fricctl.figures.plot_fig12), [`plot_fig14`](#fricctl.figures.plot_fig14).

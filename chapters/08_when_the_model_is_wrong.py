@@ -7,8 +7,22 @@
 # When simulation and experiment disagree, an engineer shows the disagreement,
 # names its physical causes, extends the model with the missing terms and measures
 # how much better the extended model predicts data it was **not** fitted on.
-# `fricctl.diagnose.diagnose` does these steps; this chapter runs them on the
-# virtual bench (where we know the truth) and then on a real machine (EMPS).
+# [`fricctl.diagnose.diagnose`](#fricctl.diagnose.diagnose) does these steps; this chapter
+# runs them on the virtual bench (where we know the truth) and then on a real machine (EMPS).
+
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** how to show where a model fails: simulation windows started from the
+#   measured state, and the torque residual against velocity, position and time.
+# * **Explain** how blocked cross-validation names a cause, and how the record's effect-free
+#   twin discounts what the measuring chain alone would "explain".
+# * **Measure** the held-out gain of extending a model with the causes named.
+# * **Judge** a diagnosis of a real machine: what the data support, what is left, and why
+#   "not explained" can be the honest verdict.
+# * **Explain** why some causes cannot be told apart on a given record.
+#
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import os
@@ -35,8 +49,9 @@ rng = np.random.default_rng(8)
 # a random excitation (torque steps and sinusoids both ways, slow and fast PD
 # tracking, constant-speed ramps) and hides effects in it: here two at once,
 # friction that differs between the directions and a torque ripple periodic in
-# position, sampled at 1 kHz.  We pretend not to know them and hand `diagnose` the
-# record only.
+# position, sampled at 1 kHz
+# ([`hidden_effect_record`](#fricctl.bench.hidden_effects.hidden_effect_record)).  We pretend
+# not to know them and hand `diagnose` the record only.
 
 # %%
 rec = hidden_effect_record(rng, cause=("asymmetry", "position_ripple"), duration=DURATION,
@@ -147,7 +162,8 @@ assert abs(d1.extended.friction.scale - 0.95) < 0.01
 # model's own terms (its offset here) are claims like any cause's: they are removed and
 # named again only if the record supports them, so both starting points can tell one
 # story.  Every extension is then checked on `DATA_EMPS_PULSES.mat`, which none was
-# fitted on.  The data are not shipped: set `FRICCTL_DATA` (see `fricctl.datasets.emps`).
+# fitted on.  The data are not shipped: set `FRICCTL_DATA` (see
+# [`fricctl.datasets.emps`](#fricctl.datasets.emps)).
 
 # %%
 from fricctl.datasets import emps  # noqa: E402
@@ -219,29 +235,51 @@ if est is not None:
     assert all(x < 0.05 for c, x in ranked.items() if c != "position_ripple")
 
 # %% [markdown]
-# **Reading the EMPS result honestly.**  Both starting points now tell the same story:
-# the data support **direction-dependent viscous friction** (more moving backward,
-# Fv+ ≈ 164–169 and Fv− ≈ 243–248 N s/m, within 5 % of the published asymmetric model's
-# 166.7 and 240.4, attributed to screw fatigue), and nothing more of the list.  The
+# **Reading the EMPS result honestly.**  Both starting points tell the same story:
+# the data support **direction-dependent viscous friction** (more moving backward: Fv+ and
+# Fv−, printed above, within 5 % of the published asymmetric model's 166.7 and 240.4 N s/m,
+# attributed to screw fatigue), and nothing more of the list.  The
 # published model's constant offset is removed to be judged and does not come back:
 # once the asymmetry is in, a constant removes under 1 % of what is left.  On this
 # record the offset was the asymmetry seen through a symmetric model: the axis slides at
 # a few plateau speeds, where `(Fv+ − Fv−)/2 · |v|` is nearly a constant.  The extended
 # model, without offset, predicts the PULSES file better than the published model
 # itself, by more than 5 % in force and 25 % in simulated position (and by more than
-# 30 % against the rigid baseline).  The whole periodogram of the residual in position
-# peaks at 62 micrometres, shorter than two samples of motion at the record's median
-# sliding speed (82.5 micrometres per sample): an alias of the sampling, which an earlier
-# version of fricctl named; the ripple cause now searches only the periods the record
-# resolves.  And the verdict says what is left, both ways: **not explained** -- the held-out residual stays
+# 30 % against the rigid baseline).  Searched over every period, the periodogram of the
+# residual in position would peak at a period shorter than two samples of motion at the
+# record's median sliding speed -- an alias of the sampling -- so the ripple cause searches
+# only the periods the record resolves.  And the verdict says what is
+# left, both ways: **not explained** -- the held-out residual stays
 # more than twice the measuring chain's floor, and it depends most on velocity.  Part of
-# it is periodic in position: the periodogram of what is left peaks at 2.50 mm, exactly
-# one motor revolution (the screw's lead), and the ripple cause, searching only the
-# periods the record resolves, finds that period -- its term removes 16 % of the rest,
-# below the 19 % line (10 % of the RMS), so it is reported in the ranking and not named.
+# it is periodic in position: between 1 and 20 mm the periodogram of what is left peaks at
+# one motor revolution (the screw's lead, 2.5 mm; the peak is printed above), and the
+# ripple cause, searching only the periods the record resolves, finds that period -- but its
+# term removes less than the 19 % line (10 % of the RMS; its share is printed), so it is
+# reported in the ranking and not named.
 # The presliding at the reversals removes under 5 %, and so does every other cause of
 # the list: the largest part of what is left depends on velocity in a way none of them
 # captures.
+
+# %% [markdown]
+# ## Summary
+#
+# * On a record with two hidden effects, `diagnose` named both -- checked against the hidden
+#   truth only afterwards -- and the extended model more than halved the torque residual and
+#   found the ripple's period within 1 %.
+# * A cause is named when its term removes enough of the held-out residual, net of what the
+#   same term removes on the record's effect-free twin (the measuring chain's share); the
+#   search then repeats with the term in the model until no candidate reaches the line.
+# * Given a nominal model, the paper's aged actuator with the link was diagnosed as a wrong
+#   inertia, then a wrong friction level, both recovered close to their true values.
+# * On EMPS both starting points named direction-dependent viscous friction, close to the
+#   published asymmetric model, and nothing else; the published offset was not needed, and
+#   the extended model predicted the held-out PULSES record better than the published model.
+# * The honest verdict on EMPS is *not explained*: the held-out residual stays above the
+#   measuring chain's floor and depends most on velocity; a ripple at one motor revolution
+#   is reported in the ranking, below the line.
+# * The exercises show the limits: the smallest delay a record can show is one sample, a
+#   fitted baseline absorbs a wrong inertia, and a load-dependent term cannot be told from
+#   inertia and friction on a drive that never brakes.
 
 # %% [markdown]
 # ## Exercises
@@ -318,3 +356,31 @@ base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
 share = collinearity(Problem(sig, base.columns), (), base.variants(causes.get("load_dependent"))[0])
 print(f"share of the load column outside the baseline's span: {share:.2e}")
 assert share < COLLINEAR_SHARE and "load_dependent" not in diagnose(never_brakes).causes
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: Section 5, the aged actuator with the SCARA link.
+# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
+#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the data and
+#   the published IDIM-LS and direction-dependent models.
+# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
+#   tools and compensation methods for the control of machines with friction",
+#   *Automatica* 30(7), 1994: the friction effects a diagnosis looks for.
+# * C. Canudas de Wit, H. Olsson, K. J. Åström and P. Lischinsky, "A new model for control
+#   of systems with friction", *IEEE Transactions on Automatic Control* 40(3), 1995: the
+#   LuGre model behind the presliding cause.
+#
+# In fricctl: [`diagnose`](#fricctl.diagnose.diagnose) and its
+# [`Diagnosis`](#fricctl.diagnose.Diagnosis),
+# [`prediction_errors`](#fricctl.diagnose.prediction_errors),
+# [`hidden_effect_record`](#fricctl.bench.hidden_effects.hidden_effect_record),
+# [`JointModel`](#fricctl.plant.JointModel), [`emps`](#fricctl.datasets.emps),
+# [`simulate`](#fricctl.simulate.simulate),
+# [`simulate_schedule`](#fricctl.simulate.simulate_schedule),
+# [`plot_simulation`](#fricctl.figures.plot_simulation),
+# [`plot_residual`](#fricctl.figures.plot_residual),
+# [`plot_residual_spectrum`](#fricctl.figures.plot_residual_spectrum),
+# [`plot_steps`](#fricctl.figures.plot_steps).

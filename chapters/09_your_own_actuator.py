@@ -9,8 +9,25 @@
 # the records of another drive -- a ball-screw axis, a prismatic joint: forces in N,
 # positions in m, a mass in kg -- and asks at each step what the records can and cannot
 # tell.  One file carries the actuator from step to step: the **model file**
-# (`fricctl.joint_model`, version 2).  The README's "Your own actuator" section runs the same chain as
-# seven `fricctl` commands.
+# (`fricctl.joint_model`, version 2, read and written by
+# [`JointModel`](#fricctl.plant.JointModel)).  The page
+# [Your own actuator](../your_own_actuator) runs the same chain as seven `fricctl`
+# commands.
+
+# %% [markdown]
+# ## What you will learn
+#
+# * **Explain** what a model file holds -- the joint equation, friction per direction, the
+#   loop around it -- and why every value carries its unit and its provenance.
+# * **Measure** a real axis: identify EMPS by IDIM-LS into a model file, and check the
+#   estimates by hand.
+# * **Design** a PD loop for the identified axis and compare it with the axis's own
+#   controller.
+# * **Judge** what a set of records fixes and what it leaves to the training seed: the
+#   network's fit against its gain at rest.
+# * **Judge** a compensator by simulated steps and held-out data before exporting it to C.
+#
+# Symbols and units are collected on the [notation page](../notation).
 
 # %%
 import hashlib
@@ -68,7 +85,7 @@ warnings.simplefilter("ignore", DesignWarning)  # the designs' warnings are in D
 # file gives the loop: the sample time $T_s$ (`sample_time`) [s], one encoder count $\Delta$
 # (`encoder_resolution`) [rad], the torque limit $T_{max}$ (`max_torque`) [N m].  A linear
 # axis reads N, m, kg instead.  The paper's actuator ships as one (generated from
-# `fricctl.params`, the values of Chapter 1):
+# [`fricctl.params`](#fricctl.params), the values of [Chapter 1](01_actuator_and_stick_slip)):
 
 # %%
 paper = JointModel.load(paper_actuator_file())
@@ -107,7 +124,8 @@ except ValueError as exc:
 # EMPS (Janot, Gautier & Brunot 2019) is a real electro-mechanical positioning system: a DC
 # motor driving a ball screw, in closed loop at 1 kHz.  `DATA_EMPS.mat` is for
 # identification, `DATA_EMPS_PULSES.mat` (the same trajectory plus force pulses) for
-# validation.  The data are not shipped: set `FRICCTL_DATA` (see `fricctl.datasets.emps`).
+# validation.  The data are not shipped: set `FRICCTL_DATA` (see
+# [`fricctl.datasets.emps`](#fricctl.datasets.emps)).
 # The motor force is `gtau * vir` (`vir` is the controller's output in volts).
 
 # %%
@@ -130,11 +148,13 @@ if est is not None:
 # %% [markdown]
 # **The axis never rests.**  There is no breakaway in these records: nothing in them says
 # what the friction does below the Coulomb level, where the paper's compensator does its
-# most delicate work (Chapter 5).  Keep this in mind; it decides step 5.
+# most delicate work ([Chapter 5](05_open_loop_compensation_and_dead_zone)).  Keep this in
+# mind; it decides step 5.
 #
 # ## 3. Identify, and write the model file
 # The benchmark's IDIM-LS gives the published estimates with their standard deviations.
-# Its model, per sample $k$, is the joint equation read backwards (Chapter 3):
+# Its model, per sample $k$, is the joint equation read backwards
+# ([Chapter 3](03_identifying_friction); [`idim_ls`](#fricctl.identify.idim_ls)):
 #
 # $$ F_{m,k} = M\,\ddot q_k + F_v\,\dot q_k + F_c\,\operatorname{sign}(\dot q_k) + o
 #    + \varepsilon_k, $$
@@ -184,7 +204,8 @@ if est is not None:
 
 # %% [markdown]
 # ## 4. A PD loop for the axis
-# The paper's design, on the model file's linear viscous plant $1/(s(Ms + F_v))$:
+# The paper's design ([`design_pd`](#fricctl.design.design_pd)), on the model file's linear
+# viscous plant $1/(s(Ms + F_v))$:
 # rise time 0.05 s, damping 0.7, rate feedback, checked on the sampled loop at 1 kHz.
 # With $T_c = K_p(r - q) - K_d\,\hat\omega$ the closed loop is
 #
@@ -214,7 +235,8 @@ if est is not None:
 # makes the friction's share of the error larger, which is what we want to look at.
 #
 # ## 5. Patterns and the network
-# The paper's recipe, $T_{at} = F_m - M\hat{\alpha}$, with the model's mass and the
+# The paper's recipe, $T_{at} = F_m - M\hat{\alpha}$
+# ([`record_patterns`](#fricctl.datasets.record_patterns)), with the model's mass and the
 # polynomial-segment estimator (50-sample windows: a longer window fits across the
 # bang-bang trajectory's acceleration steps).
 
@@ -391,7 +413,8 @@ if est is not None:
 #
 # ## 8. The compensator in C
 # The controller calls one function per sample: `NAME_compensation(Tm, omega_hat, s, clip)`
-# returns $s\,\hat T_{at}$ [N], with the envelope clip as an argument; the header carries
+# returns $s\,\hat T_{at}$ [N], with the envelope clip as an argument
+# ([`c_source`](#fricctl.nn.c_source)); the header carries
 # the units of the axis.  (`fricctl simulate --model ... --compensation nn --c-source
 # NAME.c` writes both files for the net it simulated.)
 
@@ -402,6 +425,26 @@ if est is not None:
     print("\n".join(line for line in header.splitlines() if "(" in line and ";" in line))
     print(f"... emps_friction.c: {len(source.splitlines())} lines of C99 (only <math.h>)")
     assert "motor force tm [N], velocity omega [m/s]" in header
+
+# %% [markdown]
+# ## Summary
+#
+# * A model file holds the joint equation of paper Eq. (2), an offset, friction with one set
+#   of coefficients per direction and the loop around it, each value with its unit and its
+#   provenance; the paper's actuator ships as one, and a bad file is refused with the key
+#   named.
+# * On EMPS the IDIM-LS recipe reproduced the published estimates, rebuilt by hand from the
+#   public pieces, and they became the model file's values with their standard deviations.
+# * The PD designed for the identified axis is slower and better damped than the axis's own
+#   loop; given that loop's rise time and damping, `design_pd` returns its gains
+#   (Exercise 1).
+# * The axis never rests, so the records fix the network's fit but not its gain at rest:
+#   the seeds agree on the first and not on the second, and the fricctl pipeline refuses to
+#   train without a pattern at rest.
+# * In simulated steps Coulomb compensation changes nothing once the axis stops, while the
+#   nets stop it at places and forces decided by the seed; on the held-out record every net
+#   falls to within two points of the four-parameter law.
+# * The compensator is exported as C99 with the axis's units in its header.
 
 # %% [markdown]
 # ## Exercises
@@ -476,3 +519,30 @@ if est is not None:
 # s < 1/g buys a fixed point at rest, not a chosen accuracy.  And the scale shrinks the
 # sliding compensation by the same factor -- one number cannot fix both, which is why the
 # fricctl pipeline certifies the gain at rest instead of scaling it.
+
+# %% [markdown]
+# ## References
+#
+# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
+#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
+#   Engineering* 25(2), 2003: Sections 3-5, the chain identify, design, learn, compensate.
+# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
+#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the records,
+#   the IDIM-LS recipe and its published results, the axis's own controller.
+# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
+#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
+#   (CDC), 2021: the PD design.
+# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
+#   framework for nonlinear optimization and optimal control", *Mathematical Programming
+#   Computation* 11, 2019: the least squares and the Levenberg-Marquardt trainer.
+#
+# In fricctl: [`JointModel`](#fricctl.plant.JointModel), [`emps`](#fricctl.datasets.emps),
+# [`record_patterns`](#fricctl.datasets.record_patterns), [`idim_ls`](#fricctl.identify.idim_ls),
+# [`regressor`](#fricctl.identify.regressor), [`at_rest`](#fricctl.estimation.at_rest),
+# [`butterworth_central`](#fricctl.estimation.butterworth_central),
+# [`decimate`](#fricctl.estimation.decimate), [`design_pd`](#fricctl.design.design_pd),
+# [`normalized_rise_time`](#fricctl.design.normalized_rise_time),
+# [`fit_report`](#fricctl.nn.fit_report), [`c_source`](#fricctl.nn.c_source),
+# [`NNCompensator`](#fricctl.compensators.NNCompensator),
+# [`CoulombCompensator`](#fricctl.compensators.CoulombCompensator),
+# [`simulate_model`](#fricctl.simulate.simulate_model).
