@@ -252,10 +252,10 @@ plt.show()
 # motor torque of the previous sample and the estimated velocity, to the
 # controller's torque:
 #
-# $$ T_m(k+1) = T_c(k) + s\,\hat T^{at}\big(T_m(k), \hat\omega(k)\big), $$
+# $$ T_m(k+1) = T_c(k) + s\,\hat T_{at}\big(T_m(k), \hat\omega(k)\big), $$
 #
 # with $s$ the compensation scale [-] (1 here, 0.95 for the aged actuator of
-# [Chapter 7](07_wear_load_and_coulomb)) and $\hat T^{at}$ the network's output [N m].  The motor torque feeds
+# [Chapter 7](07_wear_load_and_coulomb)) and $\hat T_{at}$ the network's output [N m].  The motor torque feeds
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 
@@ -331,7 +331,7 @@ plt.show()
 # continuous loop would be exactly undamped ($\zeta = 0$), the sample of delay
 # and the velocity's backward difference tip it over, and the oscillation grows
 # by the factor printed above each second.  This is not a property of the network:
-# the bench's *ideal* estimate (its exact friction while sliding, $T^{at} = T_m$
+# the bench's *ideal* estimate (its exact friction while sliding, $T_{at} = T_m$
 # at rest) oscillates too, while the same ideal estimate minus $b\hat\omega$ follows
 # the linear prediction (the `fig12-ideal` extra below, measured on the nonlinear
 # bench).
@@ -341,7 +341,7 @@ plt.show()
 # experiment.  A decaying compensated response means the compensation left the
 # viscous damping in the loop: on the paper's bench, $c \approx 0$.  This is why the
 # fricctl pipeline takes the viscous term out of the network's target (it trains on
-# $T^{at} - \hat b\,\hat\omega$, $\hat b$ by least squares on sliding patterns): its
+# $T_{at} - \hat b\,\hat\omega$, $\hat b$ by least squares on sliding patterns): its
 # net compensates only the nonlinear part, and the loop keeps the damping the
 # design counted on.  The fraction it compensates is $c = 1 - \hat b / b$:
 
@@ -363,7 +363,7 @@ assert all(nets[("paper", k)].trained.viscous_removed == 0.0 for k in SEEDS)
 #
 # While the joint is stuck the encoder does not move, $\hat\omega = 0$ and the
 # controller's torque is constant, $T_c = K_p e$.  Near rest the network is linear
-# in the motor torque, $\hat T^{at} \approx g\,T_m$ with $g = \partial\hat T^{at} /
+# in the motor torque, $\hat T_{at} \approx g\,T_m$ with $g = \partial\hat T_{at} /
 # \partial T_m$ at $\omega = 0$ the *at-rest gain* [-] (Chapter 5), so Eq. (3)
 # iterates $T_m(k+1) = K_p e + s g\,T_m(k)$ to the fixed point
 #
