@@ -55,6 +55,9 @@ myst_heading_anchors = 3
 
 # an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
 # not red text
+# every display equation numbered (per page): "Chapter 5, Eq. (3)" can be cited (issue 24 item 5)
+math_number_all = True
+math_eqref_format = "Eq. ({number})"
 mathjax3_config = {"tex": {"packages": {"[-]": ["noundefined"]}}}
 
 # -- myst-nb: execution and rendering -------------------------------------------------------

@@ -136,6 +136,19 @@ def test_every_chapter_downloads_as_an_executed_notebook(book):
         assert nb["nbformat"] == 4 and code and sum(bool(c.get("outputs")) for c in code) > 0
 
 
+def test_every_display_equation_is_numbered(book):
+    """A teacher can cite "Chapter 5, Eq. (3)": every display equation of a chapter carries
+    its number (issue 24), numbered from 1 on each page."""
+    total = 0
+    for chapter in CHAPTERS:
+        page = parse(book / "chapters" / f"{chapter.stem}.html")
+        shown = len(page.find("div", "math"))
+        numbers = page.find("span", "eqno")
+        assert len(numbers) == shown, f"{chapter.name}: {shown - len(numbers)} equations unnumbered"
+        total += shown
+    assert total > 20
+
+
 def test_every_image_resolves_to_a_file(book):
     count = 0
     for page in _pages(book):

@@ -16,6 +16,9 @@
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
   build, outputs included) beside its jupytext ``.py`` in the theme's download menu
   (:func:`notebook_download`).
+* With ``math_number_all``, every display equation of a page gets its number, also those
+  written as ``$$ ... $$`` (MyST's dollarmath, which the ``math`` directive's numbering does not
+  reach): :func:`number_equations`.
 * In the API reference, the reST sections of a *module* docstring (``Notes``, ``Modules``)
   become rubrics: a page's sections are its modules, and two modules' ``Notes`` must not
   collide as labels.
@@ -240,6 +243,27 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
     context["ipynb_source"] = f"{pagename}.ipynb"
 
 
+def number_equations(app, doctree) -> None:
+    """``doctree-read``: an unlabelled display equation gets a label and its number, as
+    Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Chapter 5,
+    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are."""
+    from docutils import nodes
+
+    if not app.config.math_number_all:
+        return
+    env = app.env
+    docname = env.docname
+    domain = env.get_domain("math")
+    for node in list(doctree.findall(nodes.math_block)):
+        if node.get("label") or node.get("nowrap"):
+            continue
+        node["label"] = f"{docname}:{env.new_serialno('sphinx.ext.math#equations')}"
+        domain.note_equation(docname, node["label"], location=node)
+        node["number"] = domain.get_equation_number_for(node["label"])
+        target = nodes.target("", "", ids=[nodes.make_id(f"equation-{node['label']}")])
+        node.parent.insert(node.parent.index(node), target)
+
+
 def setup(app):
     app.add_config_value("fricctl_reproduce_dir", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
@@ -250,4 +274,5 @@ def setup(app):
     app.connect("source-read", on_source_read)
     app.connect("autodoc-process-docstring", module_sections_as_rubrics)
     app.connect("html-page-context", notebook_download, priority=500)
+    app.connect("doctree-read", number_equations)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
