@@ -57,6 +57,10 @@ myst_heading_anchors = 3
 # not red text
 # every display equation numbered (per page): "Chapter 5, Eq. (3)" can be cited (issue 24 item 5)
 math_number_all = True
+# captioned figures numbered on their page ("Fig. 2"), as the equations are
+numfig = True
+numfig_format = {"figure": "Fig. %s", "table": "Table %s", "code-block": "Listing %s",
+                 "section": "Section %s"}
 math_eqref_format = "Eq. ({number})"
 mathjax3_config = {"tex": {"packages": {"[-]": ["noundefined"]}}}
 

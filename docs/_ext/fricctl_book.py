@@ -74,7 +74,21 @@ def read_chapter(text: str):
                 cell.metadata["mystnb"].update({k: v + which for k, v in options.items()})
         if tags:
             cell.metadata["tags"] = tags
+        _alt_from_caption(cell.metadata)
     return nb
+
+
+def _alt_from_caption(metadata) -> None:
+    """A figure's caption is also its image's alt text (unless the cell gives one): what a
+    screen reader says, and what a reader sees when the image cannot load -- not a hash."""
+    caption = metadata.get("mystnb", {}).get("figure", {}).get("caption")
+    if not caption:
+        return
+    image = metadata["mystnb"].setdefault("image", {})
+    if "alt" not in image:
+        plain = re.sub(r"\\(hat|left|right|,|;)\s*", "", caption)  # accents and spacing out
+        plain = re.sub(r"\\([a-zA-Z]+)", r"\1", plain)  # \omega -> omega
+        image["alt"] = re.sub(r"[$`*{}_^]", "", plain).strip()
 
 
 def execute_only(app, config) -> None:
