@@ -281,7 +281,7 @@ if "ipykernel" in sys.modules:  # in Jupyter: a slider; the book shows the figur
     interact(show_dead_band, kp=FloatSlider(value=d_p.kp, min=0.1, max=1.5, step=0.05,
                                             description="Kp [N*m/rad]"))
 
-# %% mystnb={"figure": {"caption": "The 60 deg step at the paper's gain and at three times that gain: each run stops inside its own band r +- Fs/Kp (shaded).", "name": "fig-dead-band"}}
+# %% mystnb={"figure": {"caption": "The 60 deg step at the paper's gain $K_p$ and at three times that gain: each run stops inside its own dead band, within $F_s/K_p$ of $r$ (shaded).", "name": "fig-dead-band"}}
 fig, axes = plt.subplots(1, 2, sharey=True, figsize=(9.6, 3.6), layout="constrained")
 for kp, ax in zip((d_p.kp, 3 * d_p.kp), axes):
     run = dead_band_step(kp, ax=ax)

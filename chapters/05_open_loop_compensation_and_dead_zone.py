@@ -93,7 +93,7 @@ assert all(DEFAULT_GAIN_BAND[0] <= g[("fricctl", k)] <= DEFAULT_GAIN_BAND[1] for
 # inside the certified band $0.98 \le g \le 0.99$ in every seed of fricctl's
 # (Chapter 4 explains both).
 
-# %% tags=["hide-input"] mystnb={"figure": {"caption": "The compensated loop of paper Eq. (3), open loop: the commanded motor torque feeds back into the net through a one-sample delay.", "name": "fig-compensation-loop"}}
+# %% tags=["hide-input"] mystnb={"figure": {"caption": "The compensated loop of paper Eq. (3), open loop: the commanded motor torque $T_m$ feeds back into the net through a one-sample delay.", "name": "fig-compensation-loop"}}
 fig, ax = plt.subplots(figsize=(8, 2.9), layout="constrained")
 figures.plot_compensation_loop(ax)
 plt.show()

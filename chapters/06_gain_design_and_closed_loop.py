@@ -261,7 +261,7 @@ plt.show()
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 
-# %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's Tc plus s times the net's estimate, held by the ZOH; the net reads the motor torque of the previous sample (z^-1) and the estimated velocity.", "name": "fig-closed-loop"}}
+# %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's $T_c$ plus $s$ times the net's estimate $\\hat T_{at}$, held by the ZOH; the net reads the motor torque $T_m$ of the previous sample ($z^{-1}$) and the estimated velocity $\\hat\\omega$.", "name": "fig-closed-loop"}}
 fig, ax = plt.subplots(figsize=(9.6, 3.6), layout="constrained")
 figures.plot_compensation_loop(ax, closed=True)
 plt.show()
@@ -422,7 +422,7 @@ if "ipykernel" in sys.modules:  # in Jupyter: sliders; the book shows the figure
              kd=FloatSlider(value=gains.pd_kd, min=0.0, max=0.3, step=0.01, description="Kd [N*m*s/rad]"),
              sg=FloatSlider(value=0.98, min=0.8, max=0.995, step=0.005, description="s*g [-]"))
 
-# %% mystnb={"figure": {"caption": "Four steps with the paper's P and PD gains and an exact at-rest estimate of gain sg = 0.98: every step stops inside its band +-Fs(1 - sg)/Kp (shaded).", "name": "fig-stuck-band"}}
+# %% mystnb={"figure": {"caption": "Four steps with the paper's P (left) and PD (right) gains and an exact at-rest estimate of gain $s g = 0.98$: every step stops inside its band, within $F_s(1 - s g)/K_p$ of the reference (shaded).", "name": "fig-stuck-band"}}
 SG = 0.98  # the low end of the fricctl pipeline's certified band [-]
 fig, axes = plt.subplots(1, 2, figsize=(9.6, 3.6), layout="constrained")
 bands = {}
