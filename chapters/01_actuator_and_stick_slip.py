@@ -172,7 +172,7 @@ assert np.isclose(acc, (tm - t_at) / (n**2 * i_r + p_link.link_inertia), rtol=1e
 # $\omega = 0$.  Of the four coefficients the paper gives $b$ and $F_s$; $F_c$ (80 % of
 # $F_s$) and $v_s$ are assumptions (the table above).
 
-# %%
+# %% mystnb={"figure": {"caption": "The nominal friction $T_{at}(\\omega)$ built up term by term: viscous, plus Coulomb, plus the Stribeck excess that lifts it toward $F_s$ near zero speed.  The point $\\omega = 0$ is left out: at rest, friction is a reaction anywhere between $-F_s$ and $F_s$."}}
 law = p.friction_model()
 print(law)
 print(f"breakaway +{law.breakaway(+1):.4f} / -{law.breakaway(-1):.4f} N*m, "
@@ -270,7 +270,7 @@ def dead_band_step(kp, ax=None, step_deg=60.0):
     return run
 
 
-# %% tags=["widget"]
+# %% tags=["widget"] mystnb={"figure": {"caption": "The P loop's step at the gain $K_p$ set by the slider, with its dead band (within $F_s/K_p$ of $r$) shaded: the larger $K_p$, the narrower the band the joint stops in."}}
 if "ipykernel" in sys.modules:  # in Jupyter: a slider; the book shows the figure below instead
     from ipywidgets import FloatSlider, interact
 
@@ -281,7 +281,7 @@ if "ipykernel" in sys.modules:  # in Jupyter: a slider; the book shows the figur
     interact(show_dead_band, kp=FloatSlider(value=d_p.kp, min=0.1, max=1.5, step=0.05,
                                             description="Kp [N*m/rad]"))
 
-# %% mystnb={"figure": {"caption": "The 60 deg step at the paper's gain and at three times that gain: each run stops inside its own band r +- Fs/Kp (shaded).", "name": "fig-dead-band"}}
+# %% mystnb={"figure": {"caption": "The 60 deg step at the paper's gain $K_p$ and at three times that gain: each run stops inside its own dead band, within $F_s/K_p$ of $r$ (shaded).", "name": "fig-dead-band"}}
 fig, axes = plt.subplots(1, 2, sharey=True, figsize=(9.6, 3.6), layout="constrained")
 for kp, ax in zip((d_p.kp, 3 * d_p.kp), axes):
     run = dead_band_step(kp, ax=ax)
@@ -300,7 +300,7 @@ plt.show()
 # forward and closes part of the error, loses speed as `Kp e` falls, and sticks
 # again.  The position advances in jumps rather than smoothly.
 
-# %%
+# %% mystnb={"figure": {"caption": "Stick-slip under a slow ramp: the position $q$ (top) advances in jumps behind the reference $r$, at rest in the shaded intervals until $K_p e$ reaches $F_s$; the friction $T_{at}$ (bottom) equals the motor torque $T_m$ while the joint sticks and falls below it when the joint breaks loose."}}
 slope = 0.2  # ramp speed [rad/s]
 ramp = simulate(p, ctl.p_control(d_p.kp, ctl.sawtooth(slope * 100.0, 100.0)),
                 duration=RAMP_DURATION)
@@ -452,7 +452,7 @@ for v_ramp in (0.05, slope, 0.5):
 # Fs - Fc, not by v.  When v is small against the swing, the velocity swings down to zero
 # and the joint sticks again; a fast ramp keeps it positive throughout (0.5 rad/s here).
 
-# %% tags=["solution"]
+# %% tags=["solution"] mystnb={"figure": {"caption": "Exercise 3: the PD step's motor position $q$ on the rigid joint of paper Eq. (2) and on the flexible joint of Eq. (1), at the first stiffness $K$ of the sweep for which the two runs part by more than 1 % of the step."}}
 # Exercise 3.  Lower K until the two plants visibly differ (here: the motor positions more
 # than 1 % of the 30 deg step apart).  The resonance falls as sqrt(K).
 nyquist = np.pi / p.sample_time  # [rad/s]

@@ -240,7 +240,7 @@ assert 0.8 < scores["backward_difference"][2] / (p.total_inertia * quant) < 1.25
 # The paper's Fig. 4 shows the raw rotor velocity against the filtered one.  Here
 # on the load side (the rotor velocity is `n` times larger), zoomed on one reversal.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 4 on the load side, zoomed on the first reversal: the raw backward-difference velocity $\\hat\\omega$ (grey steps) moves in whole counts per sample, $\\Delta/T_s$, against the true velocity $\\omega$ (dashed) and the three smooth, non-causal filtered estimates."}}
 ax = figures.plot_velocity_estimates(estimates[1:], raw=estimates[0], truth=(t, sim.omega))
 t_stop = sim.stuck_intervals(min_duration=0.01)[1][0]  # first reversal after the start
 ax.set_xlim(t_stop - 0.05, t_stop + 0.15)
@@ -252,7 +252,7 @@ plt.show()
 # velocity, with the true friction law: this cloud is what Chapters 3 and
 # [4](04_neural_network) learn from.
 
-# %%
+# %% mystnb={"figure": {"caption": "The experimental friction $T_m - I \\hat\\alpha$ of the polynomial segments against their velocity estimate, on the moving samples, with the true friction law $T_{at}(\\omega)$: the cloud that Chapters 3 and 4 learn from."}}
 poly = estimates[1]
 fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
 ax.plot(poly.velocity[moving], sim.torque_motor[moving] - p.total_inertia * poly.acceleration[moving],
@@ -323,7 +323,7 @@ for est2000, est500 in zip(estimates, all_four(sim500.t, sim500.q_meas)):
 assert max(ratio, key=ratio.get) == "backward_difference" and 3.0 < ratio["backward_difference"] < 4.5
 assert ratio["savitzky_golay"] < 1.1 and ratio["butterworth_central"] < 1.1
 
-# %% tags=["solution"]
+# %% tags=["solution"] mystnb={"figure": {"caption": "Exercise 2: the friction RMS error against the polynomial degree (left) and the Butterworth cut-off (right).  Too low a setting cannot follow the motion, too high a one follows the encoder's staircase; the degree's optimum is flat, and the best cut-off stays above the best polynomial."}}
 # Exercise 2.  Friction RMS error against the polynomial degree and the Butterworth cut-off.
 # Too low a degree or cut-off cannot follow the motion (bias); too high a one follows the
 # encoder's staircase (quantisation noise).  The sweep goes past 100 Hz to show the noise side.

@@ -158,7 +158,7 @@ assert np.array_equal(y, cv_fit.measured) and not cv_fit.at_bound.any()
 assert np.allclose(theta, cv_fit.estimates, rtol=1e-6, atol=1e-9)   # CasADi/IPOPT = lstsq
 assert np.allclose(std, cv_fit.std, rtol=1e-6)                      # the std formula above
 
-# %%
+# %% mystnb={"figure": {"caption": "The Coulomb + viscous fit of Section 3 on its first samples: the recorded motor torque $T_m$ (measured), the model's prediction $X \\hat\\theta$ and their residual, against the sample index $k$; the title gives the relative error and the fit."}}
 ax = figures.plot_identification(cv_fit)
 ax.set_xlim(0, min(400, cv_fit.n_samples))
 plt.show()
@@ -356,7 +356,7 @@ assert any("disagree beyond their standard errors" in w for w in r.warnings)
 # blocks (top), and the equation error's torque on the same blocks (bottom).  A
 # model that explains only the data it was fitted to fails here.
 
-# %%
+# %% mystnb={"figure": {"caption": "The held-out validation of fricctl's default estimate on the coarse-encoder record: each block's position replayed with the estimate of the other blocks, against the measured one (top), and the equation error's torque against the low-passed measured torque (bottom).  The replayed position follows the measured one."}}
 fig = figures.plot_held_out(ident)
 plt.show()
 assert ident.held_out.simulation_fit > 95

@@ -74,7 +74,7 @@ PIPELINES = ("paper", "fricctl")       # fricctl.nn.pipelines.PIPELINES
 # sequences, the paper's polynomial velocity/acceleration estimator on the encoder
 # record, and an 80/20 split of the patterns into training and held-out sets.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 5 on the virtual bench: the open-loop training torque $T_m$ and the friction patterns $T_{at} = T_m - I \\hat\\alpha$ it gives, with the bench's true friction.  While the joint sticks, the patterns equal $T_m$."}}
 p = paper_actuator()
 net_run = paper.train_paper_network(p, fast=FAST, seed=SEED)
 for ex in net_run.experiments:
@@ -141,7 +141,7 @@ print(f"one count per sample = {quantum:.4f} rad/s; the paper's s_omega is {pa.n
 # in CasADi (exact Jacobian by algorithmic differentiation).  Same patterns, same
 # seed:
 
-# %%
+# %% mystnb={"figure": {"caption": "Training loss (mean squared error) of the CasADi Levenberg-Marquardt trainer and of the paper's back-propagation on the same patterns and seed, against the iteration or epoch (log axes): the second-order trainer ends lower."}}
 lm = net_run.trained
 bp = train_network(net_run.train, trainer="backprop", epochs=BACKPROP_EPOCHS, max_patterns=2000,
                    rng=np.random.default_rng(SEED))
@@ -167,7 +167,7 @@ plt.show()
 # lower fit (printed below).  Measured on the held-out patterns, and against the
 # simulator's *true* friction (which a lab never has):
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 8 on the held-out patterns: the measured friction $T_{at}$ and the network's estimate $\\hat T_{at}$, pattern by pattern; the title gives the fit, $R^2$ and the gain at rest $g$.  The fit stays below the paper's 98 %."}}
 print(f"R^2 = 0.98 is a fit of {100 * (1 - np.sqrt(1 - 0.98)):.1f} %")
 ho = net_run.held_out
 net = net_run.net
@@ -215,7 +215,7 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 # winds the motor torque up by itself.  Nothing in the paper's recipe asks for a slope.
 # Over several training seeds of each pipeline:
 
-# %%
+# %% mystnb={"figure": {"caption": "The estimate at rest $\\hat T_{at}(T_m, 0)$ of every training seed, paper pipeline (left) and fricctl pipeline (right), with the patterns at rest ($T_{at} = T_m$, grey dots), the identity (dotted) and $-F_s$, $F_s$ (grey lines): the paper's curves leave the origin steeper than the identity ($g > 1$), the fricctl curves with a slope just below one."}}
 g = {key: n.net.gain_at_rest() for key, n in nets.items()}
 rest_share = np.mean(pats_all := nets[("paper", SEEDS[0])].patterns.omega == 0)
 for pipe in PIPELINES:
@@ -334,7 +334,7 @@ assert np.all(error[kept] < 0.002)
 # keeps (if any, printed) sit just above $F_s$ where the joint creeps, and their error is
 # below 2 mN m, about 1 % of $F_s$.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper pipeline's net of Sections 1-4: its estimate $\\hat T_{at}$ against the velocity $\\omega$ for several motor torques $T_m$, solid inside the training envelope (its velocity range shaded) and dotted outside it, where the net extrapolates."}}
 lo, hi = net.envelope_low, net.envelope_high
 print(f"envelope: Tm in [{lo[0]:.3f}, {hi[0]:.3f}] N*m, omega in [{lo[1]:.2f}, {hi[1]:.2f}] rad/s")
 print(f"gain at rest g = dTat/dTm(0, 0) = {net.gain_at_rest():.3f} (Chapter 5: it sets the dead zone)")
@@ -413,7 +413,7 @@ for k in SEEDS:
           f"(R^2 {poly.fit_held_out.r_squared:.3f}), g = {g[('paper', k)]:.3f}")
     assert sg.net.gain_at_rest() > 1 and sg.fit_held_out.fit_percent < 98
 
-# %% tags=["solution"]
+# %% tags=["solution"] mystnb={"figure": {"caption": "Exercise 2, first seed: training loss against wall time of CasADi LM, of back-propagation at a constant rate for twice the epochs (it keeps jumping, far above LM's loss) and of back-propagation with `CONVERGING`; dotted: LM's final loss + 5 %."}}
 # Exercise 2.  More epochs do not help the paper's constant rate.
 # With one pattern per update and
 # momentum 0.9, a rate `lr` is an effective step of `lr / (1 - 0.9) = 10 lr` on the

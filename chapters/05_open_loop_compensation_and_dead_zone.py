@@ -93,7 +93,7 @@ assert all(DEFAULT_GAIN_BAND[0] <= g[("fricctl", k)] <= DEFAULT_GAIN_BAND[1] for
 # inside the certified band $0.98 \le g \le 0.99$ in every seed of fricctl's
 # (Chapter 4 explains both).
 
-# %% tags=["hide-input"] mystnb={"figure": {"caption": "The compensated loop of paper Eq. (3), open loop: the commanded motor torque feeds back into the net through a one-sample delay.", "name": "fig-compensation-loop"}}
+# %% tags=["hide-input"] mystnb={"figure": {"caption": "The compensated loop of paper Eq. (3), open loop: the commanded motor torque $T_m$ feeds back into the net through a one-sample delay.", "name": "fig-compensation-loop"}}
 fig, ax = plt.subplots(figsize=(8, 2.9), layout="constrained")
 figures.plot_compensation_loop(ax)
 plt.show()
@@ -122,7 +122,7 @@ plt.show()
 # once none lies below $F_s$: $D = \max_{0 \le T_m \le F_s} \big(T_m - s\,\hat T_{at}(T_m, 0)\big)$
 # ([`fricctl.bench.experiments.predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone)).
 
-# %%
+# %% mystnb={"figure": {"caption": "Fixed points of the stuck loop, first seed of each pipeline: where the estimate at rest $\\hat T_{at}(T_m, 0)$ crosses the lines $T_m - T_c$ for three control torques $T_c$ (filled dots stable, open dots unstable; grey line: $F_s$).  The paper pipeline's curve leaves the origin above the identity ($g > 1$) and latches a torque at $T_c = 0$; the fricctl pipeline's stays just below it."}}
 def fixed_points(net, tc, s=1.0, n=4001):
     """Torques 0 <= Tm <= Fs where s*net(Tm, 0) = Tm - tc, and whether each is stable [N*m]."""
     tm = np.linspace(-0.01 * Fs, Fs, n)  # from just below 0: a root at Tm = 0 is a sign change
@@ -218,11 +218,13 @@ assert min(paper_speed) > 2
 # compensation has removed the Coulomb and Stribeck part and left the viscous term, as
 # intended.  The paper pipeline's seed first, then the fricctl pipeline's:
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 9 for the first seed of the paper pipeline (first figure) and of the fricctl pipeline (second): the velocity $\\omega$ under an open-loop sinusoid near breakaway, without compensation (left, stuck intervals shaded) and with it (right), against the linear viscous actuator (dashed).  Neither compensated joint sticks, but the paper pipeline's reaches several times the linear actuator's peak speed."}}
 for pipe in PIPELINES:
     fig = figures.plot_fig9(r9[(pipe, SEEDS[0])])
     fig.suptitle(f"Fig. 9, {pipe} pipeline, seed {SEEDS[0]}", fontsize="medium")
     plt.show()
+
+# %% mystnb={"figure": {"caption": "The coast test, first seed of each pipeline: the velocity $\\omega$ after a torque pulse, then $T_c = 0$, against the viscous decay it must stay under (dotted).  The paper pipeline's joint (left) runs away; the fricctl pipeline's (right) decays like the linear actuator."}}
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.2), layout="constrained")
 for ax, pipe in zip(axes, PIPELINES):
     figures.plot_coast(r9[(pipe, SEEDS[0])].coast, ax=ax)
@@ -236,7 +238,7 @@ plt.show()
 # At 10 % of Tmax the control torque alone never breaks the joint loose.  With
 # compensation the motor torque is the control torque through the stuck loop:
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 10 for the first seed of the paper pipeline (first figure) and of the fricctl pipeline (second): the control and motor torques $T_c$ and $T_m$ of the compensated joint inside the dead zone (left), and the encoder motion against the sinusoid's amplitude, without and with compensation, each dead zone dotted (right).  Both compensated joints move where the uncompensated one does not."}}
 print(f"{'pipeline':8s} seed  peak |Tc|  peak |Tm|  motion [counts]  wind-up reversal coast")
 for (pipe, k), r in r10.items():
     tc = np.abs(r.with_nn.torque_cmd).max()
@@ -374,7 +376,7 @@ def stuck_loop(s, g_rest, ax=None):
     return dz
 
 
-# %% tags=["widget"]
+# %% tags=["widget"] mystnb={"figure": {"caption": "The stuck loop with a linear estimate $g T_m$ at the sliders' $s$ and $g$: the fixed point $T_c/(1 - s g)$ against $T_c$, and the dead zone $D$ (dashed), which narrows as $s g$ nears one; from $s g = 1$ on there is no stable fixed point."}}
 if "ipykernel" in sys.modules:  # in Jupyter: sliders; the book shows the figure below instead
     from ipywidgets import FloatSlider, interact
 
@@ -385,7 +387,7 @@ if "ipykernel" in sys.modules:  # in Jupyter: sliders; the book shows the figure
     interact(show_stuck_loop, s=FloatSlider(value=1.0, min=0.5, max=1.2, step=0.01),
              g_rest=FloatSlider(value=0.9, min=0.5, max=1.5, step=0.005))
 
-# %%
+# %% mystnb={"figure": {"caption": "The stuck loop with a linear estimate $g T_m$ at $s = 1$: the fixed point $T_c/(1 - s g)$ and the dead zone $D$ (dashed) for the $g$ of the paper's dead-zone factor of 6 (left), the fricctl pipeline's median $g$ (middle) and the paper pipeline's (right), where $g > 1$ leaves no stable fixed point."}}
 cases = ((1.0, 1 - 1 / 6), (1.0, float(np.median([g[("fricctl", k)] for k in SEEDS]))),
          (1.0, float(np.median([g[("paper", k)] for k in SEEDS]))))
 fig, axes = plt.subplots(1, 3, figsize=(11, 3.3), layout="constrained")

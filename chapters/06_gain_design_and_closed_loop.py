@@ -158,13 +158,15 @@ print(design_table(designs))
 # the damping falls as the loop gets faster.  The step plot marks the achieved rise time,
 # overshoot and settling time of the PD design.
 
-# %%
+# %% mystnb={"figure": {"caption": "Root locus of the P loop in $K_p$ on the linear viscous model, with the design's closed-loop poles (circles) and its ray of constant damping: as $K_p$ grows the poles leave the real axis and climb the vertical line at $-b/(2I)$, so the damping falls as the loop gets faster."}}
 cl_poles = control.poles(d_p.closed_loop)
 print(f"P closed-loop poles {np.round(cl_poles, 3)} rad/s; -b/(2I) = "
       f"{-p.viscous / (2 * p.total_inertia):.3f} rad/s")
 assert np.allclose(cl_poles.real, -p.viscous / (2 * p.total_inertia))
 ax = figures.plot_root_locus(d_p)
 plt.show()
+
+# %% mystnb={"figure": {"caption": "The PD design's unit step on the linear model, continuous and sampled at $T_s$, with its achieved rise time, overshoot and settling time marked, and the settling band shaded."}}
 ax = figures.plot_step(d_pd)
 plt.show()
 
@@ -232,7 +234,7 @@ assert abs(run_pd.torque_motor[-1] - d_pd.kp * e_ss) <= d_pd.kp * p.encoder_reso
 # friction with exactly the torque printed above.  [Chapter 5](05_open_loop_compensation_and_dead_zone)'s compensator adds the
 # estimated friction to that torque.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's P step (Fig. 11, left) and PD step (Fig. 13, right) on the nonlinear joint, against the sampled linear viscous model: the P joint never moves ($K_p r < F_s$); the PD joint stops short of the reference, inside its dead band, within $F_s/K_p$ of it."}}
 fig, axes = plt.subplots(1, 2, figsize=(9.6, 3.6), layout="constrained", sharey=False)
 for ax, run, lin, title in ((axes[0], run_p, lin_p, "P (Fig. 11)"),
                             (axes[1], run_pd, lin_pd, "PD (Fig. 13)")):
@@ -259,7 +261,7 @@ plt.show()
 # back into the network: the compensator is a loop of its own inside the position
 # loop.
 
-# %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's Tc plus s times the net's estimate, held by the ZOH; the net reads the motor torque of the previous sample (z^-1) and the estimated velocity.", "name": "fig-closed-loop"}}
+# %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's $T_c$ plus $s$ times the net's estimate $\\hat T_{at}$, held by the ZOH; the net reads the motor torque $T_m$ of the previous sample ($z^{-1}$) and the estimated velocity $\\hat\\omega$.", "name": "fig-closed-loop"}}
 fig, ax = plt.subplots(figsize=(9.6, 3.6), layout="constrained")
 figures.plot_compensation_loop(ax, closed=True)
 plt.show()
@@ -309,7 +311,7 @@ print(f"continuous design: zeta = {LinearLoop.of(d_p).zeta:.3f}; the sampled loo
 assert zeta_c[0.0] > 0.25 and zeta_c[1.0] < 0.0 and growth_full > 1.1
 assert np.all(np.diff([zeta_c[c] for c in C_VALUES]) < 0) and 0.9 < c_marginal < 1.0
 
-# %%
+# %% mystnb={"figure": {"caption": "Dominant poles of the sampled P loop in the $z$-plane when the compensator cancels a fraction $c$ of the viscous term: as $c$ grows they walk out to the unit circle, and with full compensation ($c = 1$) they lie outside it: the loop is unstable."}}
 fig, ax = plt.subplots(figsize=(4.6, 4.2), layout="constrained")
 ax.plot(np.cos(np.linspace(0, 2 * np.pi, 400)), np.sin(np.linspace(0, 2 * np.pi, 400)), "k-", lw=0.8,
         label="|z| = 1")
@@ -407,7 +409,7 @@ def stuck_band(kp, kd, sg, ax=None):
     return batch, band
 
 
-# %% tags=["widget"]
+# %% tags=["widget"] mystnb={"figure": {"caption": "Steps of several sizes with the sliders' $K_p$, $K_d$ and an exact at-rest estimate of gain $s g$: the errors $r - q$ against the band of half-width $F_s(1 - s g)/K_p$ (shaded), which $K_p$ and $s g$ set and $K_d$ does not."}}
 if "ipykernel" in sys.modules:  # in Jupyter: sliders; the book shows the figure below instead
     from ipywidgets import FloatSlider, interact
 
@@ -420,7 +422,7 @@ if "ipykernel" in sys.modules:  # in Jupyter: sliders; the book shows the figure
              kd=FloatSlider(value=gains.pd_kd, min=0.0, max=0.3, step=0.01, description="Kd [N*m*s/rad]"),
              sg=FloatSlider(value=0.98, min=0.8, max=0.995, step=0.005, description="s*g [-]"))
 
-# %% mystnb={"figure": {"caption": "Four steps with the paper's P and PD gains and an exact at-rest estimate of gain sg = 0.98: every step stops inside its band +-Fs(1 - sg)/Kp (shaded).", "name": "fig-stuck-band"}}
+# %% mystnb={"figure": {"caption": "Four steps with the paper's P (left) and PD (right) gains and an exact at-rest estimate of gain $s g = 0.98$: every step stops inside its band, within $F_s(1 - s g)/K_p$ of the reference (shaded).", "name": "fig-stuck-band"}}
 SG = 0.98  # the low end of the fricctl pipeline's certified band [-]
 fig, axes = plt.subplots(1, 2, figsize=(9.6, 3.6), layout="constrained")
 bands = {}
@@ -513,7 +515,7 @@ print("why the paper pipeline's fig14-accuracy fails, seed", SEEDS[0], ":",
 # %% [markdown]
 # The figures of one seed per pipeline (seed 0; the table above is the claim):
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Figs. 12 and 14 for the first seed of the fricctl pipeline (first figure) and of the paper pipeline (second): the compensated P step against the linear viscous simulation, with the extras (top), and the compensated PD step with its torques $T_c$ and $T_m$ (bottom).  The fricctl pipeline's steps have no runaway; the paper pipeline's wind the motor torque up."}}
 for pipe in PIPELINES:
     r12, r14 = results[(pipe, SEEDS[0])][12], results[(pipe, SEEDS[0])][14]
     fig = plt.figure(figsize=(9.6, 6.4), layout="constrained")
@@ -528,7 +530,7 @@ for pipe in PIPELINES:
 # against each net's predicted band ([`predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone) over $K_p$); a runaway
 # run is marked with a cross:
 
-# %%
+# %% mystnb={"figure": {"caption": "The steady-state error $|e_{ss}|$ of all of Fig. 14's PD steps for every seed, fricctl pipeline left and paper pipeline right (crosses: runaways), with each net's predicted band (bar) and the paper's 0.3 deg accuracy (dashed): every fricctl step ends inside 0.3 deg."}}
 fig, ax = plt.subplots(figsize=(7.0, 3.4), layout="constrained")
 for j, pipe in enumerate(PIPELINES):
     for i, k in enumerate(SEEDS):

@@ -126,7 +126,7 @@ assert all(s * g[("paper", k)] > 1.0 for k in SEEDS)  # no fixed point: the torq
 # uncompensated and the Coulomb runs do not depend on the network, so they are the
 # same for every seed.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 16 for the first fricctl seed: the aged actuator with the link, a PD step with the network scaled by $s$, with Coulomb compensation and without; positions (left) and motor torques $T_m$ (right).  The Coulomb run sticks where it stops instead of oscillating."}}
 print(f"{'pipeline':8s} seed {'NN x 0.95':>10s} {'Coulomb':>9s} {'none':>7s}  (|e_ss| [deg])")
 for (pipe, k), res in results.items():
     e = {name: abs(np.rad2deg(x)) for name, x in res[16].steady_state_error.items()}
@@ -206,7 +206,7 @@ assert cyc_p.sustained and abs(amp_p / cyc_p.amplitude - 1) < 0.03
 # aged breakaway level, so nothing moves at all.  With compensation the error is
 # bounded by the band of Section 1:
 
-# %%
+# %% mystnb={"figure": {"caption": "The small step of Fig. 17 for every seed, fricctl pipeline left and paper pipeline right (crosses: runaways): the steady-state error $|e_{ss}|$ with the network scaled by $s$, each net's predicted band (bar) and the paper's 0.3 deg (dashed).  Every fricctl seed stops inside its predicted band."}}
 r17 = results[("fricctl", SEEDS[0])][17]
 print(f"Kp * step = {kp * r17.step:.4f} N*m vs aged breakaway {phi * p.static:.4f} N*m")
 assert kp * r17.step < phi * p.static
@@ -235,6 +235,8 @@ plt.show()
 for k in SEEDS:
     dz = predicted_dead_zone(nets[("fricctl", k)].trained.net, phi * p.static, scale=s).largest
     assert abs(results[("fricctl", k)][17].steady_state_error[f"NN x {s:g}"]) <= dz / kp + p.encoder_resolution
+
+# %% mystnb={"figure": {"caption": "The paper's Fig. 17 for the first fricctl seed: the small step with the link under the network scaled by $s$, Coulomb compensation and none; positions (left) and motor torques $T_m$ (right).  Without compensation the joint never moves."}}
 figures.plot_fig17(r17)
 plt.show()
 
@@ -250,7 +252,7 @@ plt.show()
 # simulation:** the loop's largest torque request over the whole ramp is
 # $K_p \cdot 0.1$ rad, below the breakaway torque, so the joint never moves.
 
-# %%
+# %% mystnb={"figure": {"caption": "The paper's Fig. 18 for the first fricctl seed: the sawtooth without compensation, where the joint never moves, and with the network, against the linear viscous simulation (left); the extra, a larger and slower ramp, stick-slips without compensation (right)."}}
 r18 = results[("fricctl", SEEDS[0])][18]
 kp18 = r18.design.kp
 print(f"Kp = {kp18:.4f} N*m/rad: Kp * 0.1 rad = {kp18 * r18.amplitude:.4f} N*m < Fs = {p.static:.3f} N*m; "
@@ -310,7 +312,7 @@ assert by[("fig16-coulomb", "fricctl")].n_passed == 0 and by[("fig18-without", "
 # mean over the run's last 0.5 s: where the compensation does not match the friction
 # the joint may still be hunting there (exercise 2 looks at that).
 
-# %%
+# %% mystnb={"figure": {"caption": "Share of the fricctl pipeline's seeds whose PD step ends within 0.3 deg, over the ratio of true to trained friction and the link inertia, with the Fig. 16 gains kept fixed: the robustness of a net trained once is this share at each point, not one seed's result."}}
 sweeps = {}
 with ThreadPoolExecutor(max_workers=2) as pool:
     for k in SEEDS:

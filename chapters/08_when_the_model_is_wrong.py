@@ -69,7 +69,7 @@ assert set(d.causes) == set(rec.causes)  # checked against the hidden truth only
 # driven by the recorded torque.  The torque (equation-error) residual against position
 # shows the periodic pattern, against velocity the two directions' different levels.
 
-# %%
+# %% mystnb={"figure": {"caption": "The record with two hidden effects, diagnosed: the windowed re-simulation of the baseline and of the extended model against the encoder (top left), the torque residual before and after the extension against velocity (top right) and position (bottom left), and its spectrum (bottom right).  Against position the residual shows the ripple's period, against velocity the two directions' different levels."}}
 fig, ax = plt.subplots(2, 2, figsize=(11, 6), layout="constrained")
 plot_simulation(d, ax=ax[0, 0], span=(5.0, 7.0))
 plot_residual(d, "velocity", ax=ax[0, 1], after=True)
@@ -100,7 +100,7 @@ for c in causes.candidates(nominal=True):
 print(f"named when the net score reaches {100 * MIN_SCORE:.0f} %")
 assert round(100 * MIN_SCORE) == 19
 
-# %%
+# %% mystnb={"figure": {"caption": "The forward selection step by step: the held-out torque residual RMS of the baseline and after each named cause, each bar labelled with the cause's net score."}}
 for i, s in enumerate(d.steps, 1):
     print(f"step {i}: {s.cause:>16}  net {100 * s.score:5.1f} %  (gross {100 * s.gross:5.1f} %, "
           f"chain {100 * s.chain:4.1f} %)  torque RMS {s.torque_rms_before:.4g} -> "

@@ -240,7 +240,7 @@ if est is not None:
 # polynomial-segment estimator (50-sample windows: a longer window fits across the
 # bang-bang trajectory's acceleration steps).
 
-# %%
+# %% mystnb={"figure": {"caption": "The friction patterns $T_{at} = F_m - M \\hat\\alpha$ of the EMPS record against the velocity, with the law identified by IDIM-LS, offset included: the axis never rests, so every pattern lies on one of the two sliding branches."}}
 if est is not None:
     pats = record_patterns(run, inertia=model.inertia, estimator_options=POLY,
                            velocity_quantum=model.velocity_quantum)
@@ -338,7 +338,7 @@ if est is not None:
 # Without compensation the axis stops wherever the PD force cannot overcome friction and
 # offset: $\text{offset} - F_c < K_p e < \text{offset} + F_c$.
 
-# %%
+# %% mystnb={"figure": {"caption": "The step of Section 6 simulated on the model file without compensation, with Coulomb compensation and with the paper's net of each seed (dashed: the target): the first two stop in the same band, and each net stops the axis somewhere else."}}
 if est is not None:
     ctrl = pd_control(d.kp, d.kd, step(STEP))
     band = (1e6 * (off - fc) / d.kp, 1e6 * (off + fc) / d.kp)

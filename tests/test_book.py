@@ -18,6 +18,7 @@ typeset by MathJax without a TeX error.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -66,29 +67,50 @@ def book(tmp_path_factory) -> Path:
 
 class _Page(HTMLParser):
     """The parts of a page the checks read: tags with their attributes, ``<pre>`` texts,
-    the class lists of the ``div``s, and the whole text."""
+    the class lists of the ``div``s, and the whole text; and each ``<img>`` with the
+    ``<figure>`` around it (``images``: attributes and an index into ``captions``, the text of
+    each figure's ``<figcaption>``, None for a figure without one)."""
 
     def __init__(self):
         super().__init__(convert_charrefs=True)
         self.tags: list[tuple[str, dict]] = []
         self.pres: list[str] = []
         self.text: list[str] = []
+        self.images: list[tuple[dict, int | None]] = []
+        self.captions: list[str | None] = []
         self._pre = 0
+        self._figures: list[int] = []  # the figures open here, innermost last
+        self._caption: int | None = None  # the figure whose <figcaption> is open
 
     def handle_starttag(self, tag, attrs):
-        self.tags.append((tag, {k: (v or "") for k, v in attrs}))
+        attrs = {k: (v or "") for k, v in attrs}
+        self.tags.append((tag, attrs))
         if tag == "pre":
             self._pre += 1
             self.pres.append("")
+        elif tag == "figure":
+            self._figures.append(len(self.captions))
+            self.captions.append(None)
+        elif tag == "figcaption" and self._figures:
+            self._caption = self._figures[-1]
+            self.captions[self._caption] = ""
+        elif tag == "img":
+            self.images.append((attrs, self._figures[-1] if self._figures else None))
 
     def handle_endtag(self, tag):
         if tag == "pre" and self._pre:
             self._pre -= 1
+        elif tag == "figcaption":
+            self._caption = None
+        elif tag == "figure" and self._figures:
+            self._figures.pop()
 
     def handle_data(self, data):
         self.text.append(data)
         if self._pre:
             self.pres[-1] += data
+        if self._caption is not None:
+            self.captions[self._caption] += data
 
     def find(self, tag: str, cls: str | None = None) -> list[dict]:
         return [a for t, a in self.tags
@@ -161,6 +183,27 @@ def test_every_image_resolves_to_a_file(book):
     assert count > 0
     # the claims page shows the figures of both pipelines' representative seeds
     assert len(parse(book / "reproduction.html").find("img")) >= 2 * 13
+
+
+def test_every_chapter_figure_is_numbered_captioned_and_described(book):
+    """Every image of a chapter is a figure with its number and caption ("Fig. 3 The ..."),
+    and its alt text -- what a screen reader says, what shows when the image cannot load --
+    is words (the caption's, ``read_chapter``), not the PNG's hash (issue 24 item 5)."""
+    hashed = re.compile(r"[0-9a-f]{16}", re.I)  # myst-nb names output images by a SHA-256
+    count = 0
+    for chapter in CHAPTERS:
+        page = parse(book / "chapters" / f"{chapter.stem}.html")
+        for img, figure in page.images:
+            where = f"{chapter.name}: {img.get('src', '')}"
+            alt = img.get("alt", "").strip()
+            assert alt and not hashed.search(alt), f"{where}: alt text {alt!r}"
+            caption = None if figure is None else page.captions[figure]
+            assert caption is not None, f"{where}: not in a <figure> with a <figcaption>"
+            number = re.match(r"\s*Fig\. \d+\s*", caption)
+            assert number, f"{where}: caption not numbered: {caption[:60]!r}"
+            assert caption[number.end():].strip(" #\n"), f"{where}: caption without text"
+            count += 1
+    assert count > 20  # the chapters draw dozens of figures in fast mode too
 
 
 def test_every_chapter_ran_without_an_error_output(book):

@@ -82,3 +82,26 @@ def test_chapter_structure(path):
             assert not s.startswith(("%", "!")), f"magic or shell escape: {line!r}"
             assert not re.match(r"from\s+\S+\s+import\s+\*", s), f"star import: {line!r}"
             assert "plt.savefig" not in s and "input(" not in s, f"forbidden call: {line!r}"
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=IDS)
+def test_every_figure_has_a_caption(path):
+    """Every code cell that shows a figure carries its caption in the cell header
+    (``# %% mystnb={"figure": {"caption": "..."}}``): the book numbers it ("Fig. N") and
+    reads its alt text from it (``docs/_ext/fricctl_book.py``; issue 24 item 5)."""
+    nb = jupytext.reads(path.read_text(encoding="utf-8"), fmt="py:percent")
+    shown = [c for c in nb.cells if c.cell_type == "code" and "plt.show()" in c.source]
+    assert shown, "no figure: the check below would pass on nothing"
+    for cell in shown:
+        first = cell.source.strip().splitlines()[0]
+        caption = cell.metadata.get("mystnb", {}).get("figure", {}).get("caption")
+        assert isinstance(caption, str) and caption.strip(), f"a figure without a caption: {first!r}"
+        # the header is JSON: "\t" or "\f" in it is a TAB or a FORM FEED, not "\tau" or "\frac"
+        assert not re.search(r"[\x00-\x1f]", caption), \
+            f"a LaTeX command lost its backslash (write \\\\ in the header): {caption!r}"
+        assert caption.count("$") % 2 == 0, f"unbalanced $ in the caption: {caption!r}"
+        # myst-nb gives a name to every image of its cell: a named cell shows one figure only
+        if "name" in cell.metadata["mystnb"]["figure"]:
+            shows = re.findall(r"^(\s*)plt\.show\(\)", cell.source, re.M)
+            assert shows == [""], \
+                f"a named figure's cell shows {len(shows)} figures (or one in a loop): {first!r}"
