@@ -78,6 +78,23 @@ def read_chapter(text: str):
     return nb
 
 
+#: TeX commands an alt text spells as the character a reader sees.
+_TEX_TEXT = {"alpha": "α", "beta": "β", "omega": "ω", "Omega": "Ω", "zeta": "ζ", "Delta": "Δ",
+             "delta": "δ", "tau": "τ", "mu": "μ", "sigma": "σ", "theta": "θ", "pi": "π",
+             "pm": "±", "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥", "approx": "≈",
+             "times": "×", "cdot": "·", "infty": "∞", "to": "→"}
+
+
+def _math_text(tex: str) -> str:
+    """Inline TeX as plain text: ``\\hat T_{at}`` -> ``T̂_at``, ``z^{-1}`` -> ``z^-1``."""
+    tex = re.sub(r"\\(operatorname|mathrm|text)\s*\{([^{}]*)\}", r"\2", tex)
+    tex = re.sub(r"\\[,;:! ]", " ", tex)
+    # an accent on a letter or a command: the combining circumflex after it
+    tex = re.sub(r"\\hat\s*\{?(\\[a-zA-Z]+|[^\s{}_^\\])\}?", "\\1\u0302", tex)
+    tex = re.sub(r"\\([a-zA-Z]+)", lambda m: _TEX_TEXT.get(m.group(1), m.group(1)), tex)
+    return re.sub(r"[{}]", "", tex)
+
+
 def _alt_from_caption(metadata) -> None:
     """A figure's caption is also its image's alt text (unless the cell gives one): what a
     screen reader says, and what a reader sees when the image cannot load -- not a hash."""
@@ -86,9 +103,8 @@ def _alt_from_caption(metadata) -> None:
         return
     image = metadata["mystnb"].setdefault("image", {})
     if "alt" not in image:
-        plain = re.sub(r"\\(hat|left|right|,|;)\s*", "", caption)  # accents and spacing out
-        plain = re.sub(r"\\([a-zA-Z]+)", r"\1", plain)  # \omega -> omega
-        image["alt"] = re.sub(r"[$`*{}_^]", "", plain).strip()
+        text = re.sub(r"\$([^$]+)\$", lambda m: _math_text(m.group(1)), caption)
+        image["alt"] = re.sub(r"[`*]", "", text).strip()
 
 
 def execute_only(app, config) -> None:
