@@ -66,7 +66,7 @@ def compiled(w, s, power_viscous_pos, power_viscous_neg, power_viscous_exponent)
 
 
 LAW = L.Law(
-    name="power_viscous", order=15, role="rate", constructor=PowerViscous,
+    name="power_viscous", order=105, role="rate", constructor=PowerViscous,
     description="sub-linear viscous friction: a torque growing as a power p < 1 of the speed",
     coefficients=L.direction_pair("power_viscous", "N*m*(s/rad)^p",
                                   "power-law viscous coefficient c") + (

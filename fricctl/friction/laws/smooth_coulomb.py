@@ -65,7 +65,7 @@ def damping(c, speed):
 
 
 LAW = L.Law(
-    name="smooth_coulomb", order=25, role="level", constructor=SmoothCoulomb,
+    name="smooth_coulomb", order=106, role="level", constructor=SmoothCoulomb,
     description="a Coulomb level built up smoothly over a speed range, without breakaway",
     coefficients=L.direction_pair("smooth_coulomb", "N*m", "smooth Coulomb level") + (
         L.Coefficient(name="smooth_coulomb_velocity", unit="rad/s", default=1.0, strict=True,
