@@ -74,26 +74,42 @@ every other draw, so a seed gives the same record with or without it, apart from
 * ``position_gain``: a position-sensor scale error (a wrong encoder count or gear ratio),
   recorded position (and reference) = ``(1 + e) *`` the encoder's reading, ``|e|`` 5 .. 15 %
   (times ``strength``), either sign; the refitted I and b would absorb it: it implies
-  ``nominal=True`` too.
+  ``nominal=True`` too;
+* ``power_viscous``: a friction law of another shape, in place of the viscous law: viscous
+  friction growing sub-linearly with speed, ``c*|w|**p*sign(w)``
+  (:class:`~fricctl.friction.PowerViscous`), ``1 - p`` 0.3 .. 0.6 (times ``strength``, at most
+  1.5: p 0.4 .. 0.7 at full strength), ``c = b*v**(1 - p)`` so that it gives the drawn ``b*v``
+  at the record's RMS speed ``v``: more friction below that speed, less above;
+* ``smooth_coulomb``: a friction law of another shape, in place of the Coulomb law: the
+  drawn Coulomb levels reached smoothly, ``Fc*tanh(|w|/ws)*sign(w)``
+  (:class:`~fricctl.friction.SmoothCoulomb`), no breakaway, ``ws`` 0.2 .. 0.4 (times
+  ``strength``) of the record's RMS speed: less friction at low speed, the opposite of a
+  Stribeck excess.
+
+A foreign friction law is sized on the record's own speeds: the record is simulated without
+it (the drawn law), its RMS speed ``v`` (true velocity, every sample) measured, and the
+record simulated again with the law in place (the same excitation and noise, no draw added);
+:attr:`HiddenEffectRecord.truth` holds the foreign law, :attr:`~HiddenEffectRecord.without_foreign`
+the law it replaced, and :meth:`~HiddenEffectRecord.foreign_weight` says how much it weighs on
+the record (the 10 % line of the causes).
 
 Notes
 -----
-Left out: a friction law of a shape no cause represents (a sub-linear viscous term, a smooth
-Coulomb transition): the bench simulates the registered friction laws only, and a test effect
-is not worth a public law.  Left out as well: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
+Left out: a position-dependent inertia (gravity is ``position_load``'s injection); sub-sample delays (the bench's
 delay is whole samples); more than two effects at once.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .. import _validate as v
 from ..datasets import Run
 from ..plant import JointModel, RigidJoint
+from ..plant.stability import fastest_rate, required_substeps
 from ..simulate import Schedule, simulate_schedule
 from .end_stops import simulate_with_stops
 # The bench reads the cause registry: each cause module says how the bench hides it.
@@ -161,6 +177,9 @@ class HiddenEffectRecord:
         a cause: it is not in :attr:`causes`.
     foreign_magnitude : dict
         Its parameters (SI units; empty for ``"none"``).
+    without_foreign : JointModel or None
+        For a foreign friction law, the true model with the drawn law it replaced (ground
+        truth; :attr:`truth` holds the foreign law); None for the other foreign effects.
     """
 
     run: Run
@@ -175,6 +194,28 @@ class HiddenEffectRecord:
     impacts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     foreign: str = "none"
     foreign_magnitude: dict = field(default_factory=dict)
+    without_foreign: JointModel | None = None
+
+    def foreign_weight(self, folds: int = 8) -> float:
+        """How much a foreign friction law weighs on this record: the share of the torque
+        residual (sum of squares, sliding samples) that knowing it removes, every hidden cause
+        known, the baseline refitted when the record has no nominal model -- as
+        :meth:`weights` for a cause (the same 10 % line).  Only for a foreign effect that is a
+        friction law (:attr:`without_foreign` set); else ``ValueError``.
+        """
+        from ..diagnose.signals import estimate_signals, predict
+
+        if self.without_foreign is None:
+            raise ValueError(f"foreign_weight: the foreign effect {self.foreign!r} is not a "
+                             "friction law of the true model")
+        sig = estimate_signals(self.run, v.integer("folds", folds, low=3, high=20))
+        m = sig.moving
+        sse_truth = float(np.sum(predict(self.truth, sig).residual[m] ** 2))
+        r = predict(self.without_foreign, sig).residual[m]
+        if self.nominal is None:
+            X = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
+            r = r - X @ np.linalg.lstsq(X, r, rcond=None)[0]
+        return 1.0 - sse_truth / float(np.sum(r ** 2))
 
     def weights(self, folds: int = 8) -> dict:
         """How much each hidden effect weighs on this record: per cause, the share of the
@@ -419,6 +460,10 @@ class _Foreign:
     """Recorded position over the encoder's true reading [-]."""
     magnitude: dict
     """The drawn parameters (SI)."""
+    friction: object = None
+    """``friction(model, speed) -> (model, parameters)``: a friction law put in place of one of
+    the drawn model's, sized at ``speed``, the RMS speed of the record simulated without it
+    [rad/s] or [m/s]; None: the friction is left alone."""
 
 
 def _time_sine(rng, act, t):
@@ -438,6 +483,37 @@ def _position_gain(rng, act, t):
     error = float(rng.uniform(0.05, 0.15) * rng.choice((-1.0, 1.0)) * act.strength)
     return _Foreign(disturbance=None, gain=1.0, position_gain=1.0 + error,
                     magnitude=dict(error=error))
+
+
+def _power_viscous(rng, act, t):
+    # the exponent's distance from 1 (the viscous line) times the strength
+    p = float(1.0 - rng.uniform(0.3, 0.6) * min(act.strength, 1.5))
+
+    def law(friction, speed):
+        # c*|w|**p with c*speed**p = b*speed: the drawn viscous torque at the record's RMS speed,
+        # more below it, less above it; the viscous law removed
+        k = speed ** (1.0 - p)
+        pos, neg = friction.viscous_pos * k, friction.viscous_neg * k
+        new = replace(friction, viscous_pos=0.0, viscous_neg=0.0, power_viscous_pos=pos,
+                      power_viscous_neg=neg, power_viscous_exponent=p)
+        return new, dict(coefficient_pos=pos, coefficient_neg=neg, rms_speed=speed)
+
+    return _Foreign(disturbance=None, gain=1.0, friction=law, magnitude=dict(exponent=p))
+
+
+def _smooth_coulomb(rng, act, t):
+    ratio = float(rng.uniform(0.2, 0.4) * act.strength)
+
+    def law(friction, speed):
+        # Fc*tanh(|w|/ws), ws a fraction of the record's RMS speed: the drawn Coulomb levels
+        # reached smoothly, no breakaway; the Coulomb law removed
+        new = replace(friction, coulomb_pos=0.0, coulomb_neg=0.0,
+                      smooth_coulomb_pos=friction.coulomb_pos,
+                      smooth_coulomb_neg=friction.coulomb_neg,
+                      smooth_coulomb_velocity=ratio * speed)
+        return new, dict(velocity=ratio * speed, rms_speed=speed)
+
+    return _Foreign(disturbance=None, gain=1.0, friction=law, magnitude=dict(ratio=ratio))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -468,6 +544,12 @@ FOREIGN = {f.name: f for f in (
     ForeignEffect(name="position_gain", draw=_position_gain, nominal=True,
                   physical="a position-sensor scale error (encoder count, gear ratio): the "
                            "recorded position is (1 + e) times the encoder's reading"),
+    ForeignEffect(name="power_viscous", draw=_power_viscous,
+                  physical="viscous friction growing sub-linearly with speed, c*|w|**p*sign(w), "
+                           "in place of b*w"),
+    ForeignEffect(name="smooth_coulomb", draw=_smooth_coulomb,
+                  physical="the Coulomb level reached smoothly, Fc*tanh(w/ws), no breakaway, in "
+                           "place of Fc*sign(w)"),
 )}
 
 
@@ -597,6 +679,21 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
                             encoder_resolution=actuator.encoder_resolution,
                             substeps=int(effect.substeps), delay=int(effect.delay),
                             noise=at_joint)
+    joint, truth, substeps, without_foreign = effect.joint, effect.truth, int(effect.substeps), None
+    if alien.friction is not None:  # a friction law in place of the drawn one, sized at the RMS
+        # speed of the record simulated without it (the excitation is the same), run again
+        speed = float(np.sqrt(np.mean(sim.omega ** 2)))
+        friction, sized = alien.friction(truth.friction, speed)
+        alien = replace(alien, magnitude={**alien.magnitude, **sized})
+        without_foreign, truth = truth, replace(truth, friction=friction)
+        joint = truth.joint()
+        substeps = max(substeps, required_substeps(sample_time=ts, rate=fastest_rate(
+            inertia=truth.inertia - truth.load_inertia, friction=friction)))
+        sim = simulate_schedule(joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
+                                                segment_start=start),
+                                sample_time=ts, max_torque=tmax,
+                                encoder_resolution=actuator.encoder_resolution,
+                                substeps=substeps, delay=int(effect.delay), noise=at_joint)
     if not (np.all(np.isfinite(sim.q_meas)) and np.all(np.isfinite(sim.torque_motor))):
         raise ValueError("the bench simulation diverged (report this seed)")
     stops, impacts = (), np.zeros(0, dtype=int)
@@ -604,12 +701,12 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
         # each, the start (0) kept 5 % of the travel inside; the loop run again with them
         lo, hi = (float(x) for x in np.quantile(sim.q, [end_stops, 1.0 - end_stops]))
         lo, hi = min(lo, -0.05 * (hi - lo)), max(hi, 0.05 * (hi - lo))
-        if not isinstance(effect.joint, RigidJoint) or effect.joint.friction.state_law is not None:
+        if not isinstance(joint, RigidJoint) or joint.friction.state_law is not None:
             raise ValueError(f"end_stops: the bench's ideal stop is simulated on a rigid joint "
                              f"without a friction state, not with {names}")
         sim = simulate_with_stops(
-            effect.joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
-                                   segment_start=start),
+            joint, Schedule(kp=kp, kd=kd, reference=ref, feedforward=ff,
+                            segment_start=start),
             sample_time=ts, max_torque=tmax, encoder_resolution=actuator.encoder_resolution,
             substeps=sim.info.substeps, delay=int(effect.delay), noise=at_joint,
             lower=lo, upper=hi)
@@ -625,6 +722,6 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     ordered = tuple(c for c in causes.CAUSES if c in names)
     return HiddenEffectRecord(run=run, nominal=effect.nominal if nominal else None,
                               cause=ordered[0], causes=ordered, magnitude=effect.magnitude,
-                              truth=effect.truth, excitation=segs, effect_free=effect.nominal,
+                              truth=truth, excitation=segs, effect_free=effect.nominal,
                               stops=stops, impacts=impacts, foreign=foreign,
-                              foreign_magnitude=alien.magnitude)
+                              foreign_magnitude=alien.magnitude, without_foreign=without_foreign)

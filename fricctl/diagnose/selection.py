@@ -21,6 +21,16 @@ removes :data:`MIN_SCORE` of what the scale leaves (an effect of its own beside 
 error).  One the scale beats is set aside for the step, not dropped: once another
 cause is named the scale may no longer match it.  Without a nominal model the refitted
 baseline absorbs such a scale exactly.
+
+In the same way, with or without a nominal model, a supported candidate must beat a friction
+law of another shape (:func:`speed_curve`: a generic odd function of the velocity, piecewise
+linear between knots at quantiles of the record's speeds; no cause of the list), unless its
+term is itself a shape of that curve (:attr:`~fricctl.diagnose.causes.Cause.friction_curve`:
+Stribeck, drag, a friction level's scale).  A load of position, a drift in time or a
+presliding term fitted to a record whose friction has a shape no cause represents removes a
+part of its residual that the generic curve removes with the rest (issue 21, item 5: a
+Coulomb level reached smoothly with speed was read as each of the three); a candidate that
+adds :data:`MIN_SCORE` on top of the curve is still told.
 """
 
 from __future__ import annotations
@@ -37,13 +47,17 @@ from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
-           "torque_scale", "position_scale", "sensor_scales", "SensorScale", "COLLINEAR_SHARE",
-           "MIN_SCORE"]
+           "torque_scale", "position_scale", "sensor_scales", "SensorScale", "speed_curve",
+           "COLLINEAR_SHARE", "MIN_SCORE", "CURVE_QUANTILES"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
 #: held-out torque RMS must drop by 10 %, the issue's definition of an effect that matters.
 MIN_SCORE = 1.0 - 0.9 ** 2
+
+#: Knots of the generic friction curve (:func:`speed_curve`): quantiles of the speed |w| over
+#: the sliding samples, dense at low speed where friction laws differ most [-].
+CURVE_QUANTILES = (0.02, 0.05, 0.1, 0.2, 0.4, 0.7)
 
 #: A candidate's column is collinear with the model's when less than this share of its
 #: energy (sliding samples) lies outside their span (a variance inflation above 1000) [-].
@@ -394,6 +408,33 @@ def sensor_scales(problem: Problem, base: Baseline, selected: tuple = ()) -> tup
     return (torque_scale(problem, base, selected), position_scale(problem, base, selected))
 
 
+def speed_curve(problem: Problem, base: Baseline, selected: tuple = ()) -> SensorScale:
+    """A friction law of another shape, held out as the candidates are, after the causes
+    ``selected``: a generic odd function of the velocity, piecewise linear in ``|w|`` between
+    knots at the :data:`CURVE_QUANTILES` of the record's sliding speeds and constant beyond
+    the last (columns ``clip(w/k, -1, 1)``, one per knot ``k``), on top of the baseline's
+    viscous and Coulomb terms (fit mode) or with them (nominal model).
+
+    It is not a cause: it stands for whatever shape the record's friction-speed curve has
+    (a sub-linear viscous law, a smooth Coulomb transition) that the candidates' specific
+    terms would otherwise absorb in part.
+    """
+    sig = base.sig
+    speed = np.abs(sig.w[sig.moving])
+    knots = np.unique(np.quantile(speed, CURVE_QUANTILES)) if speed.size else np.zeros(0)
+    cols = [sig.filt(np.clip(sig.w / k, -1.0, 1.0)) for k in knots if k > 0]
+    if not base.fit_mode:  # the nominal model's levels may be wrong too
+        cols = [sig.filt(base.sign), sig.filt(sig.w)] + cols
+    if not cols:
+        return SensorScale(test=None, gain=math.nan)
+    variant = base.variant("speed_curve", np.column_stack(cols), (0,) * len(cols))
+    cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
+    return SensorScale(test=cv.test, gain=math.nan, variant=variant,
+                       what=f"a friction law of another shape (a smooth odd function of the "
+                            f"velocity, piecewise linear between {len(cols)} knots at the "
+                            f"record's speeds, not a cause of the list)")
+
+
 def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:
     """Every remaining candidate held out after the causes named (``name -> _Scored``); the
     chain's share is asked only once all are cross-validated."""
@@ -440,8 +481,11 @@ def _tell(problem: Problem, state: _State, scored: dict, ranking: tuple,
             continue
         if scales is None:  # asked once per step, and only when a candidate can be told
             scales = sensor_scales(problem, state.base, state.selected)
+            curve = speed_curve(problem, state.base, state.selected)
+        # a shape of the friction curve is not judged against a generic curve, which spans it
+        rivals = scales + (() if cause.friction_curve else (curve,))
         reason = next((r for r in (_scale_matches(problem, state, scored[name], sc, sse_prev)
-                                   for sc in scales) if r is not None), None)
+                                   for sc in rivals) if r is not None), None)
         if reason is not None:  # set aside for this step only: once another cause is in,
             aside[name] = reason  # the scale may no longer match it
         else:

@@ -83,6 +83,11 @@ class Cause:
     from ``rng`` in a fixed sequence, so that a seed gives the same record)."""
     nominal_only: bool = False
     """True when the cause only exists against a supplied nominal model (inertia, friction level)."""
+    friction_curve: bool = False
+    """True when the term is itself a shape of the friction-speed curve, an odd function of
+    the velocity (a Stribeck excess, a drag, a friction level's scale): the selection's
+    generic curve (:func:`fricctl.diagnose.selection.speed_curve`) spans it, so the candidate
+    is not compared with that curve; every other candidate must beat it."""
     per_fold: bool = False
     """True when :attr:`variants` depends on the training blocks (``fold`` is the block left out,
     None for all data); else it is called once with ``fold=None``."""

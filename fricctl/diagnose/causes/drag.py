@@ -93,4 +93,4 @@ CAUSE = Cause(
     physical="friction grows faster than linearly with speed (drag c*w*|w|)",
     changes=("drag_pos", "drag_neg"),
     params=("drag",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject)
+    inject=_inject, friction_curve=True)

@@ -37,4 +37,4 @@ CAUSE = Cause(
     physical="the overall friction level differs from the nominal model",
     changes=("scale",),
     params=("delta_scale",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject, nominal_only=True)
+    inject=_inject, nominal_only=True, friction_curve=True)

@@ -62,4 +62,4 @@ CAUSE = Cause(
     physical="friction at low speed exceeds the Coulomb level and decays toward it with speed",
     changes=("stribeck_pos", "stribeck_neg", "stribeck_velocity"),
     params=("stribeck_excess",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject, remove=_remove)
+    inject=_inject, remove=_remove, friction_curve=True)
