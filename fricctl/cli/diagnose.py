@@ -11,10 +11,12 @@ re-simulates it over 0.5 s windows, names every cause the record supports one
 step at a time by blocked cross-validation (or ``none``), extends the model and
 reports the held-out gain and the verdict: is the record explained?  ``--json`` prints one
 object (finite numbers or null): ``explained`` (the final model's held-out torque residual
-at most twice the measuring chain's floor, or not significantly above it),
-``residual_over_floor``, ``verdict`` (``p_value`` of the variance-ratio test, ``dof``,
-``dependence``: the share of the final residual's variance its bin means against
-position, velocity, time and torque carry, ``strongest``), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
+at most twice the measuring chain's floor), ``residual_over_floor``, ``verdict``
+(``p_value`` of the variance-ratio test, ``dof``, ``dependence``: the share of the final
+residual's variance its bin means against position, velocity, time and torque carry,
+``strongest``, ``other_shape_share``: on a record not explained, the held-out share of that
+residual a friction law of another shape removes -- a generic odd function of the velocity,
+not a cause of the list), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
 ``chain``, held-out torque and simulation RMS before and after), ``ranking``
 (``[{cause, score}]`` of the first step), ``not_identifiable`` (cause -> why it

@@ -20,7 +20,7 @@ from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
 from .report import Diagnosis, Gain, evidence_text
-from .selection import Selection, forward_selection
+from .selection import Selection, forward_selection, speed_curve
 from .signals import Signals, estimate_signals, predict
 from .stops import EndStops, end_stops
 from .twin import chain_shares, effect_free_twin
@@ -342,6 +342,16 @@ def _extension(setup: _Setup, sel: Selection) -> _Extension:
     return _Extension(fit=refit, theta=theta, model=base.model(parts, theta))
 
 
+def _other_shape(setup: _Setup, sel: Selection) -> float:
+    """Held-out share of the final model's residual that a friction law of another shape
+    removes (:func:`~fricctl.diagnose.selection.speed_curve` after the causes named) [-]."""
+    curve = speed_curve(setup.problem, setup.base, sel.selected)
+    before = float(np.sum(sel.test))
+    if curve.test is None or not (before > 0 and np.all(np.isfinite(curve.test))):
+        return math.nan
+    return max(0.0, 1.0 - float(np.sum(curve.test)) / before)
+
+
 def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection,
                ext: _Extension) -> Diagnosis:
     """The result: models with their provenance, held-out gain, evidence and report data."""
@@ -362,7 +372,8 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     chain_rms = _twin(base).rms
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
-                   {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm})
+                   {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
+                   other_shape=lambda: _other_shape(setup, sel))
     stops = setup.stops
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(

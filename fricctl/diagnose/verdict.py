@@ -25,7 +25,9 @@ the record is (``chain_rms``).  The final model's held-out torque residual
 
 Where the unexplained part lives: the share of the final residual's variance that its
 means over :data:`BINS` quantile bins of position, velocity, time and torque explain
-(a correlation ratio, eta^2), the strongest named.
+(a correlation ratio, eta^2), the strongest named; and, on a record not explained, the
+held-out share of it a friction law of another shape removes (a generic odd function of the
+velocity), said when it reaches :data:`SHAPE_SHARE`.
 """
 
 from __future__ import annotations
@@ -37,13 +39,17 @@ import numpy as np
 from scipy import stats
 
 from ..identify.uncertainty import correlation_time
+from .selection import MIN_SCORE
 
-__all__ = ["Verdict", "verdict", "EXPLAINED_RATIO", "SIGNIFICANCE", "BINS", "AGAINST"]
+__all__ = ["Verdict", "verdict", "EXPLAINED_RATIO", "SIGNIFICANCE", "BINS", "AGAINST", "SHAPE_SHARE"]
 
 #: Largest held-out residual over floor still called explained [-].
 EXPLAINED_RATIO = 2.0
 #: Level of the variance-ratio test [-].
 SIGNIFICANCE = 0.01
+#: Held-out share of the final residual a friction law of another shape must remove to be
+#: said in the sentence: the line a cause must reach [-].
+SHAPE_SHARE = MIN_SCORE
 #: Quantile bins of the dependence measure [-].
 BINS = 16
 #: The quantities the residual is set against.
@@ -69,11 +75,19 @@ class Verdict:
     """The quantity with the largest share."""
     reason: str = ""
     """Why the verdict could not be reached (no floor), or ``""``."""
+    other_shape: float = math.nan
+    """Held-out share of the final residual that a friction law of another shape removes (a
+    generic odd function of the velocity, :func:`~fricctl.diagnose.selection.speed_curve`, not
+    a cause of the list) [-]; NaN where not measured (an explained record)."""
 
     def sentence(self) -> str:
         """One sentence for the evidence and the report."""
         dep = (f"what is left depends most on {self.strongest} (its bin means carry "
                f"{100 * self.dependence[self.strongest]:.0f} % of the residual's variance)")
+        if self.other_shape >= SHAPE_SHARE:
+            dep += (f"; a friction law of another shape (a smooth odd function of the velocity, "
+                    f"not a cause of the list) removes {100 * self.other_shape:.0f} % of it on "
+                    f"held-out data: the friction-speed curve itself is not the model's")
         if self.reason:
             return f"Not determined whether the record is explained: {self.reason}; {dep}."
         if self.explained:
@@ -93,7 +107,9 @@ class Verdict:
         return {"explained": self.explained, "residual_over_floor": self.residual_over_floor,
                 "p_value": self.p_value, "dof": self.dof,
                 "dependence": {k: float(x) for k, x in self.dependence.items()},
-                "strongest": self.strongest, "reason": self.reason or None}
+                "strongest": self.strongest, "reason": self.reason or None,
+                "other_shape_share": (None if math.isnan(self.other_shape)
+                                      else float(self.other_shape))}
 
 
 def _eta2(r: np.ndarray, x: np.ndarray) -> float:
@@ -110,7 +126,8 @@ def _eta2(r: np.ndarray, x: np.ndarray) -> float:
     return float(np.sum(sums[ok] ** 2 / counts[ok]) / total)
 
 
-def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict) -> Verdict:
+def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict, *,
+            other_shape=None) -> Verdict:
     """The verdict of a diagnosis.
 
     Parameters
@@ -123,6 +140,10 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict)
         The final model's torque residual per sample, NaN where not sliding [N*m].
     against : dict
         ``{name: ndarray}`` for each name of :data:`AGAINST` (same length as ``residual``).
+    other_shape : callable, optional
+        ``other_shape()``: the held-out share of the final residual a friction law of another
+        shape removes (:attr:`Verdict.other_shape`); asked only when the record is not
+        explained.
     """
     ok = np.isfinite(residual)
     r = residual[ok]
@@ -139,5 +160,6 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict)
     # the ratio decides: a test that cannot reject on a short record does not make a residual
     # above twice the floor "explained" (the sentence reports the test)
     explained = ratio <= EXPLAINED_RATIO
+    shape = float(other_shape()) if other_shape is not None and not explained else math.nan
     return Verdict(explained=bool(explained), residual_over_floor=float(ratio), p_value=p,
-                   dof=float(dof), dependence=dep, strongest=strongest)
+                   dof=float(dof), dependence=dep, strongest=strongest, other_shape=shape)
