@@ -290,8 +290,11 @@ def number_equations(app, doctree) -> None:
         node["label"] = f"{docname}:{env.new_serialno('sphinx.ext.math#equations')}"
         domain.note_equation(docname, node["label"], location=node)
         node["number"] = domain.get_equation_number_for(node["label"])
-        target = nodes.target("", "", ids=[nodes.make_id(f"equation-{node['label']}")])
-        node.parent.insert(node.parent.index(node), target)
+        # the id on the equation itself (the directive's target is moved onto it by a
+        # transform that has run by now): numfig numbers equations by their ids
+        node_id = nodes.make_id(f"equation-{node['label']}")
+        node["ids"].append(node_id)
+        doctree.ids[node_id] = node
 
 
 def setup(app):
