@@ -69,9 +69,11 @@ def register(subparsers) -> None:
     # numbers are read as text and checked in run(): a bad value is one line, not argparse's usage block
     p.add_argument("--seeds", default="10", metavar="N",
                    help="networks per pipeline, seeds 0 .. N-1 (default 10)")
+    # the names are checked in run(): reading the registry imports fricctl.paper, which every
+    # other command's start would pay for
     p.add_argument("--bench", default=None, metavar="NAME",
-                   help=f"the bench the paper is judged on, one of {', '.join(_bench_names())} "
-                        f"(default {_default_bench()})")
+                   help="the bench the paper is judged on: a name of fricctl.paper.benches.BENCHES "
+                        "(an unknown name lists them); default fricctl.paper.benches.DEFAULT_BENCH")
     p.add_argument("--pipelines", default="paper,fricctl", metavar="LIST",
                    help="comma-separated training pipelines (default paper,fricctl)")
     p.add_argument("--workers", default=None, metavar="W",
@@ -378,7 +380,7 @@ def run(args) -> int:
         _write_manifest(new)
     ids = list(dict.fromkeys(s.id for s in res.stats))
     by = {(s.id, s.pipeline): s for s in res.stats}
-    print(f"bench {res.bench.name}")
+    print(f"bench {bench}")
     print(f"{'claim':<15s} " + " ".join(f"{p:>18s}" for p in pipelines))
     for cid in ids:
         cells = []
