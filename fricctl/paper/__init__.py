@@ -38,8 +38,8 @@ Assumptions (the paper does not give these; labelled as such in the results):
   without retraining); the Coulomb compensator is the nominal Coulomb level
   with the same s = 0.95;
 * Fig. 17 runs on the same aged actuator and compensation as Fig. 16;
-* Fig. 18: the sawtooth's span and period are the bench's (literal: 0 to 0.1 rad over 1 s;
-  two periods).
+* Fig. 18: the sawtooth's span and period are the bench's (fig18_amplitude, fig18_period;
+  literal: 0 to 0.1 rad over 1 s), two periods.
 
 Each figure's registry entry carries the same list (``PaperFigure.assumptions``).
 
