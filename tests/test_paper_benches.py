@@ -24,8 +24,8 @@ from fricctl.design import DesignWarning, design_p, design_pd, normalized_rise_t
 from fricctl.design.second_order import metrics_from_response, resolve_rise_time_definition
 from fricctl.paper import consistency as cs
 from fricctl.paper import fig11
-from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, SETTINGS, SOURCES, Bench, as_bench, bench,
-                                   bench_file, load_bench)
+from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SETTINGS, SOURCES, Bench, as_bench,
+                                   bench, bench_file, load_bench)
 from fricctl.paper.common import designs
 from fricctl.params import PAPER_LINK_INERTIA, PAPER_VISCOUS, paper_actuator
 
@@ -56,13 +56,15 @@ def test_as_bench():
     assert as_bench() is bench(DEFAULT_BENCH)
     assert as_bench("consistent") is bench("consistent")
     assert as_bench(bench("consistent")) is bench("consistent")
-    # the default bench's own plant: the bench itself
-    assert as_bench(paper_actuator()) is bench(DEFAULT_BENCH)
+    # a plant alone is judged with PARAMS_BENCH's settings (whatever the default); its own plant:
+    # the bench itself
+    assert as_bench(paper_actuator()) is as_bench(None, paper_actuator()) is bench(PARAMS_BENCH)
     # another plant is designed on as it is (its own b), the bench's other settings kept
     other = paper_actuator(viscous=0.02, coulomb=0.1)
-    b = as_bench(other)
-    assert b.actuator == other and b.design_actuator == other
-    assert b.fig18_amplitude == bench(DEFAULT_BENCH).fig18_amplitude
+    for b, ref in ((as_bench(other), bench(PARAMS_BENCH)),
+                   (as_bench("consistent", other), bench("consistent"))):
+        assert b.actuator == other and b.design_actuator == other
+        assert (b.fig18_amplitude, b.rise_time_reading) == (ref.fig18_amplitude, ref.rise_time_reading)
     with pytest.raises(ValueError, match="bench must be a bench name"):
         as_bench(3.0)
     with pytest.raises(ValueError, match="link"):
@@ -137,9 +139,6 @@ def test_consistent_bench_is_the_proposal():
 
 # -- strict reading ------------------------------------------------------------------------------
 def _mutations():
-    def top(f):
-        return f
-
     out = []
 
     def add(match, f):

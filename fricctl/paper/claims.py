@@ -159,7 +159,7 @@ def paper_claims(figures: dict, bench=None) -> list[Claim]:
     The claim makers of each figure come from its registry entry
     (:func:`~fricctl.paper.paper_figures`), in figure order.  ``bench`` is the bench the
     figures ran on (:func:`fricctl.paper.benches.as_bench`: a name, a Bench, an
-    ActuatorParams -- the default bench's settings on that plant --, or None: the default
+    ActuatorParams -- the settings of ``PARAMS_BENCH`` on that plant --, or None: the default
     bench).
     """
     from .benches import as_bench

@@ -100,9 +100,10 @@ def train_paper_network(params: ActuatorParams | None = None, *, bench=None, fas
     params : ActuatorParams, optional
         The actuator without link, designed on as it is (its own b); default the bench's plant.
     bench : str or Bench, optional
-        The bench (:mod:`fricctl.paper.benches`; default
-        :data:`~fricctl.paper.benches.DEFAULT_BENCH`): its plant, unless ``params`` replaces it,
-        and the settings of its experiments (the training loops' gains are its designs').
+        The bench (:mod:`fricctl.paper.benches`): its plant, unless ``params`` replaces it, and
+        the settings of its experiments (the training loops' gains are its designs').  Default
+        :data:`~fricctl.paper.benches.DEFAULT_BENCH`, or with ``params`` alone
+        :data:`~fricctl.paper.benches.PARAMS_BENCH` (:func:`~fricctl.paper.benches.as_bench`).
     fast : bool
         Short experiments (8 torque levels, 6 closed-loop steps) for tests.
     seed : int
@@ -131,9 +132,7 @@ def train_paper_network(params: ActuatorParams | None = None, *, bench=None, fas
     """
     from .benches import as_bench
 
-    b = as_bench(bench)
-    if params is not None:
-        b = b.with_actuator(v.instance("params", params, ActuatorParams, "an ActuatorParams"))
+    b = as_bench(bench, params)
     p = b.actuator
     seed = v.integer("seed", seed, low=0)
     recipe = _pipeline(pipeline)

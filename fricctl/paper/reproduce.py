@@ -274,7 +274,8 @@ def reproduce_paper(params: ActuatorParams | None = None, *, bench=None, fast: b
         Replaces the bench's plant, designed on as it is (its own b).
     bench : str or Bench, optional
         The bench (:data:`fricctl.paper.benches.BENCHES`; default
-        :data:`~fricctl.paper.benches.DEFAULT_BENCH`).
+        :data:`~fricctl.paper.benches.DEFAULT_BENCH`, or with ``params`` alone
+        :data:`~fricctl.paper.benches.PARAMS_BENCH`: :func:`~fricctl.paper.benches.as_bench`).
     fast : bool
         Short training experiments and a small sweep grid.
     seeds : int
@@ -303,9 +304,7 @@ def reproduce_paper(params: ActuatorParams | None = None, *, bench=None, fast: b
         The representative network re-trained here differs from the one its job judged
         (training would not be deterministic).
     """
-    b = as_bench(bench)
-    if params is not None:
-        b = b.with_actuator(v.instance("params", params, ActuatorParams, "an ActuatorParams"))
+    b = as_bench(bench, params)
     p = b.actuator
     fast = v.flag("fast", fast)
     n = v.integer("seeds", seeds, low=1, high=MAX_SEEDS)

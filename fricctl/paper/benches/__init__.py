@@ -58,15 +58,20 @@ from typing import Any, Callable
 
 from ... import _validate as v
 from ...params import ActuatorParams
-from ...plant.model import JointModel, Provenance
+from ...plant.model import JointModel
 
-__all__ = ["Bench", "Setting", "SETTINGS", "BENCHES", "DEFAULT_BENCH", "BENCH_FORMAT", "BENCH_VERSION",
-           "bench", "load_bench", "as_bench", "bench_file"]
+__all__ = ["Bench", "Setting", "SETTINGS", "BENCHES", "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT",
+           "BENCH_VERSION", "bench", "load_bench", "as_bench", "bench_file"]
 
 BENCH_FORMAT = "fricctl.paper_bench"
 BENCH_VERSION = 1
 #: The bench ``fricctl reproduce`` and :func:`fricctl.paper.reproduce_paper` use by default.
 DEFAULT_BENCH = "literal"
+#: The bench whose settings an :class:`~fricctl.params.ActuatorParams` given alone is judged with
+#: (whatever the default): designs on the plant's own b with 0-100 % rise times, Fig. 18 from 0
+#: to 0.1 rad over 1 s -- what such a call has always meant, so that a change of the default
+#: never mixes another bench's readings into a plant they were not made for.
+PARAMS_BENCH = "literal"
 #: Where a bench value may come from.
 SOURCES = ("paper", "derived", "assumption")
 #: Deepest nesting of a bench file (bench > model > provenance > entry).
@@ -512,14 +517,21 @@ class _Registry(Mapping):
 BENCHES: Mapping[str, Bench] = _Registry()
 
 
-def as_bench(x=None) -> Bench:
-    """A bench from what a caller gives: None (:data:`DEFAULT_BENCH`), a name, a :class:`Bench`,
-    or an :class:`~fricctl.params.ActuatorParams` (the default bench's settings on that plant,
-    designed on as it is: :meth:`Bench.with_actuator`)."""
+def as_bench(x=None, params: ActuatorParams | None = None) -> Bench:
+    """A bench from what a caller gives.
+
+    ``x``: None (:data:`DEFAULT_BENCH`), a name of :data:`BENCHES`, a :class:`Bench`, or an
+    :class:`~fricctl.params.ActuatorParams` (:data:`PARAMS_BENCH`'s settings on that plant,
+    designed on as it is: :meth:`Bench.with_actuator`).  ``params``, if given, replaces the plant
+    of the bench ``x`` names (or of :data:`PARAMS_BENCH` when ``x`` is None).
+    """
+    if params is not None:
+        params = v.instance("params", params, ActuatorParams, "an ActuatorParams")
+        return as_bench(PARAMS_BENCH if x is None else x).with_actuator(params)
     if x is None:
         return bench(DEFAULT_BENCH)
     if isinstance(x, str):
         return bench(v.choice("bench", x, tuple(BENCHES)))
     if isinstance(x, ActuatorParams):
-        return bench(DEFAULT_BENCH).with_actuator(x)
+        return bench(PARAMS_BENCH).with_actuator(x)
     return v.instance("bench", x, Bench, "a bench name, a Bench or an ActuatorParams")
