@@ -73,26 +73,30 @@ def _experiments(experiments) -> list:
             for i, ex in enumerate(experiments)]
 
 
-def paper_gains(params: ActuatorParams) -> PaperGains:
+def paper_gains(params: ActuatorParams, *, rise_time_definition: str | None = None) -> PaperGains:
     """Gains of the paper's P (0.2 s, 0.3) and PD (0.3 s, 0.9) designs for ``params``.
 
-    The PD design's sampled-loop warning (its 0-100 % rise time is ill-conditioned
-    at zeta = 0.9; see :func:`fricctl.design.design_pd`) is expected and silenced here.
+    ``params`` is the design model (its ``viscous`` the b the designs count on);
+    ``rise_time_definition`` how both read their rise time (default 0-100 %; a bench's
+    reading, :mod:`fricctl.paper.benches`).  The PD design's sampled-loop warning (its
+    0-100 % rise time is ill-conditioned at zeta = 0.9; see
+    :func:`fricctl.design.design_pd`) is expected and silenced here.
     """
     import warnings
 
     from ..design import DesignWarning, design_p, design_pd
 
-    p = design_p(params, rise_time=0.2, damping=0.3)
+    p = design_p(params, rise_time=0.2, damping=0.3, rise_time_definition=rise_time_definition)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DesignWarning)
-        pd = design_pd(params, rise_time=0.3, damping=0.9)
+        pd = design_pd(params, rise_time=0.3, damping=0.9, rise_time_definition=rise_time_definition)
     return PaperGains(p_kp=p.kp, pd_kp=pd.kp, pd_kd=pd.kd)
 
 
 def training_experiments(params: ActuatorParams | None = None, *, friction: FrictionModel | None = None,
                          fast: bool = False, preheat: bool = False, noise_std: float = 0.0,
-                         rng: np.random.Generator | None = None) -> list[Experiment]:
+                         rng: np.random.Generator | None = None,
+                         gains: PaperGains | None = None) -> list[Experiment]:
     """Run the training-pattern experiments (paper Table 2 in spirit).
 
     Parameters
@@ -109,6 +113,9 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     noise_std : float
         White torque noise at the joint [N*m] (needs ``rng``).
     rng : numpy.random.Generator, optional
+    gains : PaperGains, optional
+        The closed-loop experiments' gains; default :func:`paper_gains` of ``params``
+        (a bench may design on another b or rise-time reading than its plant's).
 
     Returns
     -------
@@ -141,7 +148,7 @@ def training_experiments(params: ActuatorParams | None = None, *, friction: Fric
     res = simulate(p, ctrl, duration=float(np.sum(durations)), **kw)
     out.append(Experiment(name="open-loop steps", run=res.to_run(source="bench: open-loop torque steps"),
                           truth=res))
-    gains = paper_gains(p)
+    gains = paper_gains(p) if gains is None else v.instance("gains", gains, PaperGains)
     kp_p, kp_pd, kd_pd = gains.p_kp, gains.pd_kp, gains.pd_kd
     refs = [0.4, -0.4, 0.8, 0.0, -0.8, 0.2] if fast else [0.4, -0.4, 0.8, 0.0, -0.8, 0.2, 0.6, -0.2, 0.5, -0.6,
                                                            0.3, 0.0]

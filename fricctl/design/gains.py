@@ -142,9 +142,9 @@ def design_pd(params: ActuatorParams | JointModel, *, rise_time: float, damping:
         Requested rise time, > 0 [s].
     damping : float
         Requested damping ratio, > 0 [-].
-    rise_time_definition : {"0-100", "10-90"}, optional
+    rise_time_definition : {"0-100", "10-90", "peak"}, optional
         Default ``"0-100"`` for damping < 1, ``"10-90"`` otherwise (required
-        for damping >= 1).
+        for damping >= 1); ``"peak"``: the time of the first peak.
 
     Returns
     -------
@@ -212,8 +212,9 @@ def design_p(params: ActuatorParams | JointModel, *, rise_time: float | None = N
     priority : {"rise_time", "damping"}
         With both specs: the one that is met exactly; the other is reported as
         achieved (``Design.achieved``) and warns when it misses by > 10 %.
-    rise_time_definition : {"0-100", "10-90"}, optional
-        Default ``"0-100"`` when the (requested) damping is < 1, else ``"10-90"``.
+    rise_time_definition : {"0-100", "10-90", "peak"}, optional
+        Default ``"0-100"`` when the (requested) damping is < 1, else ``"10-90"``;
+        ``"peak"``: the time of the first peak.
 
     Returns
     -------
@@ -243,7 +244,8 @@ def design_p(params: ActuatorParams | JointModel, *, rise_time: float | None = N
     use_rise = rise_time is not None and (priority == "rise_time" or damping is None)
     definition = resolve_rise_time_definition(rise_time_definition, damping)
     if use_rise:
-        zeta_cap = 1.0 - 1e-12 if definition == "0-100" else 1e3
+        # 0-100 % and the first peak exist only below zeta = 1
+        zeta_cap = 1.0 - 1e-12 if definition in ("0-100", "peak") else 1e3
 
         def f(z):
             return 2.0 * inertia * z * normalized_rise_time(z, definition) / viscous - rise_time

@@ -6,7 +6,7 @@ import math
 from collections.abc import Mapping
 
 from .. import _validate as v
-from ..params import ActuatorParams, paper_actuator
+from ..params import PAPER_LINK_INERTIA, ActuatorParams, paper_actuator
 from .gains import design_p, design_pd
 from .result import Design
 
@@ -21,7 +21,8 @@ PAPER_DESIGN_SPECS = {
 }
 
 
-def paper_designs(params: ActuatorParams | None = None) -> dict[str, Design]:
+def paper_designs(params: ActuatorParams | None = None, *, rise_time_definition: str | None = None,
+                  link_inertia: float = PAPER_LINK_INERTIA) -> dict[str, Design]:
     """The paper's four controllers (Figs. 11-12, 13-14, 16-17, 18).
 
     ========  ====  =========  =======  =========================
@@ -35,13 +36,20 @@ def paper_designs(params: ActuatorParams | None = None) -> dict[str, Design]:
 
     The P design uses ``priority="rise_time"``; with the paper actuator the
     damping is met too, since the inertia was derived from this design.
-    Rise times are 0-100 % (all dampings < 1).
+    Rise times are 0-100 % (all dampings < 1) unless ``rise_time_definition`` says
+    otherwise (a bench's reading of the paper's "rise time",
+    :mod:`fricctl.paper.benches`).
 
     Parameters
     ----------
     params : ActuatorParams, optional
-        The actuator without link (default :func:`fricctl.params.paper_actuator`);
-        the link designs use ``params.with_link()``.
+        The design model of the actuator without link (default
+        :func:`fricctl.params.paper_actuator`); its ``viscous`` is the b the designs
+        count on, which a bench may keep apart from its true b.
+    rise_time_definition : {"0-100", "10-90", "peak"}, optional
+        How every design reads its rise time (default: 0-100 %).
+    link_inertia : float
+        Inertia of the link of the "with link" designs [kg*m^2] (the paper's 0.0046).
 
     Returns
     -------
@@ -50,13 +58,16 @@ def paper_designs(params: ActuatorParams | None = None) -> dict[str, Design]:
     if params is None:
         params = paper_actuator()
     v.instance("params", params, ActuatorParams, "an ActuatorParams")
+    link_inertia = v.real("link_inertia", link_inertia, nonneg=True, unit="kg*m^2")
     out = {}
     for key, (law, tr, zeta, link) in PAPER_DESIGN_SPECS.items():
-        p = params.with_link() if link else params
+        p = params.with_link(link_inertia) if link else params
         if law == "p":
-            out[key] = design_p(p, rise_time=tr, damping=zeta, priority="rise_time")
+            out[key] = design_p(p, rise_time=tr, damping=zeta, priority="rise_time",
+                                rise_time_definition=rise_time_definition)
         else:
-            out[key] = design_pd(p, rise_time=tr, damping=zeta)
+            out[key] = design_pd(p, rise_time=tr, damping=zeta,
+                                 rise_time_definition=rise_time_definition)
     return out
 
 

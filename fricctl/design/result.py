@@ -51,7 +51,7 @@ class Design:
     priority: str | None
     """P with both specs: the one imposed (``"rise_time"``/``"damping"``); else None."""
     rise_time_definition: str
-    """``"0-100"`` or ``"10-90"``."""
+    """``"0-100"``, ``"10-90"`` or ``"peak"`` (the time of the first peak)."""
     wn: float
     """Natural frequency of the continuous closed loop [rad/s]."""
     zeta: float
@@ -74,8 +74,9 @@ class Design:
         v.choice("units", self.units, KINDS)
 
     @property
-    def rise_time_limits(self) -> tuple[float, float]:
-        """``RiseTimeLimits`` for :func:`control.step_info` [-]."""
+    def rise_time_limits(self) -> tuple[float, float] | None:
+        """``RiseTimeLimits`` for :func:`control.step_info` [-]; None for ``"peak"`` (its
+        ``PeakTime`` is the rise time)."""
         return RISE_TIME_DEFINITIONS[self.rise_time_definition]
 
     def error_pd_closed_loop(self) -> control.TransferFunction:

@@ -7,8 +7,8 @@ The designed closed loop is the standard second-order system without a zero,
     \frac{q(s)}{r(s)} = \frac{\omega_n^2}{s^2 + 2\zeta\omega_n s + \omega_n^2},
 
 so its rise time is ``g(zeta) / wn`` with ``g`` the normalised rise time of
-:func:`normalized_rise_time` (closed form for 0-100 %, root finding for
-10-90 %).  Any loop, designed or not, is measured the same way: the damping of
+:func:`normalized_rise_time` (closed form for 0-100 % and for the time of the first
+peak, root finding for 10-90 %).  Any loop, designed or not, is measured the same way: the damping of
 its dominant pole pair (:func:`dominant_damping`) and the rise time, overshoot
 and settling time of :func:`control.step_info` (:func:`metrics_from_response`,
 :func:`step_metrics`), collected in :class:`StepMetrics`.
@@ -40,8 +40,12 @@ __all__ = [
     "step_metrics",
 ]
 
-#: Allowed rise-time definitions and their ``RiseTimeLimits`` for ``step_info``.
-RISE_TIME_DEFINITIONS = {"0-100": (0.0, 1.0), "10-90": (0.1, 0.9)}
+#: Allowed rise-time definitions and their ``RiseTimeLimits`` for ``step_info``; ``"peak"`` (the
+#: time of the first peak, ``step_info``'s ``PeakTime``) has no limits: None.
+RISE_TIME_DEFINITIONS = {"0-100": (0.0, 1.0), "10-90": (0.1, 0.9), "peak": None}
+#: The definitions that need an overshoot (a step that reaches, or peaks above, its final value):
+#: they exist only for damping < 1.
+_UNDERDAMPED_ONLY = ("0-100", "peak")
 #: Unit of each :class:`StepMetrics` field.
 METRIC_UNITS = {"rise_time": "s", "damping": "-", "overshoot_percent": "%", "settling_time": "s"}
 #: Settling band used for the settling time (python-control's default) [-].
@@ -137,8 +141,8 @@ def _settling_tau(zeta: float) -> float:
 def second_order_metrics(wn: float, zeta: float, definition: str) -> StepMetrics:
     """Exact step metrics of ``wn^2/(s^2 + 2 zeta wn s + wn^2)`` from its closed form.
 
-    The rise time is :func:`normalized_rise_time` (NaN for the 0-100 % definition at
-    ``zeta >= 1``, where the step never reaches its final value), the overshoot
+    The rise time is :func:`normalized_rise_time` (NaN for the 0-100 % and peak definitions
+    at ``zeta >= 1``, where the step never reaches its final value and has no peak), the overshoot
     ``100*exp(-pi*zeta/sqrt(1 - zeta^2))``, the 2 % settling time the last exit from the
     band, found by root finding on the closed-form step.  No time grid: the cost does not
     depend on how slow or how lightly damped the loop is (a grid fine enough for
@@ -153,7 +157,7 @@ def second_order_metrics(wn: float, zeta: float, definition: str) -> StepMetrics
     wn = v.real("wn", wn, positive=True, unit="rad/s")
     zeta = v.real("zeta", zeta, positive=True)
     v.choice("definition", definition, RISE_TIME_DEFINITIONS)
-    if definition == "0-100" and zeta >= 1.0:
+    if definition in _UNDERDAMPED_ONLY and zeta >= 1.0:
         rise = math.nan
     else:
         rise = normalized_rise_time(zeta, definition) / wn
@@ -167,7 +171,7 @@ def resolve_rise_time_definition(definition: str | None, zeta: float | None) -> 
 
     Parameters
     ----------
-    definition : {"0-100", "10-90"} or None
+    definition : {"0-100", "10-90", "peak"} or None
         Requested definition; None picks ``"0-100"`` for ``zeta < 1`` (or no
         damping given) and ``"10-90"`` otherwise.
     zeta : float or None
@@ -180,8 +184,8 @@ def resolve_rise_time_definition(definition: str | None, zeta: float | None) -> 
     Raises
     ------
     ValueError
-        An unknown definition, or ``"0-100"`` with ``zeta >= 1`` (such a step
-        never reaches its final value).
+        An unknown definition, or ``"0-100"`` or ``"peak"`` with ``zeta >= 1`` (such a
+        step never reaches its final value, and has no peak).
 
     Examples
     --------
@@ -191,9 +195,10 @@ def resolve_rise_time_definition(definition: str | None, zeta: float | None) -> 
     if definition is None:
         return "0-100" if (zeta is None or zeta < 1.0) else "10-90"
     v.choice("rise_time_definition", definition, RISE_TIME_DEFINITIONS)
-    if definition == "0-100" and zeta is not None and zeta >= 1.0:
-        raise ValueError(f"damping {zeta!r} >= 1 never reaches the final value, so the 0-100 % "
-                         "rise time does not exist; use rise_time_definition='10-90'")
+    if definition in _UNDERDAMPED_ONLY and zeta is not None and zeta >= 1.0:
+        what = "0-100 % rise time" if definition == "0-100" else "time of the first peak"
+        raise ValueError(f"damping {zeta!r} >= 1 never reaches the final value, so the {what} "
+                         "does not exist; use rise_time_definition='10-90'")
     return definition
 
 
@@ -216,21 +221,28 @@ def normalized_rise_time(zeta: float, definition: str) -> float:
     Parameters
     ----------
     zeta : float
-        Damping ratio, > 0 [-] (< 1 for ``"0-100"``).
-    definition : {"0-100", "10-90"}
-        Rise-time definition.
+        Damping ratio, > 0 [-] (< 1 for ``"0-100"`` and ``"peak"``).
+    definition : {"0-100", "10-90", "peak"}
+        Rise-time definition: ``"peak"`` reads "rise time" as the time of the first
+        peak (the rise to the top of the first overshoot), not a textbook definition
+        but the one reading under which the paper's statements agree
+        (``docs/paper_consistency.md``).
 
     Returns
     -------
     float
         ``wn * tr`` [rad].  Closed form for 0-100 % (Ogata):
-        ``(pi - acos(zeta)) / sqrt(1 - zeta^2)``; for 10-90 % the two crossing
-        times of the closed-form step are found with :func:`scipy.optimize.brentq`.
+        ``(pi - acos(zeta)) / sqrt(1 - zeta^2)``; for the first peak
+        ``pi / sqrt(1 - zeta^2)`` (where the step's derivative first vanishes); for
+        10-90 % the two crossing times of the closed-form step are found with
+        :func:`scipy.optimize.brentq`.
 
     Examples
     --------
     >>> round(normalized_rise_time(0.5, "0-100"), 4)
     2.4184
+    >>> round(normalized_rise_time(0.3, "peak"), 4)
+    3.2933
     >>> round(normalized_rise_time(1.0, "10-90"), 4)
     3.3579
     """
@@ -238,6 +250,8 @@ def normalized_rise_time(zeta: float, definition: str) -> float:
     definition = resolve_rise_time_definition(definition, zeta)
     if definition == "0-100":
         return (math.pi - math.acos(zeta)) / math.sqrt(1.0 - zeta * zeta)
+    if definition == "peak":
+        return math.pi / math.sqrt(1.0 - zeta * zeta)
     lo, hi = RISE_TIME_DEFINITIONS[definition]
     if zeta < 1.0:
         # the step rises monotonically up to its first peak at tau = pi/wd
@@ -305,20 +319,31 @@ def metrics_from_response(t, y, *, final: float, definition: str, damping: float
         Output [rad] (NaN or inf anywhere gives :meth:`StepMetrics.undefined`).
     final : float
         Final value the metrics refer to [rad].
-    definition : {"0-100", "10-90"}
-        Rise-time definition.
+    definition : {"0-100", "10-90", "peak"}
+        Rise-time definition (``"peak"``: ``step_info``'s ``PeakTime``, the time of the
+        largest sample, which for a decaying oscillation is the first peak).
     damping : float
         Damping ratio to record (the loop's poles know it, the samples do not) [-].
 
     Returns
     -------
     StepMetrics
-        The rise time is NaN when ``y`` never reaches the upper rise-time limit.
+        The rise time is NaN when ``y`` never reaches the upper rise-time limit (for
+        ``"peak"``: when it never rises above its final value, no peak).
     """
     limits = RISE_TIME_DEFINITIONS[v.choice("definition", definition, RISE_TIME_DEFINITIONS)]
     y = np.asarray(y, float)
     if not np.all(np.isfinite(y)):
         return StepMetrics.undefined(damping)
+    if limits is None:
+        # the time of the first peak: the step must overshoot (a monotone step's largest
+        # sample is its last, no peak); the other metrics with step_info's default limits
+        info = control.step_info(y, timepts=t, final_output=final,
+                                 SettlingTimeThreshold=SETTLING_THRESHOLD)
+        peaked = y.max() > final and int(np.argmax(y)) < y.size - 1
+        return StepMetrics(rise_time=float(info["PeakTime"]) if peaked else math.nan,
+                           damping=float(damping), overshoot_percent=float(info["Overshoot"]),
+                           settling_time=float(info["SettlingTime"]))
     reached = y.max() >= limits[1] * final
     # a step that never reaches the upper rise-time limit has no rise time, and step_info
     # would index past the end of the record looking for it: ask it for the other metrics
@@ -340,8 +365,8 @@ def step_metrics(sys, rise_time_definition: str = "0-100", *, t_end: float | Non
     ----------
     sys : control.TransferFunction or control.StateSpace
         Continuous SISO closed loop with a finite DC gain.
-    rise_time_definition : {"0-100", "10-90"}
-        Rise-time limits passed to :func:`control.step_info`.
+    rise_time_definition : {"0-100", "10-90", "peak"}
+        Rise-time limits passed to :func:`control.step_info` (``"peak"``: its ``PeakTime``).
     t_end : float, optional
         End of the time grid [s]; default 12 time constants of the slowest pole.
     points : int

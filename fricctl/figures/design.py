@@ -114,7 +114,10 @@ def plot_step(design: Design, *, ax=None, t_end: float | None = None, sampled: b
     if v.flag("sampled", sampled):
         ax.plot(t, linear_response(design, t, r, sampled=True), color="C1", ls="--",
                 label=f"sampled, Ts = {ts:g} s")
-    _, hi = RISE_TIME_DEFINITIONS[design.rise_time_definition]
+    limits = RISE_TIME_DEFINITIONS[design.rise_time_definition]
+    # the requested rise time is marked at the level the definition reads: its upper limit, or
+    # for the time of the first peak the peak itself
+    hi = 1.0 + a.overshoot_percent / 100.0 if limits is None else limits[1]
     ax.axvline(a.rise_time, color="C2", lw=1, ls=":",
                label=f"rise time {a.rise_time:.3f} s ({design.rise_time_definition})")
     if design.requested_rise_time is not None:

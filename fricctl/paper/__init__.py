@@ -24,6 +24,12 @@ the PD steady-state error below 0.3 deg over friction scale and link inertia.
 :func:`reproduce_paper` runs everything over training seeds and pipelines, and
 aggregates the claims (:mod:`~fricctl.paper.table`; ``fricctl reproduce``).
 
+Everything runs on a *bench* (:mod:`~fricctl.paper.benches`: a model file of the plant plus
+the experiments' settings, each value with its provenance): ``literal`` (the default, today's)
+or ``consistent`` (the readings under which every statement of the paper holds,
+``docs/paper_consistency.md``); the network carries it (``network.bench``) and the figures
+read their designs, Fig. 18's sawtooth and Fig. 11's reading from it.
+
 Assumptions (the paper does not give these; labelled as such in the results):
 
 * Fig. 9: sinusoidal torque of 1.1 x the breakaway level Fs, 0.5 Hz, 4 s;
@@ -32,12 +38,15 @@ Assumptions (the paper does not give these; labelled as such in the results):
   without retraining); the Coulomb compensator is the nominal Coulomb level
   with the same s = 0.95;
 * Fig. 17 runs on the same aged actuator and compensation as Fig. 16;
-* Fig. 18: sawtooth period 1 s (two periods).
+* Fig. 18: the sawtooth's span and period are the bench's (fig18_amplitude, fig18_period;
+  literal: 0 to 0.1 rad over 1 s), two periods.
 
 Each figure's registry entry carries the same list (``PaperFigure.assumptions``).
 
 Modules
 -------
+* :mod:`~fricctl.paper.benches` -- :class:`~fricctl.paper.benches.Bench`, ``bench(name)``,
+  ``BENCHES`` (the shipped JSON files);
 * :mod:`~fricctl.paper.network` -- :class:`PaperNetwork`, :func:`train_paper_network`;
 * :mod:`~fricctl.paper.common` -- the constants, the cached designs, the step and
   link runs and the measurements several figures share;
@@ -60,8 +69,8 @@ are imported when the package is) or ``paper.FIGURES[9](network)``.
 
 Notes
 -----
-The bench is the simulator of :mod:`fricctl.simulate` with the paper actuator of
-:mod:`fricctl.params`; it has no measurement noise, no torque ripple and no
+The bench is the simulator of :mod:`fricctl.simulate` with the plant of a bench (the literal
+one is the paper actuator of :mod:`fricctl.params`); it has no measurement noise, no torque ripple and no
 thermal drift unless asked for.  Claims about the real hardware (e.g. "after
 30 h of operation") are modelled, not measured.
 """
@@ -70,7 +79,7 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-from . import coast
+from . import benches, coast
 from .claims import EXTRA, Claim, claims_summary, gate, is_extra, paper_claims
 from .common import (ACCURACY_DEG, AGED_SCALE, STICK_MIN_DURATION, restarts, sign_changes,
                      stick_intervals_after_motion)
@@ -85,7 +94,7 @@ __all__ = [
     "PaperNetwork", "train_paper_network",
     "FIGURES", "PaperFigure", "paper_figures", "SweepResult", "robustness_sweep",
     "Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA",
-    "RunawayCheck", "wind_up", "reversal", "coast_decay", "coast",
+    "RunawayCheck", "wind_up", "reversal", "coast_decay", "coast", "benches",
     "ClaimStats", "aggregate_claims", "representative_seed", "claims_markdown", "claims_json", "HOLD_RATE",
     "PaperResults", "SeedRun", "seed_run", "reproduce_paper",
     "stick_intervals_after_motion", "restarts", "sign_changes",

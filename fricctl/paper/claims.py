@@ -17,7 +17,6 @@ import math
 from dataclasses import dataclass, fields, replace
 
 from .. import _validate as v
-from ..params import ActuatorParams, paper_actuator
 from .registry import paper_figures
 from .runaway import RunawayCheck
 
@@ -154,16 +153,21 @@ def claims_summary(claims) -> str:
     return s
 
 
-def paper_claims(figures: dict, params: ActuatorParams | None = None) -> list[Claim]:
+def paper_claims(figures: dict, bench=None) -> list[Claim]:
     """Claims from figure results (``{4: Fig4Result, ...}``); missing figures are skipped.
 
     The claim makers of each figure come from its registry entry
-    (:func:`~fricctl.paper.paper_figures`), in figure order.
+    (:func:`~fricctl.paper.paper_figures`), in figure order.  ``bench`` is the bench the
+    figures ran on (:func:`fricctl.paper.benches.as_bench`: a name, a Bench, an
+    ActuatorParams -- the settings of ``PARAMS_BENCH`` on that plant --, or None: the default
+    bench).
     """
-    p = paper_actuator() if params is None else params
+    from .benches import as_bench
+
+    b = as_bench(bench)
     registry = paper_figures()
     out = []
     for num in sorted(figures):
         if num in registry:
-            out += registry[num].make_claims(figures[num], p)
+            out += registry[num].make_claims(figures[num], b)
     return out

@@ -18,7 +18,7 @@ from .. import _validate as v
 from .. import controllers as ctl
 from ..compensators import CoulombCompensator, NoCompensation
 from ..design import Design, DesignWarning, linear_response, paper_designs
-from ..params import ActuatorParams
+from ..params import PAPER_LINK_INERTIA, ActuatorParams
 from ..simulate import SimResult, simulate
 from .coast import CoastResult
 from .network import PaperNetwork
@@ -39,9 +39,14 @@ AGED_SCALE = 0.95
 SS_WINDOW = 0.5
 
 
-@functools.lru_cache(maxsize=8)
-def designs(params: ActuatorParams) -> Mapping[str, Design]:
-    """The paper's four controllers (:func:`fricctl.design.paper_designs`), cached and read-only.
+def designs(bench) -> Mapping[str, Design]:
+    """The paper's four controllers on a bench (:func:`fricctl.design.paper_designs`), cached and
+    read-only.
+
+    ``bench`` is a :class:`~fricctl.paper.benches.Bench` (the designs count on its design model,
+    :attr:`~fricctl.paper.benches.Bench.design_actuator`, read "rise time" as its
+    ``rise_time_reading`` and attach its link) or an :class:`~fricctl.params.ActuatorParams`
+    (designed on as it is: 0-100 % rise time, the paper's link).
 
     Cached because each design verifies itself on fine grids (~0.2 s) and Designs
     are immutable; the mapping is read-only so that no caller can change what the
@@ -49,9 +54,20 @@ def designs(params: ActuatorParams) -> Mapping[str, Design]:
     time is ill-conditioned near zeta = 1 (expected; Chapter 6 explains it): the
     warning is silenced here.
     """
+    from .benches import Bench
+
+    if isinstance(bench, Bench):
+        return _designs(bench.design_actuator, bench.rise_time_reading, bench.link_inertia)
+    v.instance("bench", bench, (Bench, ActuatorParams), "a Bench or an ActuatorParams")
+    return _designs(bench, "0-100", PAPER_LINK_INERTIA)
+
+
+@functools.lru_cache(maxsize=8)
+def _designs(params: ActuatorParams, reading: str, link_inertia: float) -> Mapping[str, Design]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DesignWarning)
-        return MappingProxyType(paper_designs(params))
+        return MappingProxyType(paper_designs(params, rise_time_definition=reading,
+                                              link_inertia=link_inertia))
 
 
 # --------------------------------------------------------------------------
@@ -184,8 +200,8 @@ class LinkRuns:
 def link_runs(network: PaperNetwork, design_key: str, reference, duration: float,
               friction_scale: float, scale: float) -> LinkRuns:
     """The actuator with link and friction x ``friction_scale``, compensated x ``scale`` (Figs. 16-17)."""
-    p = network.params.with_link()
-    d = designs(network.params)[design_key]
+    p = network.bench.linked_actuator
+    d = designs(network.bench)[design_key]
     comps = {"none": NoCompensation(),
              f"NN x {scale:g}": network.compensator(scale),
              "Coulomb": CoulombCompensator.symmetric(network.params.coulomb, scale=scale)}

@@ -51,7 +51,8 @@ def _exact_net(net: PaperNetwork, train: BenchPatterns, *, split_fraction: float
     exact patterns, through the disk cache of trained nets: it depends on the experiments, the
     split and the seed, not on the pipeline judged, so both pipelines of a seed share it."""
     p = net.params
-    key = {"what": "Fig. 8 exact-pattern network", "params": p.as_dict(), "fast": net.fast,
+    key = {"what": "Fig. 8 exact-pattern network", "params": p.as_dict(), "design": net.bench.design_key(),
+           "fast": net.fast,
            "seed": net.seed, "split_fraction": float(split_fraction), "patterns": len(train)}
     return cached_pipeline_net(key, lambda: PIPELINES["paper"].train(
         train, rng=np.random.default_rng(net.seed))).net

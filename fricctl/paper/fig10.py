@@ -87,11 +87,15 @@ def run(network: PaperNetwork, *, fraction: float = 0.10, frequency: float = 1.0
                        reversal=reversal(r1, 1.0 / frequency), coast=coast_test.run(net))
 
 
-def claim_dead_zone(r: Fig10Result, params) -> Claim:
+def claim_dead_zone(r: Fig10Result, bench=None) -> Claim:
+    from .benches import as_bench
+
+    b = as_bench(bench)
+    params = b.actuator
     f0 = r.dead_zone_without.fraction
     ok = abs(100 * f0 - 12.7) <= 1.0 and r.factor >= 4.0
     floor = r.dead_zone_with.at_grid_floor
-    kp = designs(params)["fig13-14"].kp
+    kp = designs(b)["fig13-14"].kp
     band = r.dead_zone_with.dead_zone / kp
     return gate(Claim(
         id="dead-zone", claim="The torque dead zone of 12.7 % of the maximum torque is reduced by NN "

@@ -122,10 +122,9 @@ def _growth(r: SimResult) -> float:
 
 
 @functools.lru_cache(maxsize=4)
-def _ideal_runs(params: ActuatorParams, step_deg: float, duration: float):
+def _ideal_runs(params: ActuatorParams, d: Design, step_deg: float, duration: float):
     """The two ideal-estimate runs: they depend on the bench, not on the network (cached;
     their arrays are made read-only because every result of this figure shares them)."""
-    d = designs(params)["fig11-12"]
     fm = params.friction_model()
     runs = tuple(step_run(params, d, np.deg2rad(step_deg), NNCompensator(est), duration).run
                  for est in (IdealEstimate(friction=fm), IdealEstimate(friction=fm, viscous=params.viscous)))
@@ -137,13 +136,13 @@ def run(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.0)
     """P step with NN compensation, against the linear viscous simulation (Fig. 12)."""
     net = check_network(network)
     p = net.params
-    d = designs(p)["fig11-12"]
+    d = designs(net.bench)["fig11-12"]
     paper_run = step_run(p, d, np.deg2rad(step_deg), net.compensator(), duration)
     r, lin = paper_run.run, paper_run.linear
     v = step_run(p, d, np.deg2rad(step_deg), NNCompensator(ViscousExcluded(estimate=net.estimate,
                                                                            viscous=p.viscous)),
                  duration).run
-    ideal, ideal_nv = _ideal_runs(p, float(step_deg), float(duration))
+    ideal, ideal_nv = _ideal_runs(p, d, float(step_deg), float(duration))
     return Fig12Result(run=r, linear=lin, design=d, max_deviation=float(np.abs(r.q - lin).max()),
                        growth=_growth(r), variant=v, variant_max_deviation=float(np.abs(v.q - lin).max()),
                        ideal=ideal, ideal_no_viscous=ideal_nv, ideal_growth=_growth(ideal),

@@ -43,7 +43,7 @@ class Fig13Result:
 def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0) -> Fig13Result:
     """PD step without compensation; residual motor torque against the NN estimate (Fig. 13)."""
     net = check_network(network)
-    d = designs(net.params)["fig13-14"]
+    d = designs(net.bench)["fig13-14"]
     s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration)
     tm = float(s.run.torque_motor[-1])
     return Fig13Result(run=s.run, linear=s.linear, design=d,

@@ -65,7 +65,7 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0)
     """PD step with NN compensation (Fig. 14), and eight more steps (extra)."""
     net = check_network(network)
     p = net.params
-    d = designs(p)["fig13-14"]
+    d = designs(net.bench)["fig13-14"]
     comp = net.compensator()
     s = step_run(p, d, np.deg2rad(step_deg), comp, duration)
     band = predicted_dead_zone(net.net, p.static).largest / d.kp

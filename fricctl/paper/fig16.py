@@ -82,14 +82,14 @@ def claim_fig16_nn(r: Fig16Result, params=None) -> Claim:
         "(see 'why' below)."), (r.wind_up, r.coast.decay))
 
 
-def describing_function_note(r: Fig16Result, params=None) -> str:
+def describing_function_note(r: Fig16Result, bench=None) -> str:
     """What a describing function (:func:`fricctl.design.coulomb_limit_cycle`) predicts on the
     figure's sampled PD loop: at the run's Coulomb level, and at the breakaway level the paper
     compensated with (both times s), against the aged bench's friction."""
     from ..design import LinearLoop, coulomb_limit_cycle
-    from ..params import paper_actuator
+    from .benches import as_bench
 
-    p = paper_actuator() if params is None else params
+    p = as_bench(bench).actuator
     s = r.scale
     loop = LinearLoop.of(r.design)
     fc, fs = r.friction_scale * p.coulomb, r.friction_scale * p.static
@@ -111,7 +111,7 @@ def describing_function_note(r: Fig16Result, params=None) -> str:
     return " A describing function on this loop (fricctl.design.coulomb_limit_cycle): " + "; ".join(parts) + "."
 
 
-def claim_fig16_coulomb(r: Fig16Result, params=None) -> Claim:
+def claim_fig16_coulomb(r: Fig16Result, bench=None) -> Claim:
     k = "Coulomb"
     ok = _oscillates(r, k)
     ec, en = abs(r.steady_state_error[k]), abs(r.steady_state_error[r.nn_key])
@@ -128,7 +128,7 @@ def claim_fig16_coulomb(r: Fig16Result, params=None) -> Claim:
         "sticks the compensation vanishes and nothing drives a limit cycle: the joint overshoots (the "
         "braking Coulomb term is cancelled while moving) and stays stuck. Chatter needs a velocity "
         "estimate that is noisy at rest (noise, a finer encoder, a different estimator)."
-        + describing_function_note(r, params) + closer)
+        + describing_function_note(r, bench) + closer)
 
 
 def claim_fig16_none(r: Fig16Result, params=None) -> Claim:

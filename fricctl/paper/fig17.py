@@ -7,7 +7,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import controllers as ctl
-from ..params import ActuatorParams
 from . import coast as coast_test
 from .claims import Claim, gate
 from .common import ACCURACY_DEG, AGED_SCALE, SS_WINDOW, LinkFigure, deg, link_runs
@@ -49,8 +48,10 @@ def run(network: PaperNetwork, *, step: float = 0.08, duration: float = 3.0,
                        wind_up=wind_up(lr.runs[f"NN x {scale:g}"]), coast=coast_test.run(net))
 
 
-def claim_fig17_none(r: Fig17Result, params: ActuatorParams) -> Claim:
-    resolution = params.encoder_resolution
+def claim_fig17_none(r: Fig17Result, bench=None) -> Claim:
+    from .benches import as_bench
+
+    resolution = as_bench(bench).actuator.encoder_resolution
     m = r.max_motion["none"]
     ok = m <= resolution
     return Claim(

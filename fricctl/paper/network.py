@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -23,7 +24,7 @@ from ..nn import FitReport, FrictionNet, fit_report
 from ..nn.cache import cached_pipeline_net
 from ..nn.pipelines import PipelineNet
 from ..nn.pipelines import pipeline as _pipeline
-from ..params import ActuatorParams, paper_actuator
+from ..params import ActuatorParams
 
 __all__ = ["PaperNetwork", "train_paper_network", "check_network"]
 
@@ -34,7 +35,9 @@ class PaperNetwork:
 
     Attributes
     ----------
-    params : the actuator (no link) [-]
+    params : the actuator (no link): the bench's true plant, ``bench.actuator``
+    bench : the bench (:class:`fricctl.paper.benches.Bench`) the figures run on: its designs,
+        its readings, its experiments' settings
     experiments : the training experiments (records and truth)
     patterns : all friction patterns ``Tat = Tm - I*alpha_hat``
     train, held_out : random split of the patterns (``train_fraction`` / rest)
@@ -48,6 +51,7 @@ class PaperNetwork:
     """
 
     params: ActuatorParams
+    bench: Any
     experiments: tuple
     patterns: BenchPatterns
     train: BenchPatterns
@@ -86,15 +90,20 @@ def check_network(network) -> PaperNetwork:
     return v.instance("network", network, PaperNetwork, "a PaperNetwork (train_paper_network)")
 
 
-def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = False, seed: int = 0,
-                        pipeline: str = "paper", train_fraction: float = 0.8,
+def train_paper_network(params: ActuatorParams | None = None, *, bench=None, fast: bool = False,
+                        seed: int = 0, pipeline: str = "paper", train_fraction: float = 0.8,
                         estimator: str | None = None, **estimator_options) -> PaperNetwork:
     """Run a training pipeline once on the virtual bench (shared by every figure).
 
     Parameters
     ----------
     params : ActuatorParams, optional
-        The actuator without link; default :func:`~fricctl.params.paper_actuator`.
+        The actuator without link, designed on as it is (its own b); default the bench's plant.
+    bench : str or Bench, optional
+        The bench (:mod:`fricctl.paper.benches`): its plant, unless ``params`` replaces it, and
+        the settings of its experiments (the training loops' gains are its designs').  Default
+        :data:`~fricctl.paper.benches.DEFAULT_BENCH`, or with ``params`` alone
+        :data:`~fricctl.paper.benches.PARAMS_BENCH` (:func:`~fricctl.paper.benches.as_bench`).
     fast : bool
         Short experiments (8 torque levels, 6 closed-loop steps) for tests.
     seed : int
@@ -121,8 +130,10 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
     far more slowly (Chapter 4 compares them).  The fricctl pipeline trains with the
     certified trainer (at most 2000 patterns).
     """
-    p = paper_actuator() if params is None else v.instance("params", params, ActuatorParams,
-                                                            "an ActuatorParams")
+    from .benches import as_bench
+
+    b = as_bench(bench, params)
+    p = b.actuator
     seed = v.integer("seed", seed, low=0)
     recipe = _pipeline(pipeline)
     if estimator is None:
@@ -130,12 +141,12 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
         estimator_options = estimator_options or dict(recipe.estimator_options)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DesignWarning)
-        exps = training_experiments(p, fast=fast)
+        exps = training_experiments(p, fast=fast, gains=b.training_gains())
     pats = friction_patterns(exps, p, method=estimator, **estimator_options)
     split = pats.split(train_fraction, np.random.default_rng(seed))
     train, held = split.train, split.held_out
     meta = {"seed": seed, "fast": bool(fast), "estimator": estimator, "patterns": len(train)}
-    key = {"what": "paper network", "pipeline": pipeline, "params": p.as_dict(),
+    key = {"what": "paper network", "pipeline": pipeline, "params": p.as_dict(), "design": b.design_key(),
            "estimator": estimator, "estimator_options": estimator_options,
            "train_fraction": float(train_fraction), **meta}
     trained = cached_pipeline_net(key, lambda: recipe.train(
@@ -145,6 +156,6 @@ def train_paper_network(params: ActuatorParams | None = None, *, fast: bool = Fa
         return fit_report(target, trained.estimate(pats_.tm, pats_.omega))
 
     return PaperNetwork(
-        params=p, experiments=tuple(exps), patterns=pats, train=train, held_out=held,
+        params=p, bench=b, experiments=tuple(exps), patterns=pats, train=train, held_out=held,
         trained=trained, fit_held_out=fit(held.friction, held), fit_train=fit(train.friction, train),
         fit_true=fit(held.friction_true, held), seed=seed, fast=bool(fast), pipeline=pipeline)

@@ -8,8 +8,9 @@ entries by figure number, so that adding a figure is one new module (plus its pl
 registered in :mod:`fricctl.figures.paper` with ``@paper_plot(N)``) and no other
 edit.
 
-A claim maker is ``make(result, params) -> Claim``: the figure's result and the
-nominal actuator the claims are judged against (most makers need only the result).
+A claim maker is ``make(result, bench) -> Claim``: the figure's result and the bench the
+claims are judged on (:class:`fricctl.paper.benches.Bench`: its nominal actuator, its
+readings; most makers need only the result).
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ class PaperFigure:
     title : one line: what the figure shows
     run : ``run(network, **options) -> result``: the experiment
     result_type : the class of ``run``'s result (the plot registry checks against it)
-    claims : claim makers ``make(result, params) -> Claim``, in table order
+    claims : claim makers ``make(result, bench) -> Claim``, in table order
     assumptions : what the experiment assumes that the paper does not say
     """
 
@@ -64,10 +65,17 @@ class PaperFigure:
         for a in self.assumptions:
             v.text("assumptions", a, empty=False)
 
-    def make_claims(self, result, params) -> list:
-        """The claims of this figure checked on ``result`` (a list of :class:`~fricctl.paper.Claim`)."""
+    def make_claims(self, result, bench=None) -> list:
+        """The claims of this figure checked on ``result`` (a list of :class:`~fricctl.paper.Claim`).
+
+        ``bench``: the bench the result was run on, as :func:`fricctl.paper.benches.as_bench`
+        takes it (a name, a Bench, an ActuatorParams, or None for the default bench).
+        """
+        from .benches import as_bench
+
         v.instance("result", result, self.result_type)
-        return [make(result, params) for make in self.claims]
+        b = as_bench(bench)
+        return [make(result, b) for make in self.claims]
 
 
 @functools.cache

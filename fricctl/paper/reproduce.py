@@ -8,6 +8,7 @@ then aggregates the verdicts per claim and pipeline (:mod:`fricctl.paper.table`)
 The figures shown come from one *representative* seed per pipeline
 (:func:`~fricctl.paper.table.representative_seed`), re-run in the calling process:
 training is deterministic, so the network is the one the job judged (checked).
+Everything runs on one bench (:mod:`fricctl.paper.benches`), named in the results.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ import numpy as np
 from .. import _validate as v
 from ..nn import FrictionNet
 from ..nn.pipelines import PIPELINES
-from ..params import ActuatorParams, paper_actuator
+from ..params import ActuatorParams
+from .benches import Bench, as_bench
 from .claims import paper_claims
 from .common import AGED_SCALE, designs
 from .network import PaperNetwork, train_paper_network
@@ -79,9 +81,9 @@ def _figures(network: PaperNetwork) -> dict:
     return {num: fig.run(network) for num, fig in paper_figures().items()}
 
 
-def representative_figures(params: ActuatorParams, fast: bool, pipeline: str, seed: int,
+def representative_figures(bench: Bench, fast: bool, pipeline: str, seed: int,
                            net_json: str | None = None):
-    """Train (or read from the cache) one network again and run every figure on it.
+    """Train (or read from the cache) one network again on ``bench`` and run every figure on it.
 
     Returns ``(network, figures)``.  With ``net_json`` (the network its job judged) the
     network trained here must be that one (training is deterministic).
@@ -91,21 +93,22 @@ def representative_figures(params: ActuatorParams, fast: bool, pipeline: str, se
     RuntimeError
         The network differs from ``net_json``.
     """
-    net = train_paper_network(params, fast=fast, seed=seed, pipeline=pipeline)
+    net = train_paper_network(bench=bench, fast=fast, seed=seed, pipeline=pipeline)
     if net_json is not None and net.net.to_json() != net_json:
         raise RuntimeError(f"{pipeline} seed {seed}: the network trained again differs from the one "
                            "its job judged (training is not deterministic)")
     return net, MappingProxyType(_figures(net))
 
 
-def seed_run(params: ActuatorParams, fast: bool, pipeline: str, seed: int) -> SeedRun:
-    """Train one network and check every claim on it (one job of :func:`reproduce_paper`).
+def seed_run(bench: Bench, fast: bool, pipeline: str, seed: int) -> SeedRun:
+    """Train one network on ``bench`` and check every claim on it (one job of :func:`reproduce_paper`).
 
-    Module-level and fed plain data, so that a process pool can run it.
+    Module-level and fed plain data (a bench pickles as its file's content), so that a
+    process pool can run it.
     """
     t0 = time.perf_counter()
-    network = train_paper_network(params, fast=fast, seed=seed, pipeline=pipeline)
-    claims = tuple(paper_claims(_figures(network), params))
+    network = train_paper_network(bench=bench, fast=fast, seed=seed, pipeline=pipeline)
+    claims = tuple(paper_claims(_figures(network), network.bench))
     cert = network.trained.certificate
     return SeedRun(pipeline=pipeline, seed=seed, claims=claims, net_json=network.net.to_json(),
                    gain_at_rest=network.net.gain_at_rest(),
@@ -121,7 +124,8 @@ class PaperResults:
 
     Attributes
     ----------
-    params : the actuator
+    params : the actuator (the bench's true plant)
+    bench : the bench everything ran on
     fast : whether the short experiments were used
     seeds : the training seeds, 0 .. N-1 [-]
     pipelines : the pipelines, in table order
@@ -135,6 +139,7 @@ class PaperResults:
     """
 
     params: ActuatorParams
+    bench: Bench
     fast: bool
     seeds: tuple
     pipelines: tuple
@@ -158,8 +163,8 @@ class PaperResults:
         """Why some claims cannot hold on this bench, with the numbers of this run."""
         p = self.params
         fs = p.static
-        kp14 = designs(p)["fig13-14"].kp
-        kp16 = designs(p)["fig16-17"].kp
+        kp14 = designs(self.bench)["fig13-14"].kp
+        kp16 = designs(self.bench)["fig16-17"].kp
         g_needed = 1 - np.deg2rad(0.3) * kp14 / fs
         out = []
         for name in self.pipelines:
@@ -190,16 +195,29 @@ class PaperResults:
                     f"design's Kp = {kp16:.3f} N*m/rad in the worst case: the 0.3 deg of fig16-nn and "
                     "fig17-nn is not guaranteed for every approach; it holds where the joint happens to "
                     "stop closer to the reference.")
-        out.append("**The paper's own statements that conflict on this bench** (fig11-stuck and fig17-none "
-                   "pass trivially, fig18-without cannot pass: the commanded torques stay below "
-                   "breakaway) are tabulated, with the unknowns searched, in "
-                   "[docs/paper_consistency.md](docs/paper_consistency.md).")
+        out.append(self._statements())
         return out
+
+    def _statements(self) -> str:
+        """What the bench's own uncompensated torques allow, with its numbers: whether Figs. 11,
+        17 and 18 can move at all (``Kp*r`` against the breakaway level)."""
+        g, fs = designs(self.bench), self.params.static
+        b = self.bench
+        rows = ((f"Fig. 11 (Kp*25 deg, {b.rise_time_reading} rise time)", g["fig11-12"].kp * np.deg2rad(25.0)),
+                ("Fig. 17 (Kp*0.08 rad)", g["fig16-17"].kp * 0.08),
+                (f"Fig. 18 (Kp*{b.fig18_amplitude:g} rad)", g["fig18"].kp * b.fig18_amplitude))
+        cells = "; ".join(f"{what} = {x:.3f} N*m {'>' if x > fs else '<='} Fs" for what, x in rows)
+        return (f"**The paper's own statements on the {b.name} bench**: without compensation the "
+                f"commanded torques are {cells} = {fs:.3f} N*m (a joint whose torque stays below Fs "
+                "never moves). Which readings of the paper let all its statements hold is tabulated, "
+                "with the unknowns searched, in [docs/paper_consistency.md](docs/paper_consistency.md).")
 
     def markdown(self) -> str:
         """``claims.md``."""
         n = len(self.seeds)
-        pre = (f"Virtual bench, {'fast' if self.fast else 'full'} run: {n} training "
+        pre = (f"Bench **{self.bench.name}** (`fricctl reproduce --bench {self.bench.name}`): "
+               f"{self.bench.description}\n\n"
+               f"Virtual bench, {'fast' if self.fast else 'full'} run: {n} training "
                f"seed{'s' if n != 1 else ''} (0-{n - 1}) per pipeline. Assumptions of the experiments "
                "are listed in `fricctl.paper`'s module docstring. Every network is in "
                "`nets/<pipeline>-seed<K>.json` (re-run one with "
@@ -219,11 +237,13 @@ class PaperResults:
         for p in self.pipelines:
             sweeps += (f"\n\n{p} pipeline, seed {self.representative[p]}:\n\n```\n{self.sweeps[p].report()}"
                        "\n```")
-        return claims_markdown(self.stats, preamble=pre, why=self.why(), appendix=sweeps)
+        return claims_markdown(self.stats, preamble=pre, why=self.why(), appendix=sweeps,
+                               title="Claims of Gervini, Gomes & da Rosa (2003) on the virtual bench "
+                               f"({self.bench.name})")
 
     def json(self) -> str:
-        """``claims.json`` (strict JSON, one object per claim and pipeline)."""
-        return claims_json(self.stats)
+        """``claims.json`` (strict JSON, one object per claim and pipeline, each naming the bench)."""
+        return claims_json(self.stats, bench=self.bench.name)
 
 
 def _check_pipelines(pipelines) -> tuple:
@@ -242,8 +262,8 @@ def _check_pipelines(pipelines) -> tuple:
     return names
 
 
-def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False, seeds: int = 10,
-                    pipelines=("paper", "fricctl"), executor: Executor | None = None,
+def reproduce_paper(params: ActuatorParams | None = None, *, bench=None, fast: bool = False,
+                    seeds: int = 10, pipelines=("paper", "fricctl"), executor: Executor | None = None,
                     progress: Callable[[int, int, str], None] | None = None,
                     figures: bool = True) -> PaperResults:
     """Train ``seeds`` networks per pipeline, run every figure on each, aggregate the claims.
@@ -251,6 +271,11 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
     Parameters
     ----------
     params : ActuatorParams, optional
+        Replaces the bench's plant, designed on as it is (its own b).
+    bench : str or Bench, optional
+        The bench (:data:`fricctl.paper.benches.BENCHES`; default
+        :data:`~fricctl.paper.benches.DEFAULT_BENCH`, or with ``params`` alone
+        :data:`~fricctl.paper.benches.PARAMS_BENCH`: :func:`~fricctl.paper.benches.as_bench`).
     fast : bool
         Short training experiments and a small sweep grid.
     seeds : int
@@ -279,8 +304,8 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
         The representative network re-trained here differs from the one its job judged
         (training would not be deterministic).
     """
-    p = paper_actuator() if params is None else v.instance("params", params, ActuatorParams,
-                                                            "an ActuatorParams")
+    b = as_bench(bench, params)
+    p = b.actuator
     fast = v.flag("fast", fast)
     n = v.integer("seeds", seeds, low=1, high=MAX_SEEDS)
     names = _check_pipelines(pipelines)
@@ -300,10 +325,10 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
     runs = {}
     if executor is None:
         for i, (name, s) in enumerate(jobs, start=1):
-            runs[(name, s)] = seed_run(p, fast, name, s)
+            runs[(name, s)] = seed_run(b, fast, name, s)
             tick(i, f"{name} seed {s}")
     else:
-        futures = {executor.submit(seed_run, p, fast, name, s): (name, s) for name, s in jobs}
+        futures = {executor.submit(seed_run, b, fast, name, s): (name, s) for name, s in jobs}
         for i, f in enumerate(as_completed(futures), start=1):
             runs[futures[f]] = f.result()
             tick(i, "{} seed {}".format(*futures[f]))
@@ -313,13 +338,13 @@ def reproduce_paper(params: ActuatorParams | None = None, *, fast: bool = False,
     grid = dict(friction_scales=(0.8, 1.0, 1.2), link_inertias=(0.0, 0.0046)) if fast else {}
     for i, name in enumerate(names, start=len(jobs) + 1):
         run = runs[(name, rep[name])]
-        sweeps[name] = robustness_sweep(run.net, p, **grid)
+        sweeps[name] = robustness_sweep(run.net, p, design=designs(b)["fig16-17"], **grid)
         if keep_figures:
-            networks[name], figs[name] = representative_figures(p, fast, name, rep[name], run.net_json)
+            networks[name], figs[name] = representative_figures(b, fast, name, rep[name], run.net_json)
             tick(i, f"{name} seed {rep[name]} figures")
     tick(total, "done")
     return PaperResults(
-        params=p, fast=fast, seeds=tuple(range(n)), pipelines=names, runs=MappingProxyType(runs),
+        params=p, bench=b, fast=fast, seeds=tuple(range(n)), pipelines=names, runs=MappingProxyType(runs),
         representative=MappingProxyType(rep), networks=MappingProxyType(networks),
         figures=MappingProxyType(figs), sweeps=MappingProxyType(sweeps),
         stats=aggregate_claims({k: r.claims for k, r in runs.items()}, rep))

@@ -375,6 +375,8 @@ def claims_markdown(stats, *, title: str = "Claims of Gervini, Gomes & da Rosa (
     return "\n".join(lines).rstrip() + "\n"
 
 
-def claims_json(stats) -> str:
-    """``claims.json``: one object per (claim, pipeline) (:meth:`ClaimStats.as_dict`), strict JSON."""
-    return json.dumps([s.as_dict() for s in stats], indent=2, allow_nan=False)
+def claims_json(stats, *, bench: str | None = None) -> str:
+    """``claims.json``: one object per (claim, pipeline) (:meth:`ClaimStats.as_dict`), strict JSON;
+    with ``bench``, each object also names the bench it was measured on (``"bench"``)."""
+    extra = {} if bench is None else {"bench": v.text("bench", bench, empty=False)}
+    return json.dumps([{**s.as_dict(), **extra} for s in stats], indent=2, allow_nan=False)

@@ -1,0 +1,349 @@
+"""Tests of :mod:`fricctl.paper.benches`: benches as data, read strictly, and what they set.
+
+References: the literal bench against :func:`fricctl.params.paper_actuator` and today's designs
+(exact equality: the same floats); the consistent bench against the proposal of
+``docs/paper_consistency.md`` (:data:`fricctl.paper.consistency.PROPOSED`) and its closed forms;
+the peak rise time against python-control's ``step_info`` (an independent implementation).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import pickle
+import warnings
+from pathlib import Path
+
+import control
+import numpy as np
+import pytest
+
+from fricctl.bench.experiments import paper_gains
+from fricctl.design import DesignWarning, design_p, design_pd, normalized_rise_time, paper_designs
+from fricctl.design.second_order import metrics_from_response, resolve_rise_time_definition
+from fricctl.paper import consistency as cs
+from fricctl.paper import fig11
+from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SETTINGS, SOURCES, Bench, as_bench,
+                                   bench, bench_file, load_bench)
+from fricctl.paper.common import designs
+from fricctl.params import PAPER_LINK_INERTIA, PAPER_VISCOUS, paper_actuator
+
+
+def _lit() -> dict:
+    return copy.deepcopy(bench("literal").as_dict())
+
+
+# -- the registry ------------------------------------------------------------------------------
+def test_registry_is_the_json_files_of_the_package():
+    folder = Path(bench_file("literal")).parent
+    assert sorted(BENCHES) == sorted(p.stem for p in folder.glob("*.json"))
+    assert DEFAULT_BENCH in BENCHES
+    for name in BENCHES:
+        b = BENCHES[name]
+        assert b is bench(name) and b.name == name
+        # the shipped file is what the bench writes back (a file is data, read and written whole)
+        assert Bench.from_dict(json.loads(bench_file(name).read_text())) == b
+        assert Bench.from_dict(b.as_dict()) == b
+        assert pickle.loads(pickle.dumps(b)) == b  # for the worker processes of fricctl reproduce
+    with pytest.raises(ValueError, match="bench must be one of"):
+        bench("nope")
+    with pytest.raises(KeyError):
+        BENCHES["nope"]
+
+
+def test_as_bench():
+    assert as_bench() is bench(DEFAULT_BENCH)
+    assert as_bench("consistent") is bench("consistent")
+    assert as_bench(bench("consistent")) is bench("consistent")
+    # a plant alone is judged with PARAMS_BENCH's settings (whatever the default); its own plant:
+    # the bench itself
+    assert as_bench(paper_actuator()) is as_bench(None, paper_actuator()) is bench(PARAMS_BENCH)
+    # another plant is designed on as it is (its own b), the bench's other settings kept
+    other = paper_actuator(viscous=0.02, coulomb=0.1)
+    for b, ref in ((as_bench(other), bench(PARAMS_BENCH)),
+                   (as_bench("consistent", other), bench("consistent"))):
+        assert b.actuator == other and b.design_actuator == other
+        assert (b.fig18_amplitude, b.rise_time_reading) == (ref.fig18_amplitude, ref.rise_time_reading)
+    with pytest.raises(ValueError, match="bench must be a bench name"):
+        as_bench(3.0)
+    with pytest.raises(ValueError, match="link"):
+        bench("literal").with_actuator(paper_actuator().with_link())
+
+
+def test_every_value_has_its_provenance():
+    for name in BENCHES:
+        b = bench(name)
+        assert set(b.settings) == set(SETTINGS)
+        for s in b.settings.values():
+            assert s.source in SOURCES and s.note.strip()
+        for key in ("inertia", "sample_time", "encoder_resolution", "max_torque",
+                    "friction.viscous_pos", "friction.coulomb_pos", "friction.stribeck_pos",
+                    "friction.stribeck_velocity"):
+            p = b.model.provenance[key]
+            assert p.source in SOURCES and p.note.strip()
+        assert all(line.strip() for line in b.report().splitlines())
+
+
+# -- literal = today, exactly ----------------------------------------------------------------------
+def test_literal_bench_is_todays_parameters_exactly():
+    b = bench("literal")
+    p = paper_actuator()
+    assert b.actuator == p and b.design_actuator == p  # the same floats, field by field
+    assert b.design_viscous == p.viscous == PAPER_VISCOUS
+    assert b.linked_actuator == p.with_link() and b.link_inertia == PAPER_LINK_INERTIA
+    assert b.rise_time_reading == "0-100" and b.fig11_reading == "stuck"
+    # Fig. 18's defaults before benches: 0 to 0.1 rad over 1 s
+    assert (b.fig18_amplitude, b.fig18_period) == (0.1, 1.0)
+    # the designs and the training loops' gains are today's, bit for bit
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DesignWarning)
+        today = paper_designs(p)
+    for key, d in designs(b).items():
+        assert (d.kp, d.kd, d.rise_time_definition) == (today[key].kp, today[key].kd, "0-100")
+    assert b.training_gains() == paper_gains(p)
+    # the model of the literal bench holds the numbers of the shipped paper_actuator.json
+    from fricctl.data import paper_actuator_model
+
+    ref = paper_actuator_model()
+    assert b.model.parameters() == ref.parameters()
+    for name in ("sample_time", "encoder_resolution", "max_torque"):
+        assert getattr(b.model, name) == getattr(ref, name)
+
+
+# -- consistent = the proposal of docs/paper_consistency.md -------------------------------------------
+def test_consistent_bench_is_the_proposal():
+    b, u = bench("consistent"), cs.PROPOSED
+    assert b.actuator == u.actuator()  # inertia, Fc = 0.6 Fs, true b 0.019, vs, encoder: same floats
+    assert b.design_viscous == PAPER_VISCOUS != b.actuator.viscous == u.viscous
+    assert b.rise_time_reading == u.rise_time_reading == "peak"
+    assert (b.fig18_amplitude, b.fig18_period) == (u.sawtooth_span, u.sawtooth_period)
+    assert b.actuator.coulomb / b.actuator.static == pytest.approx(u.coulomb_ratio, rel=1e-12)
+    assert b.fig11_reading == "moves-then-rests"
+    # the derived inertia by its rule, b tr / (2 zeta c) with c = pi/sqrt(1 - zeta^2) (closed form)
+    assert b.actuator.inertia == pytest.approx(PAPER_VISCOUS * 0.2 / (2 * 0.3 * math.pi / math.sqrt(1 - 0.09)),
+                                               rel=1e-14)
+    # the designs: the consistency module's (built another way: damping imposed, PD through the
+    # 0-100 % rise time of the same wn) and the numbers of docs/paper_consistency.md
+    g, ref = designs(b), cs.reading_designs("peak", u.actuator_inertia)
+    for key in g:
+        assert g[key].kp == pytest.approx(ref[key].kp, rel=1e-9)
+        assert g[key].kd == pytest.approx(ref[key].kd, rel=1e-9, abs=1e-15)
+        assert g[key].viscous == PAPER_VISCOUS  # designed on the paper's b, not the true one
+    assert g["fig11-12"].kp * math.radians(25) == pytest.approx(0.202, abs=5e-4)   # the doc's table
+    assert g["fig18"].kp * 0.2 == pytest.approx(0.343, abs=5e-4)
+    assert g["fig16-17"].kp * 0.08 == pytest.approx(0.112, abs=5e-4)
+    # the training loops: the P design of the peak reading (the doc's Kp 0.464, not 0.235)
+    assert b.training_gains().p_kp == pytest.approx(0.464, abs=5e-4)
+
+
+# -- strict reading ------------------------------------------------------------------------------
+def _mutations():
+    out = []
+
+    def add(match, f):
+        out.append(pytest.param(f, match, id=match[:40]))
+
+    add("unknown key", lambda d: d.update(extra=1))
+    for k in ("format", "version", "name", "description", "model", "settings"):
+        add(f"missing key '{k}'", lambda d, k=k: d.pop(k))
+    add("format: must be", lambda d: d.update(format="fricctl.joint_model"))
+    add("version: unsupported", lambda d: d.update(version=2))
+    add("version: unsupported", lambda d: d.update(version=True))
+    add("name must not be empty", lambda d: d.update(name=" "))
+    add("settings: unknown setting 'sawtooth'", lambda d: d["settings"].update(sawtooth=d["settings"]["gear_ratio"]))
+    add("settings: missing setting", lambda d: d["settings"].pop("fig18_period"))
+    add("settings.fig18_period: missing key 'source'", lambda d: d["settings"]["fig18_period"].pop("source"))
+    add("settings.fig18_period: missing key 'note'", lambda d: d["settings"]["fig18_period"].pop("note"))
+    add("settings.fig18_period: unknown key", lambda d: d["settings"]["fig18_period"].update(std=0.1))
+    add("settings.fig18_period.unit: must be 's'", lambda d: d["settings"]["fig18_period"].update(unit="ms"))
+    add("settings.fig18_period.source must be one of", lambda d: d["settings"]["fig18_period"].update(source="guess"))
+    add("settings.fig18_period.note must not be empty", lambda d: d["settings"]["fig18_period"].update(note=""))
+    add("settings.fig18_period.value must be > 0", lambda d: d["settings"]["fig18_period"].update(value=0.0))
+    add("settings.fig18_amplitude.value must be > 0", lambda d: d["settings"]["fig18_amplitude"].update(value=-0.1))
+    add("settings.fig18_amplitude.value must be a real number",
+        lambda d: d["settings"]["fig18_amplitude"].update(value="0.1"))
+    add("settings.gear_ratio.value must be a real number", lambda d: d["settings"]["gear_ratio"].update(value=True))
+    add("settings.encoder_counts.value must be an integer",
+        lambda d: d["settings"]["encoder_counts"].update(value=2000.0))
+    add("settings.design_viscous.value must be finite",
+        lambda d: d["settings"]["design_viscous"].update(value=float("nan")))
+    add("settings.rise_time_reading.value must be one of",
+        lambda d: d["settings"]["rise_time_reading"].update(value="20-80"))
+    add("settings.fig11_reading.value must be one of",
+        lambda d: d["settings"]["fig11_reading"].update(value="sometimes"))
+    add("model.encoder_resolution", lambda d: d["settings"]["encoder_counts"].update(value=500))
+    add("model.inertia must be > 0", lambda d: d["model"].update(inertia=-1e-3))
+    add("model: missing key 'friction'", lambda d: d["model"].pop("friction"))
+    add("model.sample_time: a bench's plant needs it", lambda d: d["model"].update(sample_time=None))
+    add("model.load_inertia", lambda d: d["model"].update(load_inertia=0.001, stiffness=100.0))
+    add("model.units", lambda d: d["model"].update(units="linear"))
+    add("model.provenance.inertia: missing", lambda d: d["model"]["provenance"].pop("inertia"))
+    add("model.provenance.inertia.source", lambda d: d["model"]["provenance"]["inertia"].update(source="datasheet"))
+    add("model.provenance.inertia.note: empty", lambda d: d["model"]["provenance"]["inertia"].update(note=" "))
+    add("model.friction.coulomb_neg", lambda d: d["model"]["friction"].update(coulomb_neg=0.1))
+    add("model.friction: a bench's plant states", lambda d: d["model"]["friction"].update(drag_pos=0.01))
+    add("model: static", lambda d: d["model"]["friction"].update(stribeck_pos=2.0, stribeck_neg=2.0))
+    return out
+
+
+@pytest.mark.parametrize("mutate, match", _mutations())
+def test_a_bad_bench_file_is_refused_naming_what(mutate, match):
+    d = _lit()
+    mutate(d)
+    with pytest.raises(ValueError, match=match.replace("(", r"\(").replace(".", r"\.")):
+        Bench.from_dict(d)
+
+
+def test_bench_file_text_and_path(tmp_path):
+    text = bench_file("literal").read_text()
+    assert Bench.from_json(text) == bench("literal")
+    with pytest.raises(ValueError, match="duplicate key 'name'"):
+        Bench.from_json(text.replace('"name": "literal",', '"name": "literal", "name": "x",'))
+    with pytest.raises(ValueError, match="not a number"):
+        Bench.from_json(text.replace('"value": 0.1,', '"value": NaN,', 1))
+    with pytest.raises(ValueError, match="expected a JSON object"):
+        Bench.from_json("[]")
+    bad = tmp_path / "mine.json"
+    bad.write_text(text.replace('"value": 1.0,', '"value": -1.0,'))
+    with pytest.raises(ValueError, match=r"^mine\.json: settings\.fig18_period\.value must be > 0"):
+        load_bench(bad)
+    with pytest.raises(FileNotFoundError):
+        load_bench(tmp_path / "missing.json")
+    good = tmp_path / "good.json"
+    good.write_text(text)
+    assert load_bench(good) == bench("literal")
+
+
+def test_fig11_readings_are_the_benches_choices():
+    assert set(fig11.READINGS) >= {bench(n).fig11_reading for n in BENCHES}
+    for name, reading in fig11.READINGS.items():
+        assert reading.name == name and reading.description and callable(reading.judge)
+
+
+# -- the peak rise time against python-control ---------------------------------------------------------
+@pytest.mark.parametrize("zeta", [0.1, 0.3, 0.5, 0.7, 0.9])
+def test_peak_rise_time_is_step_infos_peak_time(zeta):
+    wn = 7.0
+    t = np.linspace(0.0, 12.0 / (zeta * wn), 400_001)
+    info = control.step_info(control.tf([wn * wn], [1.0, 2 * zeta * wn, wn * wn]), timepts=t)
+    # independent: python-control's PeakTime on a grid of step dt; closed form pi/sqrt(1 - z^2)/wn
+    assert normalized_rise_time(zeta, "peak") / wn == pytest.approx(info["PeakTime"], abs=2 * (t[1] - t[0]))
+    y = np.asarray(control.step_response(control.tf([wn * wn], [1.0, 2 * zeta * wn, wn * wn]), t).outputs)
+    m = metrics_from_response(t, y, final=1.0, definition="peak", damping=zeta)
+    assert m.rise_time == pytest.approx(math.pi / math.sqrt(1 - zeta * zeta) / wn, abs=2 * (t[1] - t[0]))
+
+
+def test_peak_designs_meet_their_peak_time():
+    p = bench("consistent").design_actuator
+    d = design_p(p, rise_time=0.2, damping=0.3, rise_time_definition="peak")
+    assert d.zeta == pytest.approx(0.3, rel=1e-9)  # the inertia was derived for exactly this
+    t = np.linspace(0.0, 3.0, 300_001)
+    assert control.step_info(d.closed_loop, timepts=t)["PeakTime"] == pytest.approx(0.2, abs=2e-5)
+    assert d.achieved.rise_time == pytest.approx(0.2, rel=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DesignWarning)
+        pd = design_pd(p.with_link(), rise_time=0.22, damping=0.5, rise_time_definition="peak")
+    assert control.step_info(pd.closed_loop, timepts=t)["PeakTime"] == pytest.approx(0.22, abs=2e-5)
+    # the sampled loop's first peak: within one sample and a few % (the delay slows it)
+    assert pd.sampled.rise_time == pytest.approx(0.22, rel=0.05)
+
+
+def test_peak_needs_an_overshoot():
+    with pytest.raises(ValueError, match="time of the first peak"):
+        resolve_rise_time_definition("peak", 1.0)
+    with pytest.raises(ValueError, match="time of the first peak"):
+        design_pd(paper_actuator(), rise_time=0.3, damping=1.2, rise_time_definition="peak")
+    t = np.linspace(0, 1, 101)
+    m = metrics_from_response(t, 1 - np.exp(-5 * t), final=1.0, definition="peak", damping=1.0)
+    assert math.isnan(m.rise_time)  # a monotone step has no peak
+
+
+# -- the figures read the bench ---------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def consistent_net():
+    from fricctl.paper import train_paper_network
+
+    return train_paper_network(bench="consistent", fast=True, seed=0, pipeline="fricctl")
+
+
+def test_figures_read_their_settings_from_the_bench(consistent_net):
+    from fricctl.paper import fig11 as f11
+    from fricctl.paper import fig18 as f18
+
+    b = bench("consistent")
+    assert consistent_net.bench is b and consistent_net.params == b.actuator
+    r18 = f18.run(consistent_net)
+    assert (r18.amplitude, r18.period) == (b.fig18_amplitude, b.fig18_period)
+    assert r18.design is designs(b)["fig18"]
+    assert r18.without.info.params == b.linked_actuator
+    assert r18.without.t[-1] == pytest.approx(2 * b.fig18_period, abs=0.01)
+    r11 = f11.run(consistent_net)
+    c = f11.FIGURE.make_claims(r11, b)[0]
+    # docs/paper_consistency.md: moves 15.8 deg of 25, at rest from 0.204 s (the doc's run, an
+    # independent script at the time), e_ss 9.2 deg
+    assert c.id == "fig11-stuck" and c.passed and "moves 15.8 deg" in c.measured
+    assert c.value == pytest.approx(0.204, abs=0.002)
+    # the same run judged under the literal reading: it moved, so "stuck" fails
+    assert not f11.FIGURE.make_claims(r11, bench("literal"))[0].passed
+
+
+# -- fricctl reproduce --bench ----------------------------------------------------------------------------
+def test_cli_bench_unknown_is_one_line_exit_2(tmp_path, capsys):
+    from fricctl.cli import main
+
+    assert main(["reproduce", "--bench", "nope", "--out", str(tmp_path / "o"), "--fast"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--bench" in err and all(n in err for n in BENCHES)
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_bench_is_passed_and_named(tmp_path, monkeypatch, capsys):
+    import types
+
+    import fricctl.paper
+    from fricctl.cli import main
+    from fricctl.cli import reproduce as cli_reproduce
+
+    seen = []
+
+    def reproduce_paper(**kwargs):
+        seen.append(kwargs["bench"])
+        return types.SimpleNamespace(runs={}, stats=(), markdown=lambda: "md\n", json=lambda: "[]",
+                                     summary=lambda: "stub")
+
+    monkeypatch.setattr(fricctl.paper, "reproduce_paper", reproduce_paper)
+    monkeypatch.setattr(cli_reproduce, "_write_figures", lambda res, out, ex: [])
+    for argv, name in ((["--bench", "consistent"], "consistent"), ([], DEFAULT_BENCH)):
+        out = tmp_path / name
+        assert main(["reproduce", "--out", str(out), "--fast", "--workers", "1", "--seeds", "1"] + argv) == 0
+        assert seen[-1] == name and f"bench {name}\n" in capsys.readouterr().out
+
+
+def test_results_name_the_bench():
+    from fricctl.paper.table import claims_json
+    from fricctl.paper import Claim, aggregate_claims
+
+    c = Claim(id="x", claim="c", paper="p", measured="m", passed=True, figure="Fig. 1", value=1.0, unit="-")
+    stats = aggregate_claims({("fricctl", 0): (c,)}, {"fricctl": 0})
+    assert all(o["bench"] == "consistent" for o in json.loads(claims_json(stats, bench="consistent")))
+    assert "bench" not in json.loads(claims_json(stats))[0]
+
+
+@pytest.mark.slow
+def test_reproduce_on_the_consistent_bench(tmp_path):
+    """Two seeds on the consistent bench through the public API: every claim rated, the bench named."""
+    from fricctl.paper import reproduce_paper
+
+    res = reproduce_paper(bench="consistent", fast=True, seeds=2, figures=False)
+    assert res.bench is bench("consistent") and res.params == bench("consistent").actuator
+    md, js = res.markdown(), json.loads(res.json())
+    assert "Bench **consistent**" in md and "(consistent)" in md.splitlines()[0]
+    assert {o["bench"] for o in js} == {"consistent"}
+    by = {(s.id, s.pipeline): s for s in res.stats}
+    # what the proposal changes, measured on the bench (docs/paper_consistency.md): Fig. 18 stick-
+    # slips and Fig. 11 moves then rests, in every seed: they do not involve a network
+    for p in res.pipelines:
+        assert by[("fig18-without", p)].pass_rate == 1.0
+        assert by[("fig11-stuck", p)].pass_rate == 1.0
+        assert by[("fig17-none", p)].pass_rate == 1.0
