@@ -57,6 +57,16 @@ def test_reproduce_writes_everything(reproduced):
     md = (out / "claims.md").read_text()
     assert "| id | claim | paper | paper pipeline | fricctl pipeline | figure |" in md
     assert "## Not reproduced, and why" in md and "paper_consistency.md" in md
+    # issue 22 item 4: both readings of the network's accuracy for every seed, tied by
+    # fit = 100 (1 - sqrt(1 - R^2)); the claim judges the one it names on every seed
+    rows = re.findall(r"^\| (paper|fricctl) \| \d+(?: \(figures\))? \| [-\d.]+ \| ([-\d.]+) \| "
+                      r"([-\d.]+) \|", md, re.M)
+    assert len(rows) == 2 * len(PIPELINES)
+    for _, fit, r2 in rows:
+        # both rounded as printed (0.1 % and 0.001): R^2 from the fit within 0.002
+        assert float(r2) == pytest.approx(1 - (1 - float(fit) / 100) ** 2, abs=0.002)
+    nn_fit = next(c for c in claims if c["id"] == "nn-fit")
+    assert "read as the normalised fit" in nn_fit["claim"]
     n_paper = {name: sum(c["pipeline"] == name and c["paper"] != EXTRA for c in claims)
                for name in PIPELINES}
     assert len(set(n_paper.values())) == 1  # the same claims of the paper for every pipeline

@@ -15,10 +15,24 @@ from .claims import EXTRA, Claim
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 
-__all__ = ["Fig8Result", "run", "claim_fit", "claim_fit_exact", "FIGURE"]
+__all__ = ["Fig8Result", "run", "claim_fit", "claim_fit_exact", "FIGURE", "ACCURACY_READING"]
 
 #: The paper's accuracy of the trained network (Section 4: "98 %") [%].
 PAPER_FIT_PERCENT = 98.0
+
+#: Which reading of the paper's undefined "98 % accuracy" the claim judges, and why (issue
+#: 22 item 4).  Two readings are common: the normalised fit 100*(1 - ||e||/||y - mean y||)
+#: and R^2 = 1 - ||e||^2/||y - mean y||^2 (variance accounted for), tied by
+#: fit = 100*(1 - sqrt(1 - R^2)).  The claim reads the fit, on every seed: an "accuracy" in
+#: percent is a size of the error relative to the signal's, as the fit is (R^2 is a share of
+#: variance, the square of that size); it is the "fit %" the identification tools of the
+#: paper's time (MATLAB's System Identification Toolbox, `compare`) print for a model
+#: against data; and it is the stricter reading, so a network that holds it holds R^2 >= 0.98
+#: too, never the converse.  R^2 is reported beside it for every seed (claims.md's table).
+ACCURACY_READING = ("normalised fit 100*(1 - ||e||/||y - mean y||) on held-out patterns: a "
+                    "percent accuracy is a relative size of the error, as the fit is (R^2 is "
+                    "its square's complement), it is the fit % the identification tools of "
+                    "2003 print, and the stricter reading (it implies R^2 >= 0.98)")
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -82,7 +96,7 @@ def claim_fit(r: Fig8Result, params=None) -> Claim:
     ok = f.fit_percent >= PAPER_FIT_PERCENT
     return Claim(
         id="nn-fit", claim="The 2-4-1 network learns the friction patterns with 98 % accuracy "
-        "(here: normalised fit 100*(1 - ||e||/||y - mean y||) >= 98 % on held-out patterns)",
+        f"(read as the {ACCURACY_READING}; >= 98 % on every seed judged)",
         paper="98 %", measured=f"fit {f.fit_percent:.1f} %, R^2 {f.r_squared:.3f} (train fit "
         f"{r.fit_train.fit_percent:.1f} %; vs true friction {r.fit_true.fit_percent:.1f} %)", passed=ok,
         figure="Fig. 8", value=f.fit_percent, unit="%",
