@@ -620,7 +620,13 @@ def test_claims_markdown_reads_as_text():
     lines = md.splitlines()
     assert lines[2].startswith("- **paper pipeline: 0 of 2 claims of the paper reproduced**")
     assert "\\|" not in md
-    assert "| fit 100*(1 - ‖e‖/‖y‖) with abs(w) <= 1 |" in md and "| abs(e_ss) 0.5 deg |" in md
+    # a product is a middle dot, not an emphasis marker (issue 24: 'N*m ... b*w' in italics)
+    assert "| fit 100·(1 - ‖e‖/‖y‖) with abs(w) <= 1 |" in md and "| abs(e_ss) 0.5 deg |" in md
+    # the summary table first: one row per claim, the verdict in words, seeds met
+    glance = md.index("## At a glance")
+    assert glance < md.index("## The claims in full") < md.index("| id | claim | paper |")
+    assert "| a | Fig. 9 | **not reproduced**, 1 of 2 |" in md
+    assert "| n | Fig. 8 | **not reproduced**, 0 of 2 |" in md
     assert "**not reproduced**: met in 1 of 2 seeds; median 1 [1, 1] deg" in md
     assert "| n | abs(e_ss) 0.5 deg | **not met** |" in md
     assert "- **n** (Fig. 8; met in 0 of 2 seeds; median 0.5 deg): (seed 0) |e_ss| too large" in md

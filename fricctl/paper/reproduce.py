@@ -240,7 +240,7 @@ class PaperResults:
         pre += "\n".join(rows)
         sweeps = "## Robustness sweeps (not claims of the paper)"
         for p in self.pipelines:
-            sweeps += (f"\n\n{p} pipeline, seed {self.representative[p]}:\n\n```\n{self.sweeps[p].report()}"
+            sweeps += (f"\n\n{p} pipeline, seed {self.representative[p]}:\n\n```text\n{self.sweeps[p].report()}"
                        "\n```")
         return claims_markdown(self.stats, preamble=pre, why=self.why(), appendix=sweeps,
                                title="Claims of Gervini, Gomes & da Rosa (2003) on the virtual bench "

@@ -252,9 +252,21 @@ def holds_summary(stats, pipeline: str) -> str:
     return text
 
 
+#: A product written ``a*b`` (``N*m``, ``1.1*Fs``, ``b*w``): the star between two characters
+#: of an expression, which Markdown would read as the start or end of an emphasis.
+_PRODUCT = re.compile(r"(?<=[\w).‖])\*(?=[\w(.‖])")
+
+
 def _text(s: str) -> str:
-    """A claim's sentence on one line; a norm ``||x||`` written ``‖x‖``."""
-    return s.replace("\n", " ").replace("||", "‖")
+    """A claim's sentence on one line; a norm ``||x||`` written ``‖x‖``, a product ``a*b``
+    written ``a·b`` (Markdown would set ``N*m ... b*w`` in italics).
+
+    Examples
+    --------
+    >>> _text("0.090 N*m = 1.1*Fs, I*dw/dt = Tc - b*w, 100*(1 - ||e||)")
+    '0.090 N·m = 1.1·Fs, I·dw/dt = Tc - b·w, 100·(1 - ‖e‖)'
+    """
+    return _PRODUCT.sub("·", s.replace("\n", " ").replace("||", "‖"))
 
 
 def _cell_text(s: str) -> str:
@@ -265,7 +277,7 @@ def _cell_text(s: str) -> str:
     Examples
     --------
     >>> _cell_text("fit 100*(1 - ||e||/||y||); |w(t)| <= |w_end|")
-    'fit 100*(1 - ‖e‖/‖y‖); abs(w(t)) <= abs(w_end)'
+    'fit 100·(1 - ‖e‖/‖y‖); abs(w(t)) <= abs(w_end)'
     """
     s = re.sub(r"\|([^|]+?)\|", r"abs(\1)", _text(s))
     return s.replace("|", "/")  # an unpaired bar (none in the claims' texts) is no cell border
@@ -291,6 +303,13 @@ def _cell(s: ClaimStats) -> str:
     spread = (f"{_num(s.median)} {s.unit}" if s.n_seeds == 1 else
               f"median {_num(s.median)} [{_num(s.minimum)}, {_num(s.maximum)}] {s.unit}")
     return f"{verdict}: {_seeds(s)}; {spread}"
+
+
+def _glance(s: ClaimStats) -> str:
+    """``reproduced, 10 of 10`` or ``**not reproduced**, 0 of 10 (ran away in 2)``."""
+    ran = f" (ran away in {s.runaway_failures})" if s.runaway_failures else ""
+    verdict = "reproduced" if s.holds else "**not reproduced**"
+    return f"{verdict}, {s.n_passed} of {s.n_seeds}{ran}"
 
 
 def _summary_line(stats, pipeline: str, seed: int) -> str:
@@ -344,6 +363,16 @@ def claims_markdown(stats, *, title: str = "Claims of Gervini, Gomes & da Rosa (
               "torque pulse (the coast test, claim coast-decay); otherwise it *ran away*. Each cell: "
               "the verdict, in how many seeds the claim was met, and the median [min, max] over "
               "the seeds of the number the claim's criterion thresholds.", ""]
+    lines += ["## At a glance", "",
+              "| claim | figure | " + " | ".join(f"{p} pipeline" for p in pipelines) + " |",
+              "|" + "---|" * (len(pipelines) + 2)]
+    for cid in ids:
+        first = next(by[(cid, p)] for p in pipelines if (cid, p) in by)
+        extra = " (extra)" if first.extra else ""
+        lines.append(f"| {cid}{extra} | {first.figure} | "
+                     + " | ".join(_glance(by[(cid, p)]) if (cid, p) in by else "--"
+                                  for p in pipelines) + " |")
+    lines += ["", "## The claims in full", ""]
     head = "| id | claim | paper | " + " | ".join(f"{p} pipeline" for p in pipelines) + " | figure |"
     lines += [head, "|" + "---|" * (len(pipelines) + 4)]
     for cid in ids:
