@@ -94,6 +94,13 @@ def test_the_bench_hides_stops_without_changing_its_draws():
     assert len(stopped.stops) == 2 and stopped.impacts.size >= 2 * MIN_IMPACTS
     count = 2 * np.pi / 200000  # the encoder reads floor(q/count)*count: one count below
     assert min(stopped.stops) - count <= q.min() and q.max() <= max(stopped.stops)
+    # a foreign position-sensor gain scales the stops as it scales the record
+    scaled = hidden_effect_record(np.random.default_rng(4), cause="none", duration=20.0,
+                                  excitation="closed_loop", end_stops=0.1, foreign="position_gain")
+    gain = 1.0 + scaled.foreign_magnitude["error"]
+    assert scaled.stops == pytest.approx(tuple(gain * x for x in stopped.stops), rel=1e-12)
+    qs = scaled.run.position
+    assert min(scaled.stops) - abs(gain) * count <= qs.min() and qs.max() <= max(scaled.stops)
     with pytest.raises(ValueError, match="end_stops"):
         hidden_effect_record(np.random.default_rng(4), cause="none", end_stops=0.5)
     with pytest.raises(ValueError, match="rigid joint"):

@@ -168,7 +168,8 @@ class HiddenEffectRecord:
         is None): with :attr:`truth` it tells how much each effect weighs on the record.
     stops : tuple of float
         Positions of the ideal end stops the joint hit (``end_stops`` of
-        :func:`hidden_effect_record`; ground truth), lower first; ``()`` when none.
+        :func:`hidden_effect_record`; ground truth), lower first, in the record's position
+        (scaled as the record is by a foreign position-sensor gain); ``()`` when none.
     impacts : ndarray of int
         Samples at which the joint arrived on a stop with speed (first sample of each
         contact; ground truth); empty when none.
@@ -716,6 +717,7 @@ def hidden_effect_record(rng: np.random.Generator, *, cause=None, duration: floa
     recorded = sim.torque_motor * alien.gain
     if meas_noise is not None:
         recorded = recorded + meas_noise
+    stops = tuple(lim * alien.position_gain for lim in stops)  # where the record sees them
     run = Run(t=sim.t, torque=recorded, position=sim.q_meas * alien.position_gain,
               reference=sim.reference * alien.position_gain, units=axis,
               source=f"fricctl virtual bench, hidden effect record ({n} samples)")
