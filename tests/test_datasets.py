@@ -330,3 +330,28 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
                     "1,1,1\n2,2,2\n")
     with pytest.raises(ValueError, match="line 2: '# velocity_quantum: 0.02' contradicts line 1"):
         read_patterns(pats)
+
+
+def test_a_bad_line_after_many_plain_rows_is_named_at_once(tmp_path):
+    """The one-pass reader of plain rows must refuse a bad line in time linear in the file: a
+    whole-number column (1500) once let its pattern split each cell several ways, so one
+    short line after n rows cost ~4^n steps (a hang, not the error).  Run in a child process
+    with a generous limit, so that a regression fails instead of stalling the suite."""
+    import subprocess
+    import sys
+
+    p = tmp_path / "r.csv"
+    rows = [f"{0.001 * i:.3f},1500,{i}" for i in range(3000)]
+    p.write_text("t,torque,position\n" + "\n".join(rows) + "\n0.5,1.0\n")
+    code = ("from fricctl.datasets import read_columns\n"
+            "try:\n"
+            f"    read_columns({str(p)!r}, required=('t', 'torque', 'position'))\n"
+            "except ValueError as e:\n"
+            "    print(e)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "line 3002: 2 fields, the header has 3" in out.stdout, out.stdout + out.stderr
+    # the same rows without the bad line: read in one pass, the same numbers as row by row
+    p.write_text("t,torque,position\n" + "\n".join(rows) + "\n")
+    tab = read_columns(p, required=("t", "torque", "position"))
+    np.testing.assert_array_equal(tab["torque"], np.full(3000, 1500.0))
+    np.testing.assert_array_equal(tab["position"], np.arange(3000.0))
