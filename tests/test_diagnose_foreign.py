@@ -188,7 +188,7 @@ def test_a_smooth_coulomb_law_is_not_read_as_a_position_load():
     # the verdict says where the rest lives: a generic friction curve of velocity removes
     # nearly all of it held out (measured 0.94-0.96 on [8300, 0..1]), in the text and the JSON
     assert d.verdict.other_shape > 0.8, d.report()
-    assert "a friction law of another shape" in d.verdict.sentence()
+    assert "the friction-speed curve may have another shape" in d.verdict.sentence()
     assert d.as_dict()["verdict"]["other_shape_share"] == pytest.approx(d.verdict.other_shape)
 
 

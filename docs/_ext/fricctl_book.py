@@ -88,11 +88,14 @@ _TEX_TEXT = {"alpha": "α", "beta": "β", "omega": "ω", "Omega": "Ω", "zeta": 
 def _math_text(tex: str) -> str:
     """Inline TeX as plain text: ``\\hat T_{at}`` -> ``T̂_at``, ``z^{-1}`` -> ``z^-1``."""
     tex = re.sub(r"\\(operatorname|mathrm|text)\s*\{([^{}]*)\}", r"\2", tex)
+    tex = re.sub(r"\\frac\s*\{([^{}]*)\}\s*\{([^{}]*)\}", r"(\1)/(\2)", tex)
+    tex = re.sub(r"\\(left|right|big|Big|bigg|Bigg)\b", "", tex)  # sizes of delimiters
     tex = re.sub(r"\\[,;:! ]", " ", tex)
     # an accent on a letter or a command: the combining circumflex after it
     tex = re.sub(r"\\hat\s*\{?(\\[a-zA-Z]+|[^\s{}_^\\])\}?", "\\1\u0302", tex)
-    tex = re.sub(r"\\([a-zA-Z]+)", lambda m: _TEX_TEXT.get(m.group(1), m.group(1)), tex)
-    return re.sub(r"[{}]", "", tex)
+    # a command spelled as its character, an unknown one dropped (\\dot q reads "q")
+    tex = re.sub(r"\\([a-zA-Z]+)", lambda m: _TEX_TEXT.get(m.group(1), ""), tex)
+    return re.sub(r"\s+", " ", re.sub(r"[{}]", "", tex)).strip()
 
 
 def _alt_from_caption(metadata) -> None:
@@ -256,7 +259,8 @@ def module_sections_as_rubrics(app, what, name, obj, options, lines) -> None:
 
 
 def notebook_download(app, pagename, templatename, context, doctree) -> None:
-    """``html-page-context``, before the theme's download menu (priority 501): a chapter's
+    """``html-page-context``, before the theme's download menu (which runs at priority 501;
+    this at 500): a chapter's
     executed notebook, written by myst-nb into its output folder, is copied beside the page's
     source in ``_sources/`` and named in ``ipynb_source``, which sphinx-book-theme offers as
     ".ipynb".  A chapter without its notebook fails the build (the reader would get a dead

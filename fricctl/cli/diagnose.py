@@ -16,7 +16,7 @@ at most twice the measuring chain's floor), ``residual_over_floor``, ``verdict``
 residual's variance its bin means against position, velocity, time and torque carry,
 ``strongest``, ``other_shape_share``: on a record not explained, the held-out share of that
 residual a friction law of another shape removes -- a generic odd function of the velocity,
-not a cause of the list), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
+not a cause of the list; gross of the measuring chain's share, a hint), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
 ``chain``, held-out torque and simulation RMS before and after), ``ranking``
 (``[{cause, score}]`` of the first step), ``not_identifiable`` (cause -> why it

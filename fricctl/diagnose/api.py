@@ -139,8 +139,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
                                 progress=bar.step if req.show else None)
     finally:
         bar.close()
-        if setup.ident is not None:
-            futures.wait([setup.ident])
+    # waited for only here: a failed selection (or Ctrl-C) is not held up by the baseline's
+    # fit, which cannot be cancelled once running (it ends in its thread, unused)
     if setup.ident is not None:
         setup = replace(setup, ident=setup.ident.result())
     return _diagnosis(run, model, setup, sel, _extension(setup, sel))

@@ -431,8 +431,8 @@ def speed_curve(problem: Problem, base: Baseline, selected: tuple = ()) -> Senso
     cv = cross_validate(problem, lambda f: [variant], _fixed_for(selected))
     return SensorScale(test=cv.test, gain=math.nan, variant=variant,
                        what=f"a friction law of another shape (a smooth odd function of the "
-                            f"velocity, piecewise linear between {len(cols)} knots at the "
-                            f"record's speeds, not a cause of the list)")
+                            f"velocity, piecewise linear between {int(np.sum(knots > 0))} knots "
+                            f"at the record's speeds, not a cause of the list)")
 
 
 def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) -> dict:

@@ -78,16 +78,19 @@ class Verdict:
     other_shape: float = math.nan
     """Held-out share of the final residual that a friction law of another shape removes (a
     generic odd function of the velocity, :func:`~fricctl.diagnose.selection.speed_curve`, not
-    a cause of the list) [-]; NaN where not measured (an explained record)."""
+    a cause of the list) [-], gross of the measuring chain's share (a hint, not a cause's net
+    score); NaN where not measured (an explained record)."""
 
     def sentence(self) -> str:
         """One sentence for the evidence and the report."""
         dep = (f"what is left depends most on {self.strongest} (its bin means carry "
                f"{100 * self.dependence[self.strongest]:.0f} % of the residual's variance)")
         if self.other_shape >= SHAPE_SHARE:
-            dep += (f"; a friction law of another shape (a smooth odd function of the velocity, "
-                    f"not a cause of the list) removes {100 * self.other_shape:.0f} % of it on "
-                    f"held-out data: the friction-speed curve itself is not the model's")
+            # gross of the measuring chain's share (not subtracted as a cause's is): a hint
+            dep += (f"; a smooth odd function of the velocity (not a cause of the list) removes "
+                    f"{100 * self.other_shape:.0f} % of it on held-out data, the measuring "
+                    f"chain's share not subtracted: the friction-speed curve may have another "
+                    f"shape than the model's")
         if self.reason:
             return f"Not determined whether the record is explained: {self.reason}; {dep}."
         if self.explained:

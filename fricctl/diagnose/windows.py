@@ -203,7 +203,7 @@ def clear_of_stops(grid: WindowGrid, stops: EndStops, sig: Signals) -> WindowGri
     keep = hit[grid.starts + grid.length] - hit[np.maximum(grid.starts - border, 0)] == 0
     if not keep.any():
         raise ValueError(f"every {grid.length}-sample re-simulation window of the record holds a "
-                         f"contact with an end stop ({stops.description}): shorten --window, or "
+                         f"contact with an end stop ({stops.description}): shorten the window (--window), or "
                          f"record more motion clear of the stops")
     return WindowGrid(starts=grid.starts[keep], length=grid.length)
 
