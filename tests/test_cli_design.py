@@ -3,6 +3,8 @@
 import json
 import math
 
+import numpy as np
+
 import pytest
 
 from fricctl.cli import main
@@ -73,7 +75,7 @@ def test_rise_time_definition_help_says_what_the_command_does(capsys):
     assert main(["design", "--help"]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "10-90 for damping >= 1" in text and "required for >= 1" not in text
-    assert "0-100 is refused for damping >= 1" in text
+    assert "0-100 and peak (the time of the first peak, the consistent bench's reading) are refused for damping >= 1" in text
 
 
 @pytest.mark.parametrize("argv,match", [
@@ -83,6 +85,8 @@ def test_rise_time_definition_help_says_what_the_command_does(capsys):
     (["pd", "--damping", "0.5"], "needs both"),
     (["pd", "--rise-time", "0.3", "--damping", "1.2", "--rise-time-definition", "0-100"],
      "10-90"),
+    (["pd", "--rise-time", "0.3", "--damping", "1.2", "--rise-time-definition", "peak"],
+     "first peak does not exist"),
     (["pd", "--rise-time", "0.3", "--damping", "0.5", "--priority", "damping"], "p only"),
     (["p"], "needs rise_time, damping, or both"),
 ])
@@ -150,3 +154,23 @@ def test_shipped_paper_model_designs_like_the_paper_actuator(capsys):
     _, b, _ = run(capsys, "pd", "--rise-time", "0.22", "--damping", "0.5", "--json",
                   "--model", str(paper_actuator_file()))
     assert json.loads(a) == json.loads(b)
+
+
+def test_the_peak_reading_of_rise_time(capsys):
+    """--rise-time-definition peak (the consistent bench's reading): the time of the first peak
+    of the designed loop is the requested rise time, as python-control's step_info reads it."""
+    import control
+
+    from fricctl.cli.design import RISE_TIME_CHOICES
+    from fricctl.design.second_order import RISE_TIME_DEFINITIONS
+
+    assert set(RISE_TIME_CHOICES) == set(RISE_TIME_DEFINITIONS)
+    code, out, err = run(capsys, "pd", "--rise-time", "0.2", "--damping", "0.5",
+                         "--rise-time-definition", "peak", "--json")
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert d["rise_time_definition"] == "peak"
+    kp, kd, i, b = (d[k]["value"] for k in ("kp", "kd", "inertia", "viscous"))
+    loop = control.tf([kp], [i, b + kd, kp])
+    peak = control.step_info(loop, T=np.linspace(0.0, 2.0, 200001))["PeakTime"]
+    assert peak == pytest.approx(0.2, rel=1e-3)

@@ -22,6 +22,11 @@ import sys
 import warnings
 
 
+#: The readings of "rise time" (:data:`fricctl.design.second_order.RISE_TIME_DEFINITIONS`;
+#: written out so that building the parser does not import the design package).
+RISE_TIME_CHOICES = ("0-100", "10-90", "peak")
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "design",
@@ -38,8 +43,9 @@ def register(subparsers) -> None:
                    help="add the SCARA link inertia 0.0046 kg*m^2 to the paper's actuator")
     p.add_argument("--model", metavar="MODEL.json", default=None,
                    help="design for this model file instead of the paper's actuator")
-    p.add_argument("--rise-time-definition", choices=("0-100", "10-90"), default=None,
-                   help="default 0-100 for damping < 1 and 10-90 for damping >= 1; 0-100 is "
+    p.add_argument("--rise-time-definition", choices=RISE_TIME_CHOICES, default=None,
+                   help="default 0-100 for damping < 1 and 10-90 for damping >= 1; 0-100 and "
+                        "peak (the time of the first peak, the consistent bench's reading) are "
                         "refused for damping >= 1 (such a step never reaches its final value)")
     p.add_argument("--priority", choices=("rise_time", "damping"), default=None,
                    help="p with both specs: the one met exactly (default rise_time)")
