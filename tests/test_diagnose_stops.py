@@ -323,3 +323,7 @@ def test_one_models_checks_leave_the_contacts_out(stopped):
     e = prediction_errors(stopped.truth, stopped.run)
     assert e.torque_rms == pytest.approx(tr.rms(), rel=1e-12)
     assert e.simulation_rms == sim.rms().position
+    # the windows left out are counted, not hidden
+    whole = window_grid(estimate_signals(stopped.run, 1, exclude=es.mask), 0.5)
+    assert e.windows == sim.starts.size and e.windows_dropped > 0
+    assert e.windows + e.windows_dropped == whole.starts.size

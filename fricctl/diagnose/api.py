@@ -594,6 +594,11 @@ class PredictionErrors:
     """Windowed re-simulation, position error [rad]."""
     velocity_rms: float
     """Windowed re-simulation, velocity error [rad/s]."""
+    windows: int = 0
+    """Re-simulation windows the two simulation errors are measured over [-]."""
+    windows_dropped: int = 0
+    """Windows left out for holding (or following within the filter's reach) a contact with an
+    end stop [-]; 0 on a record without stops."""
 
 
 def prediction_errors(model: JointModel, run: Run, *, window: float = 0.5) -> PredictionErrors:
@@ -609,7 +614,10 @@ def prediction_errors(model: JointModel, run: Run, *, window: float = 0.5) -> Pr
     window = v.real("window", window, positive=True, unit="s")
     sig, stops = signals_clear_of_stops(run)
     r = predict(model, sig).residual[sig.moving]
-    grid = clear_of_stops(window_grid(sig, window), stops, sig)
+    whole = window_grid(sig, window)
+    grid = clear_of_stops(whole, stops, sig)
     rms = simulate_windows(model, sig, grid.starts, grid.length).rms()
     return PredictionErrors(torque_rms=float(np.sqrt(np.mean(r ** 2))),
-                            simulation_rms=rms.position, velocity_rms=rms.velocity)
+                            simulation_rms=rms.position, velocity_rms=rms.velocity,
+                            windows=int(grid.starts.size),
+                            windows_dropped=int(whole.starts.size - grid.starts.size))
