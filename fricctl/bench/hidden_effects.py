@@ -225,11 +225,16 @@ class HiddenEffectRecord:
         has no nominal model (ground truth read through the diagnosis's own signals).
 
         An effect below :data:`fricctl.diagnose.MIN_SCORE` does not lower the residual by
-        10 % of its RMS on this record: the diagnosis is not expected to name it.
+        10 % of its RMS on this record: the diagnosis is not expected to name it.  Contacts
+        with end stops are left out as the diagnosis leaves them out (their impacts are no
+        effect's: with them in, every weight read negative).
         """
         from ..diagnose.signals import estimate_signals, predict
+        from ..diagnose.stops import end_stops
 
-        sig = estimate_signals(self.run, v.integer("folds", folds, low=3, high=20))
+        stops = end_stops(self.run)
+        sig = estimate_signals(self.run, v.integer("folds", folds, low=3, high=20),
+                               exclude=stops.mask if stops.found else None)
         m = sig.moving
         sse_truth = float(np.sum(predict(self.truth, sig).residual[m] ** 2))
         X = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
