@@ -328,6 +328,32 @@ def _depth(text: str) -> int:
     return deepest
 
 
+def json_file(path, what: str, parse):
+    """``parse(text)`` of the JSON file ``path`` (a fricctl file: ``what`` says which), its
+    errors naming the file.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file ("no such {what}").
+    ValueError
+        Not UTF-8 text, or whatever ``parse`` refuses, prefixed with the file's name.
+    """
+    from pathlib import Path
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(2, f"no such {what}", str(path))
+    try:
+        document = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ValueError(f"{path.name}: not a UTF-8 text file (a {what} is JSON)") from None
+    try:
+        return parse(document)
+    except ValueError as exc:
+        raise ValueError(f"{path.name}: {exc}") from None
+
+
 def strict_json(document: str, *, max_depth: int):
     """Parse the JSON text of a fricctl file (model file, network file) strictly.
 

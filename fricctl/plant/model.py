@@ -487,17 +487,7 @@ class JointModel:
     @classmethod
     def load(cls, path) -> "JointModel":
         """Read a model file (raises FileNotFoundError / ValueError naming the file and key)."""
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(2, "no such model file", str(path))
-        try:
-            text = path.read_text(encoding="utf-8")
-        except UnicodeDecodeError:
-            raise ValueError(f"{path.name}: not a UTF-8 text file (a model file is JSON)") from None
-        try:
-            return cls.from_json(text)
-        except ValueError as exc:
-            raise ValueError(f"{path.name}: {exc}") from None
+        return v.json_file(path, "model file", cls.from_json)
 
 
 # ---------------------------------------------------------------------- reading helpers

@@ -454,17 +454,7 @@ def load_bench(source) -> Bench:
     ValueError
         Anything wrong in it, naming the file and the key.
     """
-    path = Path(source)
-    if not path.is_file():
-        raise FileNotFoundError(2, "no such bench file", str(path))
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise ValueError(f"{path.name}: not a UTF-8 text file (a bench file is JSON)") from None
-    try:
-        return Bench.from_json(text)
-    except ValueError as exc:
-        raise ValueError(f"{path.name}: {exc}") from None
+    return v.json_file(source, "bench file", Bench.from_json)
 
 
 def bench_file(name: str) -> Path:
