@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Mapping
 
 __all__ = ["Coefficient", "Law", "StateEquation", "FrictionLaw", "DirectionalLaw", "ROLES", "SIGNALS", "pair",
            "direction_pair", "pick"]
@@ -249,6 +249,15 @@ def direction_pair(base: str, unit: str, what: str) -> tuple:
     """The two per-direction magnitudes ``<base>_pos`` and ``<base>_neg`` of a law."""
     return (Coefficient(name=f"{base}_pos", unit=unit, doc=f"{what}, positive velocity"),
             Coefficient(name=f"{base}_neg", unit=unit, doc=f"{what}, negative velocity (a magnitude)"))
+
+
+def same_shape(model, base: str, shape: Mapping, message: str) -> None:
+    """Refuse a law whose shape parameters (``shape``: coefficient name -> this law's value)
+    differ from those of the same law already in ``model`` (its ``<base>_pos``/``_neg`` level
+    non-zero): two shapes cannot be summed into one set of coefficients; ``message`` says so."""
+    if (getattr(model, f"{base}_pos") > 0 or getattr(model, f"{base}_neg") > 0) and any(
+            value != getattr(model, key) for key, value in shape.items()):
+        raise ValueError(message)
 
 
 def pick(s, pos, neg):

@@ -48,10 +48,9 @@ class PowerViscous(L.FrictionLaw):
                 "power_viscous_exponent": self.exponent}
 
     def check_compatible(self, model):
-        if (model.power_viscous_pos > 0 or model.power_viscous_neg > 0) and (
-                self.exponent != model.power_viscous_exponent):
-            raise ValueError("two PowerViscous laws with different exponents cannot be summed "
-                             "into one model")
+        L.same_shape(model, "power_viscous", {"power_viscous_exponent": self.exponent},
+                     "two PowerViscous laws with different exponents cannot be summed into one "
+                     "model")
 
 
 def term(w, s, power_viscous_pos, power_viscous_neg, power_viscous_exponent):

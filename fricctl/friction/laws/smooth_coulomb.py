@@ -41,10 +41,9 @@ class SmoothCoulomb(L.FrictionLaw):
                 "smooth_coulomb_velocity": self.velocity}
 
     def check_compatible(self, model):
-        if (model.smooth_coulomb_pos > 0 or model.smooth_coulomb_neg > 0) and (
-                self.velocity != model.smooth_coulomb_velocity):
-            raise ValueError("two SmoothCoulomb laws with different velocities cannot be summed "
-                             "into one model")
+        L.same_shape(model, "smooth_coulomb", {"smooth_coulomb_velocity": self.velocity},
+                     "two SmoothCoulomb laws with different velocities cannot be summed into "
+                     "one model")
 
 
 def term(w, s, tm, smooth_coulomb_pos, smooth_coulomb_neg, smooth_coulomb_velocity):

@@ -37,10 +37,10 @@ class Stribeck(L.FrictionLaw):
                 "stribeck_velocity": self.velocity, "stribeck_exponent": self.exponent}
 
     def check_compatible(self, model):
-        if (model.stribeck_pos > 0 or model.stribeck_neg > 0) and (
-                self.velocity != model.stribeck_velocity or self.exponent != model.stribeck_exponent):
-            raise ValueError("two Stribeck laws with different velocities or exponents cannot be "
-                             "summed into one model")
+        L.same_shape(model, "stribeck", {"stribeck_velocity": self.velocity,
+                                         "stribeck_exponent": self.exponent},
+                     "two Stribeck laws with different velocities or exponents cannot be summed "
+                     "into one model")
 
 
 def term(w, s, tm, stribeck_pos, stribeck_neg, stribeck_velocity, stribeck_exponent):
