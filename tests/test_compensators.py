@@ -3,7 +3,6 @@ implementation replayed on the loop's own records, their physics, and their C ex
 import math
 import shutil
 import subprocess
-import warnings
 
 import numpy as np
 import pytest
@@ -340,3 +339,61 @@ def test_c_export_refuses_a_compensator_without_one():
         c_source(make("coulomb", P))
     with pytest.raises(ValueError, match="C keyword"):
         c_source(make("dob", P), name="int")
+
+
+# ------------------------------------------------------------------------------------ CLI
+def test_cli_simulate_takes_every_registered_name_and_builds_it_from_the_model(capsys):
+    import json
+
+    from fricctl.cli import main
+    from fricctl.cli.simulate import compensations
+
+    assert compensations() == available()
+    common = ["simulate", "--controller", "pd", "--kp", str(KP), "--kd", str(KD), "--reference",
+              "step:0.2", "--duration", "3", "--json"]
+    names = [n for n in available() if n not in ("nn", "lugre_observer")]
+    assert main([*common, "--compensation", ",".join(names)]) == 0
+    runs = {r["compensator"]: r for r in json.loads(capsys.readouterr().out)["runs"]}
+    assert set(runs) == {make(n, P, LOOP).name for n in names}
+    # the same runs as the library's (the CLI builds them with make from the actuator and gains)
+    for n in names:
+        r = simulate(P, pd_control(KP, KD, step(0.2)), make(n, P, LOOP), duration=3.0)
+        assert runs[make(n, P, LOOP).name]["steady_state_error"]["value"] == pytest.approx(
+            r.steady_state_error(0.5), rel=1e-12, abs=1e-15)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--compensation", "dobb"], "unknown compensation 'dobb'.*integral"),
+    (["--compensation", "lugre_observer"], "lugre_observer: sigma0: the model has no LuGre law"),
+    (["--compensation", "coulomb", "--c-source", "x.c"], "applies to --compensation nn or to one"),
+])
+def test_cli_refusals_name_the_compensation(argv, words, capsys):
+    import re
+
+    from fricctl.cli import main
+
+    assert main(["simulate", "--controller", "pd", "--kp", "1", "--kd", "0.1", "--reference",
+                 "step:0.1", "--duration", "0.1", *argv]) == 2
+    err = capsys.readouterr().err
+    assert re.search(words, err) and err.count("\n") == 1  # one line, no traceback
+
+
+def test_cli_open_loop_refuses_integral_action(capsys):
+    from fricctl.cli import main
+
+    assert main(["simulate", "--torque", "step:0.2", "--duration", "0.1", "--compensation",
+                 "integral"]) == 2
+    assert "extends a P/PD controller" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(CC is None, reason="no C compiler (gcc or cc) on PATH")
+def test_cli_writes_the_c_source_of_a_dob(tmp_path, capsys):
+    from fricctl.cli import main
+
+    c = tmp_path / "axis_dob.c"
+    assert main(["simulate", "--controller", "pd", "--kp", "1", "--kd", "0.1", "--reference",
+                 "step:0.1", "--duration", "0.1", "--compensation", "dob", "--c-source",
+                 str(c)]) == 0
+    assert "double axis_dob_step(axis_dob_state *st" in c.with_suffix(".h").read_text()
+    subprocess.run([CC, "-std=c99", "-Wall", "-Wextra", "-Werror", "-c", str(c), "-o",
+                    str(tmp_path / "x.o")], check=True, cwd=tmp_path)
