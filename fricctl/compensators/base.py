@@ -69,8 +69,10 @@ class Compensator:
     stateful: bool = False
 
     def __call__(self, tm, omega_hat):
-        raise ValueError(f"the {self.name} compensator has a state: it is not a function of "
-                         "(tm, omega_hat); run it in the loop (fricctl.simulate)")
+        if self.stateful:
+            raise ValueError(f"the {self.name} compensator has a state: it is not a function of "
+                             "(tm, omega_hat); run it in the loop (fricctl.simulate)")
+        raise NotImplementedError  # pragma: no cover - a memoryless subclass defines it
 
     def compiled(self):
         """A :class:`CompiledCompensator` for the compiled loop, or ``None`` (Python loop)."""
