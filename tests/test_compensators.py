@@ -323,13 +323,15 @@ int main(void) {{
 
 @pytest.mark.skipif(CC is None, reason="no C compiler (gcc or cc) on PATH")
 @pytest.mark.parametrize("name, options", [("dob", {}), ("integral", {}), ("feedforward", {}),
-                                           ("feedforward", {"velocity": "reference"})])
+                                           ("feedforward", {"velocity": "reference"}),
+                                           ("lugre_observer", {**OPTIONS["lugre_observer"],
+                                                               "gain": 20.0})])
 def test_c_export_steps_as_the_compiled_loop_does(tmp_path, name, options):
     from fricctl.compensators.c_export import exportable
 
-    assert {"dob", "integral", "feedforward"} <= set(exportable())
+    assert {"dob", "integral", "feedforward", "lugre_observer"} <= set(exportable())
     comp = make(name, P, LOOP, **options)
-    ref = sinusoid(0.3, 1.0) if options else step(0.3)
+    ref = sinusoid(0.3, 1.0) if options.get("velocity") else step(0.3)
     r = simulate(P, pd_control(KP, KD, ref), comp, duration=0.5)
     got = _c_run(tmp_path, comp, r, f"axis_{name}")
     assert got.size == r.t.size

@@ -147,8 +147,9 @@ def register(sub):
                         ".pdf or .svg (a folder or a bare name is refused: nothing is written "
                         "beside it)")
     p.add_argument("--c-source", metavar="NAME.c", default=None,
-                   help="with --compensation nn (or one compensation with a C export: dob, "
-                        "integral, feedforward): write the compensator as C (NAME.c, NAME.h)")
+                   help="with --compensation nn (or one compensation with a C export: "
+                        "feedforward, lugre_observer, dob, integral): write the compensator "
+                        "as C (NAME.c, NAME.h)")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=run)

@@ -1,6 +1,7 @@
 """A compensator with a state as C99, for a real controller: :func:`c_source`, :func:`c_header`.
 
-For the compensators whose registry entry has ``c_code`` (feedforward, dob, integral): a
+For the compensators whose registry entry has ``c_code`` (feedforward, LuGre observer,
+dob, integral): a
 state struct, an initialisation and a step, with the same signature for every kind so a
 controller can swap them::
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as v
-from .base import Compensator, CompiledCompensator, Entry, friction_of, static_curve
+from .base import CCode, Compensator, CompiledCompensator, Entry, friction_of, static_curve
 
 __all__ = ["LuGreObserver", "ENTRY"]
 
@@ -168,11 +168,39 @@ def step(p, x, wh, y, r, ts):
     return p[P_SIGMA0] * z + p[P_SIGMA1] * zd + b * w
 
 
+def c_code(comp: LuGreObserver) -> CCode:
+    p = comp.compiled().params
+    names = ("sigma0", "sigma1", "b_pos", "b_neg", "fc_pos", "fc_neg", "ds_pos", "ds_neg", "ws",
+             "exponent", "k")
+    docs = ("bristle stiffness sigma0 [N*m/rad]", "bristle damping sigma1 [N*m*s/rad]",
+            "sigma2, w >= 0 [N*m*s/rad]", "sigma2, w < 0 [N*m*s/rad]", "Fc, w >= 0 [N*m]",
+            "Fc, w < 0 [N*m]", "Fs - Fc, w >= 0 [N*m]", "Fs - Fc, w < 0 [N*m]",
+            "Stribeck velocity ws [rad/s]", "Stribeck exponent [-]", "observer gain k [1/s]")
+    return CCode(
+        params=tuple(zip(names, p, docs)),
+        state=(("z", "bristle state estimate z_hat [rad]"),),
+        init="    st->z = 0.0;\n",
+        step="""    double w = omega_hat, fc, ds, b, u, dip, lam, drive, z = st->z;
+    (void)tm; (void)tc;
+    if (w >= 0.0) { fc = P_fc_pos; ds = P_ds_pos; b = P_b_pos; }
+    else { fc = P_fc_neg; ds = P_ds_neg; b = P_b_neg; }
+    u = fabs(w) / P_ws;
+    dip = P_exponent == 2.0 ? exp(-u * u) : exp(-pow(u, P_exponent));
+    lam = P_sigma0 * fabs(w) / (fc + ds * dip);
+    drive = w - P_k * (y - r);
+    if (lam > 0.0) z = z * exp(-lam * st->ts) - (drive / lam) * expm1(-lam * st->ts);
+    else z = z + st->ts * drive;
+    st->z = z;
+    return P_sigma0 * z + P_sigma1 * (drive - lam * z) + b * w;
+""")
+
+
 def _make(model, design, sample_time, *, sigma0: float | None = None,
           sigma1: float | None = None, gain: float = 0.0, scale: float = 1.0):
     return LuGreObserver.from_model(model, sigma0=sigma0, sigma1=sigma1, gain=gain, scale=scale)
 
 
 ENTRY = Entry(name="lugre_observer", kind=KIND, cls=LuGreObserver, make=_make, step=step,
+              c_code=c_code,
               description="LuGre observer z_hat' = w - sigma0 |w|/g(w) z_hat - k e, "
                           "F_hat = sigma0 z_hat + sigma1 z_hat' + sigma2 w (Canudas de Wit 1995)")
