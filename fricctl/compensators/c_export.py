@@ -1,9 +1,8 @@
 """A compensator with a state as C99, for a real controller: :func:`c_source`, :func:`c_header`.
 
 For the compensators whose registry entry has ``c_code`` (feedforward, LuGre observer,
-dob, integral): a
-state struct, an initialisation and a step, with the same signature for every kind so a
-controller can swap them::
+dob, integral): a state struct, an initialisation and a step, with the same signature for
+every kind so a controller can swap them::
 
     typedef struct { double ts; ...; } NAME_state;
     void NAME_init(NAME_state *st, double ts);
