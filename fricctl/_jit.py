@@ -9,9 +9,10 @@ source a kernel compiles from:
 
 * every module of the package that compiles with :func:`jit` (it imports this module),
 * every module of :mod:`fricctl.friction` (the laws and the coefficient layout the kernels
-  read as compile-time constants),
+  read as compile-time constants) and of :mod:`fricctl.compensators` (each compensator's
+  compiled step, which the generated dispatcher calls),
 * every package module those import directly (the constants a kernel freezes into its code,
-  such as the compensator codes of :mod:`fricctl.compensators`),
+  such as the network layout of :mod:`fricctl.netlayout`),
 
 so that an edit of any of them recompiles every kernel on its next use.
 
@@ -66,8 +67,10 @@ def compiled_sources() -> list[Path]:
     out = {Path(__file__).resolve()}
     for f in PACKAGE_ROOT.rglob("*.py"):
         f = f.resolve()
-        if PACKAGE_ROOT / "friction" in f.parents:
+        if PACKAGE_ROOT / "friction" in f.parents or PACKAGE_ROOT / "compensators" in f.parents:
             out.add(f)
+            if _USES_JIT.search(f.read_text(encoding="utf-8")):
+                out |= _package_imports(f)
         elif _USES_JIT.search(f.read_text(encoding="utf-8")):
             out.add(f)
             out |= _package_imports(f)

@@ -25,7 +25,7 @@ def test_python_dash_m_runs_the_cli():
 # or below (at any place in the file, lazy imports included).  bench reads the diagnosis's
 # cause registry to hide an effect (the diagnosis never imports the bench), so it sits above.
 LAYERS = (
-    ("_validate", "_cache", "_jit", "_json", "_atomic", "units"),
+    ("_validate", "_cache", "_jit", "_json", "_atomic", "_cnames", "units"),
     ("friction",),
     ("params",),
     ("plant", "netlayout"),

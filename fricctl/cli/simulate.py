@@ -15,9 +15,15 @@ is printed with its unit and in ``--json`` is ``{"value": ..., "unit": ...}`` (a
 [N*m] on a rotary joint; the text also gives an angle in [deg]).
 ``--compensation none,coulomb`` runs each compensation on the same plant and
 reference: one entry each in the summary (``--json``: ``{"runs": [...]}``), one
-overlaid figure.  ``--c-source NAME.c`` (with ``--compensation nn``) also writes the
-simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
-(:func:`fricctl.nn.c_export.c_source`, functions prefixed ``NAME``).  An existing
+overlaid figure.  Besides none, coulomb and nn, ``--compensation`` takes every compensator
+of the registry (:func:`fricctl.compensators.available`: the static-model feedforward, the
+LuGre observer, the disturbance observer, integral action ...), built from the model by
+:func:`fricctl.compensators.make` (integral action from the P/PD gains on the model's
+inertia and viscous coefficient).  ``--c-source NAME.c`` (with ``--compensation nn``, or one
+compensation that has a C export: :func:`fricctl.compensators.c_export.exportable`) also
+writes the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
+(:func:`fricctl.nn.c_export.c_source`, :func:`fricctl.compensators.c_export.c_source`;
+functions prefixed ``NAME``).  An existing
 output file is kept unless ``--force``.
 
 Examples::
@@ -74,17 +80,22 @@ def parse_signal(spec: str, quantity: str = "position", kind: str = "rotary"):
     return {"step": c.step, "constant": c.constant, "sawtooth": c.sawtooth, "sinusoid": c.sinusoid}[name](*vals)
 
 
-#: The compensations ``--compensation`` names (see :func:`_compensator`).
-COMPENSATIONS = ("none", "coulomb", "nn")
+def compensations() -> tuple[str, ...]:
+    """The names ``--compensation`` takes: the registry's (:func:`fricctl.compensators.available`;
+    read when an argument is parsed, so the command starts without loading the compiled loop)."""
+    from ..compensators import available
+
+    return available()
 
 
 def _compensations(text: str) -> tuple[str, ...]:
-    """``--compensation``: one of :data:`COMPENSATIONS` or a comma list of them, each once."""
+    """``--compensation``: one of :func:`compensations` or a comma list of them, each once."""
     names = tuple(w.strip() for w in text.split(","))
-    bad = [n for n in names if n not in COMPENSATIONS]
+    known = compensations()
+    bad = [n for n in names if n not in known]
     if bad:
         raise argparse.ArgumentTypeError(
-            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(COMPENSATIONS)} "
+            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(known)} "
             "or a comma list of them, e.g. none,coulomb")
     if len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f"{text!r} names a compensation twice")
@@ -114,11 +125,14 @@ def register(sub):
                    help="paper actuator: rigid (default) or flexible joint")
     p.add_argument("--friction-scale", type=float, default=1.0, help="true friction x this factor")
     p.add_argument("--compensation", type=_compensations, default=("none",),
-                   metavar="{none,coulomb,nn}[,...]",
+                   metavar="NAME[,...]",
                    help="none; coulomb: s*Fc*sign(omega_hat) at the model's sliding (Coulomb) "
                         "level per direction, scaled with the friction (not the breakaway "
                         "level; a model without Coulomb friction is refused); nn: the network "
-                        "of --net.  A comma list (none,coulomb,nn) runs each on the same plant "
+                        "of --net; or any other name of fricctl.compensators.available() "
+                        "(feedforward, observers, integral action; an unknown name is refused "
+                        "with the list), built from the model with its defaults.  "
+                        "A comma list (none,coulomb,nn) runs each on the same plant "
                         "and reference: one figure overlays them, the summary has one entry "
                         "per compensation (--json: runs[...]), --csv is refused.  A "
                         "compensated run is checked for wind-up (warning)")
@@ -133,7 +147,9 @@ def register(sub):
                         ".pdf or .svg (a folder or a bare name is refused: nothing is written "
                         "beside it)")
     p.add_argument("--c-source", metavar="NAME.c", default=None,
-                   help="with --compensation nn: write the compensator as C (NAME.c, NAME.h)")
+                   help="with --compensation nn (or one compensation with a C export: "
+                        "feedforward, lugre_observer, dob, integral): write the compensator "
+                        "as C (NAME.c, NAME.h)")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=run)
@@ -171,8 +187,18 @@ def _check_combination(args) -> None:
         raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
     if args.compensation == ("none",):
         refuse(("scale",), "with --compensation none")
-    if "nn" not in args.compensation and (args.clip or args.c_source):
-        raise ValueError(f"{'--clip' if args.clip else '--c-source'} applies to --compensation nn")
+    if "nn" not in args.compensation and args.clip:
+        raise ValueError("--clip applies to --compensation nn")
+    if args.c_source and "nn" not in args.compensation:
+        from ..compensators.c_export import exportable
+
+        have = [n for n in args.compensation if n in exportable()]
+        if len(have) != 1:
+            raise ValueError("--c-source applies to --compensation nn or to one compensation "
+                             f"with a C export ({', '.join(exportable())}); got {given_comp}")
+    if args.controller == "open" and "integral" in args.compensation:
+        raise ValueError("--compensation integral extends a P/PD controller: give --controller "
+                         "p or pd")
     if len(args.compensation) > 1 and args.csv:
         raise ValueError(f"--csv writes one record; --compensation {given_comp} makes "
                          f"{len(args.compensation)} (give one compensation with --csv)")
@@ -203,10 +229,23 @@ def _controller(args, plant, kind: str = "rotary"):
     return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
 
 
-def _compensator(name, args, scale, coulomb_pos, coulomb_neg):
-    """The compensator ``name`` (one of :data:`COMPENSATIONS`)."""
-    from ..compensators import CoulombCompensator, NNCompensator, NoCompensation
+def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=None):
+    """The compensator ``name`` (one of :func:`compensations`); ``plant`` (the model or the
+    paper's actuator) and ``ctrl`` (the controller: its gains) build the registry's others."""
+    from ..compensators import CoulombCompensator, NNCompensator, NoCompensation, make
 
+    if name not in ("none", "coulomb", "nn"):
+        from ..design import LinearLoop
+
+        loop = None
+        if ctrl is not None and ctrl.kp > 0 and plant.sample_time is not None:
+            inertia = getattr(plant, "total_inertia", None) or plant.inertia
+            loop = LinearLoop(kp=ctrl.kp, kd=ctrl.kd, inertia=inertia, viscous=plant.viscous,
+                              sample_time=plant.sample_time)
+        try:
+            return make(name, plant, loop, scale=scale)
+        except ValueError as exc:
+            raise ValueError(f"--compensation {name}: {exc}") from None
     if name == "none":
         return NoCompensation()
     if name == "coulomb":
@@ -323,17 +362,17 @@ def run(args) -> int:
     if args.model is not None:
         model = JointModel.load(args.model)
         fr = model.friction
-        comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
-                              fr.scale * fr.coulomb_neg) for name in args.compensation]
         ctrl = _controller(args, model, model.units)
+        comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
+                              fr.scale * fr.coulomb_neg, model, ctrl) for name in args.compensation]
         results = [simulate_model(model, ctrl, comp, duration=args.duration,
                                   friction=fr.scaled(args.friction_scale)) for comp in comps]
         units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
-        comps = [_compensator(name, args, scale, params.coulomb, params.coulomb)
-                 for name in args.compensation]
         ctrl = _controller(args, params)
+        comps = [_compensator(name, args, scale, params.coulomb, params.coulomb, params, ctrl)
+                 for name in args.compensation]
         results = [simulate(params, ctrl, comp, duration=args.duration, plant=args.plant or "rigid",
                             friction=params.friction_model().scaled(args.friction_scale))
                    for comp in comps]
@@ -347,7 +386,7 @@ def run(args) -> int:
             units=units or "rotary").to_csv(args.csv, overwrite=args.force)
     if args.figure:
         _figure(results, args.figure, units, overwrite=args.force)
-    if args.c_source:
+    if args.c_source and "nn" in args.compensation:
         from .._atomic import write_text
         from ..nn.c_export import c_header, c_source
 
@@ -356,6 +395,14 @@ def run(args) -> int:
         write_text(c, c_source(net, name=c.stem, units=units or "rotary"), overwrite=args.force)
         write_text(c.with_suffix(".h"), c_header(net, name=c.stem, units=units or "rotary"),
                    overwrite=args.force)
+    elif args.c_source:
+        from .._atomic import write_text
+        from ..compensators.c_export import c_header, c_source, exportable
+
+        c = Path(args.c_source)
+        (comp,) = [x for n, x in zip(args.compensation, comps) if n in exportable()]
+        write_text(c, c_source(comp, name=c.stem), overwrite=args.force)
+        write_text(c.with_suffix(".h"), c_header(comp, name=c.stem), overwrite=args.force)
     several = len(results) > 1
     for name, texts in zip(args.compensation, warns):
         for text in texts:

@@ -8,7 +8,9 @@ follows it): at each sample instant ``t_k = k*Ts``
 2. the velocity estimate is the backward difference
    ``omega_hat_k = (y_k - y_{k-1})/Ts`` (``omega_hat_0 = 0``), as the paper's driver;
 3. the controller gives ``Tc_k`` from ``y_k`` and ``omega_hat_k``;
-4. the compensator gives ``T^at_k = T^at(Tm_k, omega_hat_k)`` and the loop commands
+4. the compensator gives ``T^at_k = T^at(Tm_k, omega_hat_k)`` (a compensator with a
+   state -- observer, integral action -- from its state and ``Tm_k, omega_hat_k, y_k,
+   r_k, Tc_k``, updating its state: :mod:`fricctl.compensators.base`) and the loop commands
    ``Tm_{k+1} = clip(Tc_k + s*T^at_k, -Tmax, Tmax)`` (paper Eq. 3);
 5. ``Tm_{k+1}`` is held (ZOH) over ``[t_{k+1}, t_{k+2})``: one sample of
    computation delay; ``Tm_0 = 0``.
@@ -19,7 +21,8 @@ follows it): at each sample instant ``t_k = k*Ts``
 noise to what the joint receives.  The joint itself saturates at ``+-Tmax``.
 
 The loop (:mod:`fricctl.simulate.loop`, written once) runs compiled (numba) for the
-library's controllers and compensators, including a :class:`fricctl.nn.FrictionNet`;
+library's controllers and every registered compensator (:mod:`fricctl.compensators`; the
+runs of a batch may use different ones), including a :class:`fricctl.nn.FrictionNet`;
 an arbitrary estimator callable is evaluated in Python between the same compiled
 steps (same results, slower).  :func:`simulate_batch` runs N parameter variants in
 one call; :func:`simulate_model` runs the loop on a :class:`~fricctl.plant.JointModel`

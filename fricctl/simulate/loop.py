@@ -9,10 +9,13 @@ One sample of the loop is four compiled steps, each written once:
 4. :func:`joint_interval` -- the joint's resistive torque and one held-torque interval
    of the plant.
 
-Between 2 and 3 the compensator gives ``T^at_k`` from ``(Tm_k, omega_hat_k)``.
-:func:`run_compiled` chains the steps for compensators the kernel evaluates itself
-(none, Coulomb, a :class:`fricctl.nn.FrictionNet`); :func:`run_python` chains the
-same steps for any other estimator callable (evaluated in Python between 2 and 3).
+Between 2 and 3 the compensator gives ``T^at_k``: :func:`compensate`, the compiled step of
+the run's kind (:mod:`fricctl.compensators.compiled`), from its parameter vector, its state
+vector (changed in place) and the signals of the sample (``Tm_k, omega_hat_k, y_k, r_k,
+Tc_k, Ts``).  :func:`run_compiled` chains the steps for every registered compensator
+(none, Coulomb, a :class:`fricctl.nn.FrictionNet`, the feedforward, the observers, integral
+action; one kind per run); :func:`run_python` chains the same steps for any other
+estimator callable ``(Tm, omega_hat) -> T^at`` (evaluated in Python between 2 and 3).
 The timing is stated in :mod:`fricctl.simulate`.
 
 What a batch is made of comes in the typed records of :mod:`fricctl.simulate.spec`
@@ -32,8 +35,7 @@ import numpy as np
 from numba import prange
 
 from .._jit import jit
-from ..compensators import COMP_COULOMB, COMP_NN
-from ..netlayout import forward_packed
+from ..compensators.compiled import step as _compensator_step
 from ..plant.kernels import advance, state_torque
 from .spec import CompensatorSpec, ControlSpec, LoopSpec, PlantSpec
 
@@ -81,17 +83,10 @@ def control_torque(n, k, y, wh, offset, has_segments, control):
 
 
 @jit
-def compensate(kind, p, tm, wh):
-    """Friction estimate T^at of a compiled compensator (kind, parameter vector)."""
-    if kind == COMP_COULOMB:
-        if wh > p[2]:
-            return p[0]
-        if wh < -p[2]:
-            return -p[1]
-        return 0.0
-    if kind == COMP_NN:
-        return forward_packed(p, tm, wh)
-    return 0.0
+def compensate(kind, p, x, tm, wh, y, r, tc, ts):
+    """Friction estimate T^at of a compiled compensator (kind, parameter vector, state
+    vector changed in place) at sample k (:mod:`fricctl.compensators.base`)."""
+    return _compensator_step(kind, p, x, tm, wh, y, r, tc, ts)
 
 
 @jit
@@ -151,13 +146,15 @@ def _one_run(n, plant, loop, control, comp, out, stuck):
     y_prev = quantize(loop.q0[n], res)
     offset = 0.0
     has_segments = control.segment_start.shape[1] == out.shape[2]
+    kind = comp.kind[n]
+    x = comp.state[n].copy()
     for k in range(out.shape[2]):
         y, wh = observe(st[0], y_prev, k, loop.sample_time, res)
         if has_segments and _at(control.segment_start, n, k):
             offset = y
         r, tc = control_torque(n, k, y, wh, offset, has_segments, control)
         tm_k = tm_next
-        fh = compensate(comp.kind, comp.params[n], tm_k, wh)
+        fh = compensate(kind, comp.params[n], x, tm_k, wh, y, r, tc, loop.sample_time)
         tm_next, applied = act(n, k, st, tm_k, tc, fh, y, wh, r, comp.scale[n], loop, out, stuck)
         out[_F, n, k], out[_A, n, k] = joint_interval(plant, n, st, applied, k * loop.sample_time,
                                                       loop.sample_time)

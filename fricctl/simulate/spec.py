@@ -147,42 +147,57 @@ class ControlSpec(NamedTuple):
 
 
 class CompensatorSpec(NamedTuple):
-    """Compensators the compiled loop evaluates itself: ``T^at`` from ``(Tm_k, omega_hat_k)``.
+    """Compensators the compiled loop evaluates itself, one per run: kind, parameters, state.
 
     Attributes
     ----------
-    kind : int
-        :data:`~fricctl.compensators.COMP_NONE`, ``COMP_COULOMB`` or ``COMP_NN``; one for
-        the whole batch.
+    kind : ndarray of int64, shape (N,)
+        Each run's kind id (:attr:`fricctl.compensators.Entry.kind`; the runs of a batch
+        may differ).
     params : ndarray, shape (N, P)
-        Each run's parameter vector in the kind's layout (Coulomb: pos [N*m], neg [N*m],
-        dead band [rad/s]; NN: :mod:`fricctl.nn.layout`), zero-padded to the longest.
+        Each run's parameter vector in its kind's layout (Coulomb: pos [N*m], neg [N*m],
+        dead band [rad/s]; NN: :mod:`fricctl.netlayout`; the others: their module's
+        ``P_*``), zero-padded to the longest.
+    state : ndarray, shape (N, S)
+        Each run's initial state in its kind's layout (zero-padded, S >= 1); the loop
+        works on a copy.
     scale : ndarray, shape (N,)
         Compensation scale s in ``Tm = clip(Tc + s*T^at)`` [-].
     """
 
-    kind: int
+    kind: np.ndarray
     params: np.ndarray
+    state: np.ndarray
     scale: np.ndarray
 
     @classmethod
     def of(cls, compensators) -> "CompensatorSpec | None":
         """The spec of N runs' :class:`~fricctl.compensators.Compensator` objects, or None
-        when one of them has no compiled form or their kinds differ (the Python loop runs).
+        when one of them has no compiled form (the Python loop runs).
 
         Raises
         ------
         ValueError
-            A compiled compensator's parameters contain NaN or inf.
+            A compiled compensator's parameters or state contain NaN or inf (an infinite
+            torque limit is the one infinity a parameter vector may hold), or a batch mixes
+            a compensator with a state (compiled only) with one that runs in Python.
         """
         compiled = [c.compiled() for c in compensators]
         for c in compiled:
-            if c is not None and not np.all(np.isfinite(c.params)):
+            if c is not None and not (np.all(np.isfinite(c.params)) and np.all(np.isfinite(c.state))):
                 raise ValueError("the compensator's parameters contain NaN or inf")
-        if any(c is None for c in compiled) or len({c.kind for c in compiled}) != 1:
+        if any(c is None for c in compiled):
+            stateful = [k.name for k in compensators if k.stateful]
+            if stateful:
+                raise ValueError(f"the batch mixes the {stateful[0]} compensator (it has a state: "
+                                 "compiled loop only) with an estimator that runs in Python; "
+                                 "simulate them in separate calls")
             return None
         params = np.zeros((len(compiled), max(c.params.size for c in compiled)))
+        state = np.zeros((len(compiled), max([1] + [c.state.size for c in compiled])))
         for i, c in enumerate(compiled):
             params[i, :c.params.size] = c.params
-        return cls(kind=compiled[0].kind, params=params,
-                   scale=np.array([c.scale for c in compensators], dtype=float))
+            state[i, :c.state.size] = c.state
+        return cls(kind=np.array([c.kind for c in compiled], dtype=np.int64), params=params,
+                   state=state, scale=np.array([c.scale for c in compensators], dtype=float))
+
