@@ -352,18 +352,18 @@ def test_a_trial_costlier_than_the_start_is_refused_before_it_is_simulated(monke
 
     D = importlib.import_module("fricctl.identify.didim")
     run, truth = grid_record(500, 2000, "open", 7)
-    starts, simulated = [], []
+    starts, simulated, real = [], [], D.simulate_record
 
     def substeps(run, params):
         th = np.array([params[n] for n in ("inertia", "viscous", "coulomb")])
-        starts.append(th) if not starts else None
+        if not starts:  # DIDIM asks first at its start
+            starts.append(th)
         return 4 + int(36e3 * np.max(np.abs(th / starts[0] - 1.0)))
 
     def simulate(run, params, loop, **kw):
         simulated.append(np.array([params[n] for n in ("inertia", "viscous", "coulomb")]))
         return real(run, params, loop, **kw)
 
-    real = D.simulate_record
     monkeypatch.setattr(D, "record_substeps", substeps)
     monkeypatch.setattr(D, "simulate_record", simulate)
     ident = I.identify_record(run, offset=False, validate=False)
