@@ -179,3 +179,29 @@ def test_time_column_times_1e300_exits_2(record_csv, tmp_path, capsys):
     assert main(["diagnose", str(tmp_path / "huge.csv")]) == 2
     err = capsys.readouterr().err
     assert "sample time" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_command_builds_its_own_parser_only(tmp_path):
+    # `fricctl diagnose` registered every sub-command, importing the network and its trainers
+    # (train's choices) that a diagnosis never uses; the usage, help and errors are its own
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom fricctl.cli import main\ncode = main(sys.argv[1:])\n"
+            "print(code, 'fricctl.nn' in sys.modules, 'fricctl.cli.train' in sys.modules)")
+
+    def run(*argv):
+        out = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                             cwd=tmp_path)
+        return out.stdout.split()[-3:], out.stdout + out.stderr
+
+    words, text = run("diagnose", "--help")
+    assert words == ["0", "False", "False"] and "usage: fricctl diagnose" in text
+    words, text = run("diagnose", "run.csv", "--windw", "1")  # a usage error names its command
+    assert words == ["2", "False", "False"]
+    assert "fricctl diagnose: error: unrecognized arguments: --windw" in text
+    assert "did you mean --window?" in text and "(see fricctl diagnose --help)" in text
+    words, text = run("--help")  # the whole parser: every command listed
+    assert words == ["0", "True", "True"] and "diagnose" in text and "train" in text
+    words, text = run("diagnos", "x")  # a misspelt command: the whole parser's suggestion
+    assert words[0] == "2" and "did you mean diagnose?" in text

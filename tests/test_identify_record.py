@@ -340,3 +340,68 @@ def test_a_replay_the_model_cannot_follow_falls_back_to_the_equation_error():
     assert any("the equation error is reported" in w for w in ident.result.warnings)
     assert ident.parameters["inertia"] == pytest.approx(rec.truth.inertia, rel=0.05)
     assert ident.parameters["viscous"] == pytest.approx(rec.truth.viscous, rel=0.1)
+
+
+def test_a_trial_costlier_than_the_start_is_refused_before_it_is_simulated(monkeypatch):
+    # a replay's cost per sample is its RK4 sub-step count; here a stand-in count that grows by
+    # 36 per 0.1 % a parameter moves from the start (4 there), so that with MAX_REPLAY_COST = 10
+    # every trial moving one by more than 0.1 % is too costly (DIDIM moves this record's
+    # inertia by more).  None of them may be simulated (the Jacobians step 1e-4 from an
+    # accepted iterate), and the warnings count them.
+    import importlib
+
+    D = importlib.import_module("fricctl.identify.didim")
+    run, truth = grid_record(500, 2000, "open", 7)
+    starts, simulated, real = [], [], D.simulate_record
+
+    def substeps(run, params):
+        th = np.array([params[n] for n in ("inertia", "viscous", "coulomb")])
+        if not starts:  # DIDIM asks first at its start
+            starts.append(th)
+        return 4 + int(36e3 * np.max(np.abs(th / starts[0] - 1.0)))
+
+    def simulate(run, params, loop, **kw):
+        simulated.append(np.array([params[n] for n in ("inertia", "viscous", "coulomb")]))
+        return real(run, params, loop, **kw)
+
+    monkeypatch.setattr(D, "record_substeps", substeps)
+    monkeypatch.setattr(D, "simulate_record", simulate)
+    ident = I.identify_record(run, offset=False, validate=False)
+    moved = np.max(np.abs(np.array(simulated) / starts[0] - 1.0), axis=1)
+    assert D.MAX_REPLAY_COST == 10  # the stand-in's slope is set for it
+    assert moved.max() <= 1e-3 + 2e-4, moved.max()
+    assert np.any(moved > 1e-3 / 2)  # and the refinement did move (the test has a point)
+    refused = [w for w in ident.refined.warnings if "trial step(s) whose simulation" in w]
+    assert len(refused) == 1 and f"more than {D.MAX_REPLAY_COST} times the start's 4" in refused[0]
+
+
+@pytest.mark.slow
+def test_a_long_closed_loop_record_drifting_in_its_replay_is_not_refined_at_any_cost():
+    # the 3324 s outlier of issue 21's benchmark (benchmarks/README.md): a 60 s, 2 kHz
+    # closed-loop record with a position load the rigid model lacks; replayed open loop it
+    # drifts off, and DIDIM's output error pulled toward a joint that barely moves (viscous
+    # 0.024 -> 1885 N*m*s/rad at a tenth of the inertia): replays of 1585 RK4 sub-steps per
+    # sample, 215 s of the diagnosis.  Now no simulation runs more than MAX_REPLAY_COST times
+    # the start's sub-steps, and the reported estimate is the same: the equation error, said.
+    import importlib
+
+    from fricctl.bench.hidden_effects import hidden_effect_record
+
+    D = importlib.import_module("fricctl.identify.didim")
+    rec = hidden_effect_record(np.random.default_rng([12201, 1, 2, 0]), cause="position_load",
+                               sample_time=0.0005, axis="rotary", excitation="closed_loop",
+                               duration=60.0)
+    counts = []
+    real = D.simulate_record
+
+    def simulate(run, params, loop, **kw):
+        counts.append(D.record_substeps(run, params))
+        return real(run, params, loop, **kw)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(D, "simulate_record", simulate)
+        ident = I.identify_record(rec.run, offset=False, validate=False)
+    assert max(counts) <= D.MAX_REPLAY_COST * counts[0]
+    assert any("trial step(s) whose simulation" in w for w in ident.refined.warnings)
+    assert np.array_equal(ident.result.estimates, ident.start.estimates)
+    assert any("the equation error is reported" in w for w in ident.result.warnings)

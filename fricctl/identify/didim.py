@@ -42,16 +42,24 @@ from ..estimation import decimate
 from .idim import IdimRecipe, idim_ls
 from .least_squares import IdentificationResult
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names
-from .simulation import RecordLoop, initial_velocity, record_loop, simulate_record
+from .simulation import (RecordLoop, initial_velocity, record_loop, record_substeps,
+                         simulate_record)
 from .uncertainty import block_covariance
 
-__all__ = ["didim", "OUTPUTS", "MIN_INERTIA_SHARE"]
+__all__ = ["didim", "OUTPUTS", "MIN_INERTIA_SHARE", "MAX_REPLAY_COST"]
 
 #: The simulated outputs DIDIM can match: ``"torque"`` (closed loop only) and ``"position"``.
 OUTPUTS = ("torque", "position")
 #: Least inertia DIDIM's iterates may take, as a share of its start's (the equation error's):
 #: a refinement stays within a decade below it, and the replay's RK4 sub-steps grow as 1/I [-].
 MIN_INERTIA_SHARE = 0.1
+#: Most RK4 sub-steps per sample a trial's simulation may run, as a multiple of its start's [-]
+#: (the cost of a replay, per sample of the record): a trial beyond is refused as a step that
+#: raises the cost.  The inertia's floor alone allows ten times the start's rate; an iterate
+#: far stiffer than that (viscous/inertia thousands of times the start's) is no refinement,
+#: and each of its replays costs hundreds of the start's (228 s of one diagnosis of a 60 s,
+#: 2 kHz closed-loop record drifting in its replay, benchmarks/README.md).
+MAX_REPLAY_COST = 10
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -94,6 +102,10 @@ class _Problem:
             # constant the parameters cannot explain, profiled out (the start fitted by LS)
             out.append(r - r.mean())
         return np.concatenate(out)
+
+    def substeps(self, theta) -> int:
+        """RK4 sub-steps per sample the simulation at ``theta`` runs (its cost per sample)."""
+        return record_substeps(self.runs[0], dict(zip(self.names, theta)))
 
     def jacobian(self, theta, r0, step) -> np.ndarray:
         """d(simulated output)/d(theta) by forward differences (``-d r/d theta``)."""
@@ -163,6 +175,11 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     (:func:`~fricctl.identify.uncertainty.block_covariance`).  Stick-slip makes the simulated
     output a non-smooth function of the parameters; the forward differences step by
     1e-4 of each magnitude, above that roughness on the records tested.
+
+    The iterates stay near their start: the inertia above :data:`MIN_INERTIA_SHARE` of it,
+    and a trial step whose simulation would run more than :data:`MAX_REPLAY_COST` times the
+    start's RK4 sub-steps per sample (:func:`~fricctl.identify.simulation.record_substeps`)
+    is refused as one that raises the cost, the count said in the warnings.
     """
     v.instance("run", run, Run, "a fricctl.datasets.Run")
     if v.choice("model", model, MODELS) not in LINEAR_MODELS:
@@ -213,6 +230,11 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     r = prob.residual(theta)
     cost = float(r @ r)
     lam, converged, warnings = 1e-3, False, list(loop.warnings)
+    # a trial whose simulation would run more than MAX_REPLAY_COST times the start's RK4
+    # sub-steps is refused before it runs (its replay and its Jacobian's would cost that many
+    # times the start's): the stiffest it asked for is reported
+    substeps0 = prob.substeps(theta)
+    max_substeps, refused = MAX_REPLAY_COST * substeps0, []
     step_solver = _StepSolver(len(names))
     for iteration in range(1, max_iterations + 1):
         J = prob.jacobian(theta, r, 1e-4 * mag)
@@ -220,11 +242,16 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
         while True:
             step = step_solver(J, r, D, lam, lower - theta, mag)
             trial = np.maximum(theta + step, lower)  # IPOPT honours bounds to its tolerance
-            try:
-                rt = prob.residual(trial)
-                ct = float(rt @ rt)
-            except ValueError:  # a trial the replay cannot simulate (diverges, too stiff):
-                rt, ct = r, math.inf  # a rejected step, as one that raises the cost
+            n_sub = prob.substeps(trial)
+            if n_sub > max_substeps:  # too costly: a rejected step, as one that raises the cost
+                refused.append(n_sub)
+                rt, ct = r, math.inf
+            else:
+                try:
+                    rt = prob.residual(trial)
+                    ct = float(rt @ rt)
+                except ValueError:  # a trial the replay cannot simulate (diverges, too stiff):
+                    rt, ct = r, math.inf  # a rejected step, as one that raises the cost
             if not math.isfinite(ct):
                 ct = math.inf
             if ct <= cost:
@@ -239,6 +266,12 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
         if change < tolerance:
             converged = True
             break
+    if refused:
+        warnings.append(f"DIDIM refused {len(refused)} trial step(s) whose simulation would run "
+                        f"up to {max(refused)} RK4 sub-steps per sample, more than "
+                        f"{MAX_REPLAY_COST} times the start's {substeps0}: a joint that much "
+                        f"stiffer (viscous/inertia) is no refinement of the start, and each "
+                        f"of its replays would cost as many times the start's")
     if not converged:
         warnings.append(f"DIDIM did not converge in {max_iterations} iterations (last relative "
                         f"step {change:.2g}): the estimate is the last iterate")

@@ -31,7 +31,7 @@ from ..controllers import Controller, from_array, pd_control
 from ..datasets import Run
 
 __all__ = ["RecordLoop", "SimulatedRecord", "record_loop", "simulate_record", "initial_velocity",
-           "PD_FIT_TOLERANCE"]
+           "record_substeps", "PD_FIT_TOLERANCE"]
 
 #: Largest relative error [-] of the PD law fitted to a record's torque for the record to be
 #: simulated in closed loop with it (EMPS: 0.047, its own law differs from the loop's by a
@@ -177,6 +177,32 @@ def simulate_record(run, parameters: dict, loop: RecordLoop, *,
                          run.sample_time, q0=float(run.position[0]), quantize=False)
     n = run.n_samples  # the loop's sample count is round(duration/Ts): the record's
     return SimulatedRecord(position=sim.q[:n], velocity=sim.omega[:n], torque=sim.torque_motor[:n])
+
+
+def record_substeps(run, parameters: dict) -> int:
+    """RK4 sub-steps per sample :func:`simulate_record` runs for ``parameters`` on ``run`` [-]:
+    the kernels' default, raised to what the joint's fastest rate (viscous/inertia for the
+    linear models) needs at the record's sample time (:mod:`fricctl.plant.stability`).  A
+    simulation's cost is proportional to it (times the record's samples).
+
+    Raises
+    ------
+    ValueError
+        ``inertia`` not positive.
+    """
+    from ..plant.model import JointModel
+    from ..plant.stability import fastest_rate, required_substeps
+    from ..simulate import DEFAULT_SUBSTEPS
+
+    v.instance("run", run, Run, "a fricctl.datasets.Run")
+    if not parameters.get("inertia", 0.0) > 0:
+        raise ValueError(f"parameters: inertia {parameters.get('inertia')} is not positive; "
+                         "the joint cannot be simulated")
+    joint = JointModel.from_estimates(parameters, units=run.units, source="identification",
+                                      sample_time=run.sample_time).joint()
+    rate = fastest_rate(inertia=joint.inertia, friction=joint.friction)
+    return max(DEFAULT_SUBSTEPS[joint.kind], required_substeps(sample_time=run.sample_time,
+                                                               rate=rate))
 
 
 def initial_velocity(run, cutoff: float, order: int) -> float:
