@@ -485,13 +485,9 @@ plt.show()
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the actuator, Eqs. (1)-(2), the P design.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: the friction laws (Coulomb, viscous, Stribeck), stick and
-#   stick-slip.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the actuator, Eqs. (1)-(2), the P design.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): the friction laws
+#   (Coulomb, viscous, Stribeck), stick and stick-slip.
 #
 # In fricctl: [`paper_actuator`](#fricctl.params.paper_actuator) and
 # [`ActuatorParams`](#fricctl.params.ActuatorParams),

@@ -382,14 +382,11 @@ for seed in (0, 1, 2):
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Section 4 and Fig. 4, the polynomial velocity estimate.
-# * A. Savitzky and M. J. E. Golay, "Smoothing and differentiation of data by simplified
-#   least squares procedures", *Analytical Chemistry* 36(8), 1964: the Savitzky-Golay filter.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the Butterworth
-#   and central-difference recipe.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Section 4 and Fig. 4, the polynomial
+#   velocity estimate.
+# * [Savitzky & Golay 1964](#savitzky1964): the Savitzky-Golay filter.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the Butterworth and
+#   central-difference recipe.
 #
 # In fricctl: [`backward_difference`](#fricctl.estimation.backward_difference),
 # [`polynomial_segments`](#fricctl.estimation.polynomial_segments),

@@ -524,27 +524,16 @@ assert all(1.3 < q < 1.9 for q in ratios)
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Section 4, friction from measured torque and acceleration.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the data,
-#   the IDIM-LS recipe and its published results.
-# * M. Gautier, A. Janot and P.-O. Vandanjon, "A new closed-loop output error method for
-#   parameter identification of robot dynamics", *IEEE Transactions on Control Systems
-#   Technology* 21(2), 2013: DIDIM.
-# * A. Janot, P.-O. Vandanjon and M. Gautier, "A generic instrumental variable approach for
-#   industrial robot identification", *IEEE Transactions on Control Systems Technology*
-#   22(1), 2014: IDIM-IV.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: the Stribeck friction model.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019.
-# * A. Wächter and L. T. Biegler, "On the implementation of an interior-point filter
-#   line-search algorithm for large-scale nonlinear programming", *Mathematical Programming*
-#   106(1), 2006: IPOPT.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Section 4, friction from measured torque and
+#   acceleration.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the data, the IDIM-LS recipe and its
+#   published results.
+# * [Gautier, Janot & Vandanjon 2013](#gautier2013didim): DIDIM.
+# * [Janot, Vandanjon & Gautier 2014](#janot2014idimiv): IDIM-IV.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): the Stribeck
+#   friction model.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi).
+# * [Wächter & Biegler 2006](#wachter2006ipopt): IPOPT.
 #
 # In fricctl: [`fit_friction`](#fricctl.identify.fit_friction),
 # [`identify_run`](#fricctl.identify.identify_run), [`regressor`](#fricctl.identify.regressor),

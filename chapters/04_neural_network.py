@@ -501,20 +501,13 @@ assert min(sliding_g) > 1
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the friction patterns (Fig. 5), the 2-4-1 network, Fig. 8.
-# * D. E. Rumelhart, G. E. Hinton and R. J. Williams, "Learning representations by
-#   back-propagating errors", *Nature* 323, 1986: back-propagation.
-# * K. Levenberg, "A method for the solution of certain non-linear problems in least
-#   squares", *Quarterly of Applied Mathematics* 2(2), 1944, and D. W. Marquardt, "An
-#   algorithm for least-squares estimation of nonlinear parameters", *Journal of the Society
-#   for Industrial and Applied Mathematics* 11(2), 1963: the Levenberg-Marquardt trainer.
-# * L. Ljung, *System Identification: Theory for the User*, 2nd ed., Prentice Hall, 1999:
-#   the normalised fit.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the friction patterns (Fig. 5), the 2-4-1
+#   network, Fig. 8.
+# * [Rumelhart, Hinton & Williams 1986](#rumelhart1986): back-propagation.
+# * [Levenberg 1944](#levenberg1944) and [Marquardt 1963](#marquardt1963): the
+#   Levenberg-Marquardt trainer.
+# * [Ljung 1999](#ljung1999): the normalised fit.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi).
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`train_network`](#fricctl.bench.experiments.train_network),

@@ -493,13 +493,10 @@ assert n_noisy == n_quiet >= 2
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the compensation law (Eq. 3), Figs. 9 and 10, the dead-zone
-#   and accuracy claims.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: friction compensation and its hazards.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the compensation law (Eq. 3), Figs. 9 and
+#   10, the dead-zone and accuracy claims.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): friction
+#   compensation and its hazards.
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`FrictionNet.gain_at_rest`](#fricctl.nn.FrictionNet.gain_at_rest),

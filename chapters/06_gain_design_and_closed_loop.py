@@ -651,16 +651,13 @@ assert pd_zeta[1.0] > 0.5 and pd_zeta[1.0] < pd_zeta[0.0]
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the controller design, Eq. (3), Figs. 11-14.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021: transfer functions, root locus, step responses.
-# * G. F. Franklin, J. D. Powell and A. Emami-Naeini, *Feedback Control of Dynamic
-#   Systems*, Pearson: second-order design from rise time and damping, the root locus.
-# * G. F. Franklin, J. D. Powell and M. L. Workman, *Digital Control of Dynamic Systems*,
-#   3rd ed., Addison-Wesley, 1998: the sampled loop, poles mapped by $s = \ln z / T_s$.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the controller design, Eq. (3), Figs. 11-14.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control): transfer functions, root locus,
+#   step responses.
+# * [Franklin, Powell & Emami-Naeini 2019](#franklin_feedback): second-order design from rise time
+#   and damping, the root locus.
+# * [Franklin, Powell & Workman 1998](#franklin1998digital): the sampled loop, poles mapped by
+#   $s = \ln z / T_s$.
 #
 # In fricctl: [`plant_tf`](#fricctl.design.plant_tf), [`design_p`](#fricctl.design.design_p),
 # [`design_pd`](#fricctl.design.design_pd), [`Design`](#fricctl.design.Design),

@@ -467,17 +467,12 @@ assert kp_light < kp and np.mean(shares["redesigned"]) < np.mean(shares["fixed g
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the actuator with the SCARA link, Figs. 16-18.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: Coulomb compensation, hunting and limit cycles.
-# * A. Gelb and W. E. Vander Velde, *Multiple-Input Describing Functions and Nonlinear
-#   System Design*, McGraw-Hill, 1968: the describing function of a relay.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the actuator with the SCARA link, Figs.
+#   16-18.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): Coulomb
+#   compensation, hunting and limit cycles.
+# * [Gelb & Vander Velde 1968](#gelb1968): the describing function of a relay.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control).
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`paper_claims`](#fricctl.paper.paper_claims),

@@ -523,18 +523,13 @@ if est is not None:
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Sections 3-5, the chain identify, design, learn, compensate.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the records,
-#   the IDIM-LS recipe and its published results, the axis's own controller.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021: the PD design.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019: the least squares and the Levenberg-Marquardt trainer.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Sections 3-5, the chain identify, design,
+#   learn, compensate.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the records, the IDIM-LS recipe and
+#   its published results, the axis's own controller.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control): the PD design.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi): the least squares and the
+#   Levenberg-Marquardt trainer.
 #
 # In fricctl: [`JointModel`](#fricctl.plant.JointModel), [`emps`](#fricctl.datasets.emps),
 # [`record_patterns`](#fricctl.datasets.record_patterns), [`idim_ls`](#fricctl.identify.idim_ls),

@@ -40,6 +40,7 @@ extensions = [
     "numpydoc",
     "sphinx.ext.mathjax",
     "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: no CDN
+    "sphinxcontrib.bibtex",    # the one bibliography, docs/references.bib (bibliography.md)
     "fricctl_book",
 ]
 
@@ -63,6 +64,14 @@ numfig_format = {"figure": "Fig. %s", "table": "Table %s", "code-block": "Listin
                  "section": "Section %s"}
 math_eqref_format = "Eq. ({number})"
 mathjax3_config = {"tex": {"packages": {"[-]": ["noundefined"]}}}
+
+# -- the bibliography ------------------------------------------------------------------------
+# one file, listed whole on bibliography.md; a chapter cites an entry with a Markdown link to its
+# key, [Gervini, Gomes & da Rosa 2003](#gervini2003), which Jupyter shows as its text and MyST
+# resolves (like the `any` role) to a citation, "(Gervini et al., 2003)", linked to the entry
+bibtex_bibfiles = ["references.bib"]
+bibtex_default_style = "plain"
+bibtex_reference_style = "author_year"
 
 # -- myst-nb: execution and rendering -------------------------------------------------------
 nb_custom_formats = {".py": ["fricctl_book.read_chapter", {}, False]}
