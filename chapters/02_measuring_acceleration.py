@@ -19,6 +19,8 @@
 # To learn friction from experiments we need it as a signal.  The rigid joint of paper
 # Eq. (2), $I\,\ddot q = T_m - T_{at}$, gives it as
 #
+# <a id="eq-experimental-friction"></a>
+#
 # $$ T_{at} = T_m - I\,\hat\alpha, $$
 #
 # with $T_m$ the motor torque [N m] (known: it is what the controller commands), $I$ the
@@ -72,6 +74,8 @@ BORDER = 25                       # samples ignored at each end when scoring [-]
 # the reading at $t_k = k\,T_s$ (sample time $T_s$ [s]) is the position rounded down to
 # the grid, $y_k = \Delta\lfloor q(t_k)/\Delta \rfloor$.  The controller's velocity is the
 # backward difference
+#
+# <a id="eq-backward-difference"></a>
 #
 # $$ \hat\omega_k = \frac{y_k - y_{k-1}}{T_s}, $$
 #
@@ -216,10 +220,12 @@ assert set(best.values()) == {"polynomial_segments"}  # the paper's method wins 
 # $e_k$ behave like independent uniform errors (standard deviation $\Delta/\sqrt{12}$), and
 # this term has the RMS value
 #
+# <a id="eq-quantisation-noise"></a>
+#
 # $$ \sqrt{1 + 4 + 1}\;\frac{\Delta}{\sqrt{12}\,T_s^2} = \frac{\Delta}{\sqrt{2}\,T_s^2}, $$
 #
 # of the order of $\Delta/T_s^2$: a single count divided by a very small $T_s^2$.  The
-# prediction, against the table's first row (within 25 %):
+# prediction of [the RMS value](#eq-quantisation-noise), against the table's first row (within 25 %):
 
 # %%
 quant = res / (np.sqrt(2) * p.sample_time ** 2)

@@ -21,6 +21,8 @@
 # friction *model* to them.  The inverse dynamic identification model (IDIM) reads
 # the joint's equation backwards: at each sample $k$,
 #
+# <a id="eq-idim"></a>
+#
 # $$ T_{m,k} = I\,\hat\alpha_k + b\,\hat\omega_k + F_c\operatorname{sign}(\hat\omega_k) + o
 #    + \varepsilon_k, $$
 #
@@ -31,6 +33,8 @@
 # but the model is **linear in the parameters** $\theta = (I, b, F_c, o)$: stacking one row
 # per sample gives
 #
+# <a id="eq-linear-system"></a>
+#
 # $$ y = X\theta + \varepsilon, \qquad
 #    y = \begin{bmatrix} T_{m,1} \\ \vdots \\ T_{m,N} \end{bmatrix}, \qquad
 #    X = \begin{bmatrix} \hat\alpha_1 & \hat\omega_1 & \operatorname{sign}\hat\omega_1 & 1 \\
@@ -40,6 +44,8 @@
 # an over-determined linear system (the regressor $X$ has many more rows than columns),
 # solved by bounded least squares:
 #
+# <a id="eq-least-squares"></a>
+#
 # $$ \hat\theta = \arg\min_{\theta} \lVert y - X\theta \rVert_2^2
 #    \quad\text{subject to}\quad I \ge 0,\; b \ge 0,\; F_c \ge 0. $$
 #
@@ -48,6 +54,8 @@
 # CasADi over scaled variables and solved by IPOPT, so the same code also handles models
 # that are nonlinear in their parameters (the Stribeck curve).  The result reports each
 # estimate with its standard deviation, as the EMPS identification reports do:
+#
+# <a id="eq-standard-deviation"></a>
 #
 # $$ \sigma_j = \hat\sigma\,\sqrt{\big[(X^\top X)^{-1}\big]_{jj}}, $$
 #
@@ -129,7 +137,8 @@ for name, true_value in truth.items():
 # model learns nothing there) and fits the Coulomb + viscous model.  After it, the same
 # problem is rebuilt by hand, the regressor $X$ from [`fricctl.identify.regressor`](#fricctl.identify.regressor) and
 # the solution from numpy's unconstrained `lstsq` (none of the bounds is active here),
-# to check that the CasADi fit and its standard deviations are the formulas above.
+# to check that the CasADi fit and its standard deviations are
+# [the least squares](#eq-least-squares) and [their standard deviations](#eq-standard-deviation).
 
 # %%
 cv_fit = identify_run(run, model="coulomb_viscous", estimator="polynomial_segments")

@@ -88,6 +88,8 @@ plt.show()
 # %% [markdown]
 # Each pattern is a measured friction torque [N m] from paper Eq. (2),
 #
+# <a id="eq-patterns"></a>
+#
 # $$ T_{at}(k) = T_m(k) - I\,\hat\alpha(k), $$
 #
 # with $I$ the inertia [kg m²] and $\hat\alpha$ the estimated acceleration [rad/s²].
@@ -100,6 +102,8 @@ plt.show()
 #
 # The paper's 2-4-1 network maps the scaled inputs through four tanh units to one
 # linear output:
+#
+# <a id="eq-network"></a>
 #
 # $$ \hat T = W_2 \tanh(W_1 x + b_1) + b_2, \qquad
 #    x = \left(\frac{T_m - c_T}{s_T},\ \frac{\omega - c_\omega}{s_\omega}\right), $$
@@ -213,6 +217,8 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 #
 # [Chapter 5](05_open_loop_compensation_and_dead_zone) shows that one number of the net decides what the compensator does while the
 # joint is stuck: the at-rest gain
+#
+# <a id="eq-gain-at-rest"></a>
 #
 # $$ g = \left.\frac{\partial \hat T_{at}}{\partial T_m}\right|_{\omega = 0}, $$
 #

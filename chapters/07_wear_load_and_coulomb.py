@@ -85,9 +85,11 @@ print(f"PD of Figs. 16-17 (0.4 s, 0.85, with the link): Kp = {kp:.4f} N*m/rad, K
 # ## 1. The aged actuator and its band
 #
 # Chapter 6 showed that a stuck compensated joint stops anywhere inside a band set by
-# the loop's gain at rest.  With the compensation scaled by $s$ and the true friction
+# the loop's gain at rest ([Chapter 6's band](#eq-stuck-band)).  With the compensation scaled by $s$ and the true friction
 # by $\varphi$ (breakaway $\varphi F_s$), the fixed point $T_m^\ast = K_p e/(1 - s g)$
 # stays below the breakaway for
+#
+# <a id="eq-aged-band"></a>
 #
 # $$ |e_{ss}| \le \frac{\varphi F_s\,(1 - s g)}{K_p}, $$
 #

@@ -71,6 +71,8 @@ warnings.simplefilter("ignore", DesignWarning)  # the designs' warnings are in D
 # equation of paper Eq. (2), a constant offset, and a friction law with one set of
 # coefficients per direction:
 #
+# <a id="eq-joint-model"></a>
+#
 # $$ I\,\ddot q = T_m - o - T_{at}(\dot q), \qquad
 #    T_{at}(\omega) = b^{\pm}\omega + \operatorname{sign}(\omega)\Big[F_c^{\pm}
 #    + S^{\pm} e^{-(|\omega|/v_s)^{\delta}}\Big] \quad (\omega \ne 0), $$
@@ -154,7 +156,9 @@ if est is not None:
 # ## 3. Identify, and write the model file
 # The benchmark's IDIM-LS gives the published estimates with their standard deviations.
 # Its model, per sample $k$, is the joint equation read backwards
-# ([Chapter 3](03_identifying_friction); [`idim_ls`](#fricctl.identify.idim_ls)):
+# ([Chapter 3](03_identifying_friction), [its model](#eq-idim); [`idim_ls`](#fricctl.identify.idim_ls)):
+#
+# <a id="eq-emps-idim"></a>
 #
 # $$ F_{m,k} = M\,\ddot q_k + F_v\,\dot q_k + F_c\,\operatorname{sign}(\dot q_k) + o
 #    + \varepsilon_k, $$
@@ -167,6 +171,8 @@ if est is not None:
 # $y$ low-pass filtered and kept one sample in 10 (decimation $D$, "parallel filtering",
 # which removes the noise above the dynamics without shifting any column against the
 # others), and least squares on what remains:
+#
+# <a id="eq-emps-least-squares"></a>
 #
 # $$ \hat\theta = \arg\min_{\theta} \lVert D y - (D X)\,\theta \rVert_2^2, \qquad
 #    \theta = (M, F_v, F_c, o), \qquad
@@ -208,6 +214,8 @@ if est is not None:
 # viscous plant $1/(s(Ms + F_v))$:
 # rise time 0.05 s, damping 0.7, rate feedback, checked on the sampled loop at 1 kHz.
 # With $T_c = K_p(r - q) - K_d\,\hat\omega$ the closed loop is
+#
+# <a id="eq-emps-loop"></a>
 #
 # $$ M s^2 + (F_v + K_d)\,s + K_p, \qquad \omega_n = \sqrt{K_p/M}, \qquad
 #    \zeta = \frac{F_v + K_d}{2\sqrt{K_p M}}, $$

@@ -56,9 +56,10 @@ myst_heading_anchors = 3
 
 # an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
 # not red text
-# every display equation numbered (per page): "Chapter 5, Eq. (3)" can be cited (issue 24 item 5)
+# every display equation numbered: "Eq. (19)" can be cited (issue 24 item 5); with numfig the
+# numbers of equations and figures run on through the book (no page is a numbered section)
 math_number_all = True
-# captioned figures numbered on their page ("Fig. 2"), as the equations are
+# captioned figures numbered ("Fig. 2"), as the equations are
 numfig = True
 numfig_format = {"figure": "Fig. %s", "table": "Table %s", "code-block": "Listing %s",
                  "section": "Section %s"}

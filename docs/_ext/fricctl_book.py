@@ -26,6 +26,8 @@
 
 from __future__ import annotations
 
+import ast
+import importlib
 import os
 import re
 import shutil
@@ -55,13 +57,138 @@ TAGS = {
 _EXERCISE = re.compile(r"#\s*Exercise\s+(\d+[a-z]?)\b", re.I)
 
 
+#: An anchor on the line before a display equation, ``<a id="eq-motion"></a>``: in Jupyter an
+#: invisible link target; in the book the equation's MyST label (``$$ ... $$ (eq-motion)``).
+_EQ_ANCHOR = re.compile(r'<a id="(eq-[\w-]+)"></a>[ \t]*\n(?:[ \t]*\n)?(\$\$.*?\$\$)', re.S)
+#: A Markdown link to a labelled equation or figure, ``[the equation of motion](#eq-motion)``.
+_NUMBERED_LINK = re.compile(r"\[[^\]\n]*\]\(#((eq|fig)-[\w-]+)\)")
+
+
+#: The chapters this build does not execute (``nb_execution_mode = "off"``, or not in
+#: ``fricctl_book_only``), by their text: their figures do not exist, and a link to one stays
+#: its words instead of an unresolvable ``{numref}``.  Set by :func:`execute_only`.
+UNEXECUTED: set[str] = set()
+
+
+def cross_references(source: str, *, figures: bool = True) -> str:
+    """A markdown cell's links to its chapter's equations and figures made numbered
+    cross-references: Jupyter shows the link's words ("the equation of motion"), the book
+    the number ("Eq. (2)", "Fig. 3") by MyST's ``{eq}`` and ``{numref}`` roles, which Jupyter
+    would show raw; an equation is labelled by an anchor before it (:data:`_EQ_ANCHOR`), a
+    figure by the ``name`` in its cell's metadata.  An unknown label fails the build."""
+    source = _EQ_ANCHOR.sub(lambda m: f"{m.group(2)} ({m.group(1)})", source)
+
+    def numbered(m):
+        if m.group(2) == "fig" and not figures:
+            return m.group(0)[1:m.group(0).index("](")]
+        return ("{eq}" if m.group(2) == "eq" else "{numref}") + f"`{m.group(1)}`"
+
+    return _NUMBERED_LINK.sub(numbered, source)
+
+
+#: Where the API reference lives, and the line of one of its pages that documents a module.
+API = Path(__file__).resolve().parent.parent / "api"
+_AUTOMODULE = re.compile(r"^\.\. automodule:: ([\w.]+)\n(?![ \t]+:no-members:)", re.M)
+
+
+def api_names() -> dict[int, str]:
+    """``id`` of every function and class the API reference documents -> its documented name
+    (the members in ``__all__`` of each module a ``docs/api`` page gives to ``automodule``)."""
+    names: dict[int, str] = {}
+    for page in sorted(API.glob("*.md")):
+        for module_name in _AUTOMODULE.findall(page.read_text(encoding="utf-8")):
+            module = importlib.import_module(module_name)
+            for name in getattr(module, "__all__", ()):
+                obj = getattr(module, name)
+                # functions and classes: a constant's entry exists only if it has a docstring
+                if callable(obj) and getattr(obj, "__doc__", None):
+                    names.setdefault(id(obj), f"{module_name}.{name}")
+    return names
+
+
+def _resolve(node, scope: dict):
+    """The object a ``Name`` or ``a.b.c`` expression names in ``scope``, or None."""
+    if isinstance(node, ast.Name):
+        return scope.get(node.id)
+    if isinstance(node, ast.Attribute):
+        base = _resolve(node.value, scope)
+        return None if base is None else getattr(base, node.attr, None)
+    return None
+
+
+def api_uses(nb, names: dict[int, str] | None = None) -> list[tuple[int, list[str]]]:
+    """For each code cell of ``nb`` that uses a documented fricctl object for the first time
+    (and no markdown cell before it links to it): the cell's index and those objects'
+    documented names, in order of use.  Cells the book hides or removes (``hide-input``,
+    ``remove-cell``, ``remove-input``) do not count as a use: their code is not on the page."""
+    names = api_names() if names is None else names
+    scope: dict = {}
+    linked: set[str] = set()
+    out = []
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type == "markdown":
+            linked.update(re.findall(r"\]\(#(fricctl[\w.]*)\)", cell.source))
+            continue
+        if cell.cell_type != "code":
+            continue
+        try:
+            tree = ast.parse(cell.source)
+        except SyntaxError:
+            continue
+        new: list[str] = []
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fricctl"):
+                module = importlib.import_module(node.module)
+                for alias in node.names:
+                    if hasattr(module, alias.name):
+                        scope[alias.asname or alias.name] = getattr(module, alias.name)
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.name.startswith("fricctl"):
+                        module = importlib.import_module(alias.name)
+                        scope[alias.asname or alias.name.split(".")[0]] = (
+                            module if alias.asname else importlib.import_module("fricctl"))
+        hidden = {"hide-input", "remove-cell", "remove-input"} & set(cell.metadata.get("tags", []))
+        if hidden:
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Name, ast.Attribute)):
+                obj = _resolve(node, scope)
+                name = names.get(id(obj)) if obj is not None else None
+                if name and name not in linked and name not in new:
+                    new.append(name)
+        if new:
+            # in source order, not ast.walk's
+            new.sort(key=lambda n: min((m.start() for m in re.finditer(
+                rf"\b{re.escape(n.rsplit('.', 1)[1])}\b", cell.source)), default=0))
+            linked.update(new)
+            out.append((index, new))
+    return out
+
+
+def api_links(nb) -> None:
+    """Before each code cell that uses a documented fricctl object first (:func:`api_uses`), a
+    line linking each to its API page: every function a chapter calls is one click from its
+    reference where it is first used, without the chapter's prose having to name them all."""
+    import nbformat
+
+    for index, used in reversed(api_uses(nb)):
+        links = ", ".join(f"[`{n.rsplit('.', 1)[1]}`](#{n})" for n in used)
+        cell = nbformat.v4.new_markdown_cell(f"<small>fricctl used below: {links}</small>")
+        cell.metadata["tags"] = ["fricctl-api"]
+        nb.cells.insert(index, cell)
+
+
 def read_chapter(text: str):
-    """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's."""
+    """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's,
+    links to its equations and figures made numbered cross-references."""
     nb = jupytext.reads(text, fmt="py:percent")
     # the kernel fills this in when it runs; set here so that a build without execution
     # (nb_execution_mode=off, an author's quick look) still highlights the code
     nb.metadata.setdefault("language_info", {"name": "python"})
     for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            cell.source = cross_references(cell.source, figures=text not in UNEXECUTED)
         tags = list(cell.metadata.get("tags", []))
         for tag in [t for t in tags if t in TAGS]:
             extra_tags, options = TAGS[tag]
@@ -75,6 +202,7 @@ def read_chapter(text: str):
         if tags:
             cell.metadata["tags"] = tags
         _alt_from_caption(cell.metadata)
+    api_links(nb)
     return nb
 
 
@@ -112,11 +240,16 @@ def _alt_from_caption(metadata) -> None:
 
 def execute_only(app, config) -> None:
     """``config-inited``: with ``fricctl_book_only = "01,05"`` only those chapters are executed
-    (the others are rendered without outputs): an author's quick look at one chapter."""
+    (the others are rendered without outputs): an author's quick look at one chapter.  (Also
+    notes the chapters that are not executed: :data:`UNEXECUTED`.)"""
     only = [n.strip() for n in config.fricctl_book_only.split(",") if n.strip()]
+    chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
+    UNEXECUTED.clear()
+    UNEXECUTED.update(c.read_text(encoding="utf-8") for c in chapters
+                      if config.nb_execution_mode == "off"
+                      or (only and not c.name.startswith(tuple(f"{n}_" for n in only))))
     if not only:
         return
-    chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
     unknown = [n for n in only if not any(c.name.startswith(f"{n}_") for c in chapters)]
     if unknown:
         raise ExtensionError(f"fricctl_book_only: no chapter numbered {unknown[0]!r}")
@@ -280,7 +413,9 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
 def number_equations(app, doctree) -> None:
     """``doctree-read``: an unlabelled display equation gets a label and its number, as
     Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Chapter 5,
-    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are."""
+    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are.
+    (With ``numfig``, the number shown and cited is numfig's: it runs on through the book's
+    pages, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
     from docutils import nodes
 
     if not app.config.math_number_all:
