@@ -36,7 +36,7 @@ from ..paper.fig14 import Fig14Result
 from ..paper.fig16 import Fig16Result
 from ..paper.fig17 import Fig17Result
 from ..paper.fig18 import Fig18Result
-from ._common import get_ax
+from ._common import get_ax, legend_beside
 from .core import plot_dead_zone
 from .measure import plot_velocity_estimates
 from .network import plot_fit
@@ -199,13 +199,14 @@ def plot_fig12(result: Fig12Result, ax=None):
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "k--", label="linear viscous simulation")
     _position(ax, result.run, "NN compensation")
-    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label="estimate - b·ω (extra)")
+    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label=r"estimate $-\,b\,\omega$ (extra)")
     ax.plot(result.ideal.t, _DEG * result.ideal.q, lw=0.8, ls="-.", color="0.4",
             label="ideal estimate (extra)")
     ax.plot(result.ideal_no_viscous.t, _DEG * result.ideal_no_viscous.q, lw=0.8, ls=":", color="C2",
-            label="ideal - b·ω (extra)")
-    ax.set_title(f"Fig. 12: max |q - q_lin| = {_DEG * result.max_deviation:.1f} deg", fontsize="small")
-    ax.legend(loc="best", fontsize="small")
+            label=r"ideal $-\,b\,\omega$ (extra)")
+    ax.set_title(f"Fig. 12: max $|q - q_{{lin}}|$ = {_DEG * result.max_deviation:.1f} deg",
+                 fontsize="small")
+    legend_beside(ax)  # six lines that oscillate over the whole plot: no corner is free
     return ax
 
 
@@ -298,9 +299,9 @@ def plot_sweep(result: SweepResult, ax=None):
     ax.set_xticks(range(e.shape[1]), [f"{s:.2f}" for s in result.friction_scales])
     ax.set_yticks(range(e.shape[0]), [f"{j:.4f}" for j in result.link_inertias])
     ax.set_xlabel("friction scale (true / trained) [-]")
-    ax.set_ylabel("link inertia J_link [kg·m²]")
-    ax.figure.colorbar(im, ax=ax, label="|e_ss| with NN compensation [deg]")
-    ax.set_title(f"PD step {_DEG * result.step:.0f} deg: * = |e_ss| >= {_DEG * result.tolerance:.2f} deg",
+    ax.set_ylabel(r"link inertia $I_s$ [kg·m²]")
+    ax.figure.colorbar(im, ax=ax, label=r"$|e_{ss}|$ with NN compensation [deg]")
+    ax.set_title(f"PD step {_DEG * result.step:.0f} deg: * = $|e_{{ss}}| \\geq$ {_DEG * result.tolerance:.2f} deg",
                  fontsize="small")
     return ax
 
