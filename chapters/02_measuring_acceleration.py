@@ -262,7 +262,7 @@ plt.show()
 poly = estimates[1]
 fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
 ax.plot(poly.velocity[moving], sim.torque_motor[moving] - p.total_inertia * poly.acceleration[moving],
-        ".", ms=2, label=r"$T_m - I\hat{a}$ (polynomial segments)")
+        ".", ms=2, label=r"$T_m - I\hat\alpha$ (polynomial segments)")
 w = np.linspace(-np.abs(sim.omega).max(), np.abs(sim.omega).max(), 400)
 w = w[w != 0.0]
 ax.plot(w, p.friction_model().torque(w), "k", lw=1, label="true friction law")

@@ -256,7 +256,7 @@ if est is not None:
     print(f"{len(pats)} patterns, {int(pats.at_rest.sum())} at rest; RMS distance to the "
           f"identified law {np.sqrt(np.mean((pats.friction - law) ** 2)):.2f} N")
     fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
-    ax.plot(pats.omega, pats.friction, ".", ms=1, alpha=0.3, label="patterns $T_m - M\\hat\\alpha$")
+    ax.plot(pats.omega, pats.friction, ".", ms=1, alpha=0.3, label="patterns $F_m - M\\hat\\alpha$")
     w = np.linspace(pats.omega.min(), pats.omega.max(), 400)
     ax.plot(w, model.friction.torque(w) + model.offset, "k", lw=1, label="identified law")
     ax.set_xlabel("velocity [m/s]")
