@@ -8,8 +8,9 @@
   (the cell runs; the book shows the static fallback that follows it instead).
 * At ``builder-inited``, ``fricctl reproduce`` runs into ``fricctl_reproduce_dir`` (the
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
-  page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` and the PNGs of the
-  representative seeds in that place.
+  page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
+  first, every detail section folded: :func:`fold_details`) and the PNGs of the
+  representative seeds at :data:`FIGURES_PLACEHOLDER`.
 * ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
@@ -259,8 +260,10 @@ def execute_only(app, config) -> None:
 
 # -- the paper reproduced --------------------------------------------------------------------
 
-#: The line of a page that is replaced by the claims table and the figures.
+#: The line of a page that is replaced by the claims table and the figures (the figures go to
+#: :data:`FIGURES_PLACEHOLDER` instead when the page has that line too).
 PLACEHOLDER = "<!-- fricctl-reproduce: claims.md and the figures are inserted here -->"
+FIGURES_PLACEHOLDER = "<!-- fricctl-reproduce: the figures are inserted here -->"
 _SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
 
 
@@ -325,18 +328,51 @@ def _repo_links(text: str, srcdir: Path, here: Path) -> str:
     return re.sub(r"\]\(([^)#\s]+)([^)]*)\)", fix, text)
 
 
-def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
-    """MyST text: ``claims.md`` of ``out`` (headings one level down), then every figure.
+def fold_details(text: str, level: int, keep: tuple[str, ...] = ()) -> str:
+    """MyST text whose sections of heading ``level`` (but those titled in ``keep``) are each
+    folded into a collapsed ``<details>`` under their title; a deeper heading inside becomes a
+    bold line (a section cannot start inside raw HTML).  On paper (LaTeX, which drops the raw
+    HTML) everything is shown, each title as a bold line."""
+    out, fence, open_ = [], False, False
+    for line in text.splitlines():
+        if line.lstrip().startswith(("```", "~~~")):
+            fence = not fence
+        heading = None if fence else re.match(r"(#{1,6}) (.*)", line)
+        if heading and len(heading.group(1)) <= level and open_:
+            out += ["", "</details>", ""]
+            open_ = False
+        if heading and len(heading.group(1)) == level and heading.group(2).strip() not in keep:
+            title = heading.group(2).strip()
+            out += [f'<details class="fricctl-details"><summary>{title}</summary>', "",
+                    "```{only} latex", f"**{title}**", "```", ""]
+            open_ = True
+        elif heading and open_:
+            out += [f"**{heading.group(2).strip()}**", ""]
+        else:
+            out.append(line)
+    if open_:
+        out += ["", "</details>", ""]
+    return "\n".join(out)
 
-    The figures are the PNGs of ``figures/<pipeline>-seed<K>/``, one section per pipeline;
-    paths are relative to ``here`` (the folder of the page).
-    """
+
+def claims_markdown(out: Path, srcdir: Path, here: Path) -> str:
+    """MyST text: ``claims.md`` of ``out``, headings one level down, every section after the
+    at-a-glance table folded (:func:`fold_details`): the table is what a reader reads first,
+    the details are one click away (issue 24)."""
     claims = out / "claims.md"
     if not claims.is_file():
         raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
-    text = claims.read_text(encoding="utf-8")
-    lines = [_repo_links(shift_headings(text, 1), srcdir, here), ""]
+    text = shift_headings(claims.read_text(encoding="utf-8"), 1)
+    return fold_details(_repo_links(text, srcdir, here), 3, keep=("At a glance",)) + "\n"
+
+
+def figures_markdown(out: Path, here: Path) -> str:
+    """MyST text: every figure of ``out``, one section per pipeline, in the order of the
+    claims table; ``figures/<pipeline>-seed<K>/*.png``, paths relative to ``here`` (the folder
+    of the page)."""
+    text = (out / "claims.md").read_text(encoding="utf-8")
     rel = Path(os.path.relpath(out, here)).as_posix()
+    lines = []
 
     def first_mention(folder):  # the pipelines in the order of the claims table
         at = text.find(f"{folder.name.rsplit('-seed', 1)[0]} pipeline")
@@ -352,6 +388,11 @@ def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
     return "\n".join(lines)
 
 
+def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
+    """MyST text: the claims (:func:`claims_markdown`), then every figure (:func:`figures_markdown`)."""
+    return claims_markdown(out, srcdir, here) + "\n" + figures_markdown(out, here)
+
+
 # -- source-read and autodoc hooks -----------------------------------------------------------
 
 def on_source_read(app, docname, source) -> None:
@@ -363,7 +404,12 @@ def on_source_read(app, docname, source) -> None:
         text = text.replace(COEFFICIENTS_PLACEHOLDER, coefficients_table())
     if PLACEHOLDER in text:
         here = Path(app.env.doc2path(docname)).parent
-        text = text.replace(PLACEHOLDER, reproduce_markdown(reproduce_dir(app), Path(app.srcdir), here))
+        out = reproduce_dir(app)
+        if FIGURES_PLACEHOLDER in text:
+            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here))
+            text = text.replace(FIGURES_PLACEHOLDER, figures_markdown(out, here))
+        else:
+            text = text.replace(PLACEHOLDER, reproduce_markdown(out, Path(app.srcdir), here))
     if str(app.env.doc2path(docname)).endswith(".md"):
         first = next((ln for ln in text.splitlines() if re.match(r"#{1,6} ", ln)), "")
         if first.startswith("## "):
