@@ -110,3 +110,22 @@ html_theme_options = {
 }
 html_show_sourcelink = True
 html_last_updated_fmt = None
+
+# -- PDF (`make book-pdf`) ---------------------------------------------------------------------
+# Sphinx's LaTeX builder and latexmk, with XeLaTeX for the Unicode of the outputs and prose
+# (ω, ≤, ±, ², Å) in Debian's FreeFont; the chapters are not executed again: `make book-pdf`
+# gives the notebooks the HTML build executed (fricctl_executed_notebooks, fricctl_book.py)
+latex_engine = "xelatex"
+latex_documents = [(root_doc, "fricctl.tex",
+                    "fricctl: friction in a robot drive joint, learned and compensated",
+                    author, "manual")]
+latex_elements = {
+    "papersize": "a4paper",
+    "pointsize": "10pt",
+    # long code and output lines wrap (as on the printed HTML page) instead of running off
+    "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
+}
+# the index holds the API's names (ASCII): makeindex, not xindy (one Debian package less)
+latex_use_xindy = False
+latex_show_urls = "no"
+latex_show_pagerefs = False

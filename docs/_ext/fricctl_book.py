@@ -11,7 +11,10 @@
   page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
   first, every detail section folded: :func:`fold_details`) and the PNGs of the
   representative seeds at :data:`FIGURES_PLACEHOLDER`.
-* ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`).
+* ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`);
+  ``fricctl_executed_notebooks = <folder>`` (with ``nb_execution_mode = "off"``: the PDF of
+  ``make book-pdf``) takes each chapter's notebook as an earlier build executed it
+  (:func:`read_chapter`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
@@ -62,7 +65,7 @@ _EXERCISE = re.compile(r"#\s*Exercise\s+(\d+[a-z]?)\b", re.I)
 #: invisible link target; in the book the equation's MyST label (``$$ ... $$ (eq-motion)``).
 _EQ_ANCHOR = re.compile(r'<a id="(eq-[\w-]+)"></a>[ \t]*\n(?:[ \t]*\n)?(\$\$.*?\$\$)', re.S)
 #: A Markdown link to a labelled equation or figure, ``[the equation of motion](#eq-motion)``.
-_NUMBERED_LINK = re.compile(r"\[[^\]\n]*\]\(#((eq|fig)-[\w-]+)\)")
+_NUMBERED_LINK = re.compile(r"\[[^\]]*\]\(#((eq|fig)-[\w-]+)\)")  # its words may wrap
 
 
 #: The chapters this build does not execute (``nb_execution_mode = "off"``, or not in
@@ -180,9 +183,39 @@ def api_links(nb) -> None:
         nb.cells.insert(index, cell)
 
 
+#: ``fricctl_executed_notebooks``: a chapter's text -> the notebook an earlier build executed
+#: from it (``_sources/chapters/<chapter>.ipynb`` of the HTML book).  Set by :func:`execute_only`.
+EXECUTED: dict[str, Path] = {}
+
+
 def read_chapter(text: str):
     """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's,
-    links to its equations and figures made numbered cross-references."""
+    links to its equations and figures made numbered cross-references -- and, given
+    ``fricctl_executed_notebooks`` (the PDF of ``make book-pdf``), the outputs the HTML build
+    computed from this very code, so that no chapter runs twice (a chapter whose code changed
+    since is refused)."""
+    nb = _read_chapter(text)
+    executed = EXECUTED.get(text)
+    if executed is None:
+        return nb
+    import nbformat
+
+    done = nbformat.read(executed, as_version=4)
+    code = [[(c.cell_type, c.source if c.cell_type == "code" else "") for c in n.cells]
+            for n in (done, nb)]
+    if code[0] != code[1]:
+        raise ExtensionError(f"{executed} was executed from another version of its chapter's "
+                             f"code: build the HTML book again (make book) before the PDF")
+    # the outputs of the code as executed, the prose as the chapter reads now
+    for fresh, old in zip(nb.cells, done.cells):
+        if fresh.cell_type == "code":
+            fresh.outputs = old.outputs
+            fresh.execution_count = old.get("execution_count")
+    nb.metadata = done.metadata
+    return nb
+
+
+def _read_chapter(text: str):
     nb = jupytext.reads(text, fmt="py:percent")
     # the kernel fills this in when it runs; set here so that a build without execution
     # (nb_execution_mode=off, an author's quick look) still highlights the code
@@ -245,10 +278,18 @@ def execute_only(app, config) -> None:
     notes the chapters that are not executed: :data:`UNEXECUTED`.)"""
     only = [n.strip() for n in config.fricctl_book_only.split(",") if n.strip()]
     chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
+    EXECUTED.clear()
+    if config.fricctl_executed_notebooks:
+        folder = Path(config.fricctl_executed_notebooks)
+        missing = [c.stem for c in chapters if not (folder / f"{c.stem}.ipynb").is_file()]
+        if missing:
+            raise ExtensionError(f"fricctl_executed_notebooks: no {missing[0]}.ipynb in {folder} "
+                                 f"(build the HTML book first: make book)")
+        EXECUTED.update({c.read_text(encoding="utf-8"): folder / f"{c.stem}.ipynb" for c in chapters})
     UNEXECUTED.clear()
     UNEXECUTED.update(c.read_text(encoding="utf-8") for c in chapters
-                      if config.nb_execution_mode == "off"
-                      or (only and not c.name.startswith(tuple(f"{n}_" for n in only))))
+                      if not EXECUTED and (config.nb_execution_mode == "off"
+                      or (only and not c.name.startswith(tuple(f"{n}_" for n in only)))))
     if not only:
         return
     unknown = [n for n in only if not any(c.name.startswith(f"{n}_") for c in chapters)]
@@ -464,12 +505,20 @@ def number_equations(app, doctree) -> None:
     pages, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
     from docutils import nodes
 
+    # a bare % in TeX starts a comment, in LaTeX and MathJax alike: "(0-100 % rise time)" in a
+    # docstring's equation would swallow the rest of its line (and break the PDF)
+    for node in list(doctree.findall(lambda n: isinstance(n, (nodes.math, nodes.math_block)))):
+        text = node.astext()
+        if re.search(r"(?<!\\)%", text):
+            node.clear()
+            node += nodes.Text(re.sub(r"(?<!\\)%", r"\\%", text))
     if not app.config.math_number_all:
         return
     env = app.env
     docname = env.docname
     domain = env.get_domain("math")
     for node in list(doctree.findall(nodes.math_block)):
+        node.setdefault("docname", docname)  # the LaTeX writer labels an equation by it
         if node.get("label") or node.get("nowrap"):
             continue
         node["label"] = f"{docname}:{env.new_serialno('sphinx.ext.math#equations')}"
@@ -487,6 +536,7 @@ def setup(app):
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce", "run", "env", types=[str])
     app.add_config_value("fricctl_book_only", "", "env", types=[str])
+    app.add_config_value("fricctl_executed_notebooks", "", "env", types=[str])
     app.connect("config-inited", execute_only, priority=400)  # before myst-nb reads its config
     app.connect("builder-inited", run_reproduce)
     app.connect("source-read", on_source_read)
