@@ -66,7 +66,7 @@ def plot_friction_law(model, *, ax=None, omega_max: float = 1.0, n: int = 801, l
     w = np.linspace(-omega_max, omega_max, n)
     w = w[w != 0]
     neg, pos = w[w < 0], w[w > 0]
-    line, = ax.plot(pos, model.torque(pos), label=label or "sliding friction Tat(ω)", **style)
+    line, = ax.plot(pos, model.torque(pos), label=label or r"sliding friction $T_{at}(\omega)$", **style)
     ax.plot(neg, model.torque(neg), color=line.get_color(), **{k: v for k, v in style.items() if k != "color"})
     ax.plot([0, 0], [-model.breakaway(-1), model.breakaway(1)], color=line.get_color(), lw=3, alpha=0.5,
             label="at rest: any $T_{at}$ in the breakaway band")
