@@ -332,7 +332,7 @@ for t_a, t_b in stuck:
     ax1.axvspan(t_a, t_b, color="0.9", lw=0)
 ax1.set_ylabel("angle [rad]")
 ax1.legend(fontsize="small")
-ax2.plot(ramp.t, ramp.torque_motor, drawstyle="steps-post", label="motor torque Tm")
+ax2.plot(ramp.t, ramp.torque_motor, drawstyle="steps-post", label="motor torque $T_m$")
 ax2.plot(ramp.t, ramp.friction, lw=1, label="friction Tat")
 ax2.set_xlabel("time t [s]")
 ax2.set_ylabel("torque [N*m]")
