@@ -54,3 +54,36 @@ book: $(VENV)/.book-installed
 	rm -rf $(BOOK)/html
 	$(BIN)/python -m sphinx -b html $(BOOK_FLAGS) $(SPHINXOPTS) docs $(BOOK)/html
 	@echo "The book is in $(BOOK)/html; open it with: python -m webbrowser $(abspath $(BOOK))/html/index.html"
+
+# `make book-pdf`: the whole book as one PDF, $(BOOK)/latex/fricctl.pdf -- Sphinx's LaTeX builder
+# on the notebooks the HTML build executed (`make book` runs first when there is no HTML book;
+# no chapter is executed twice: FRICCTL_FAST=1 make book book-pdf gives the fast PDF), then
+# latexmk with XeLaTeX.  LaTeX comes from Debian's packages, installed here when we are root
+# and apt-get exists; anywhere else the target says so and stops without failing.
+LATEX_PACKAGES = texlive-latex-recommended texlive-latex-extra texlive-fonts-recommended \
+	texlive-xetex latexmk lmodern fonts-freefont-otf poppler-utils
+LATEX_CHECK = command -v latexmk >/dev/null && command -v xelatex >/dev/null && \
+	kpsewhich tabulary.sty >/dev/null && fc-list | grep -q FreeSerif
+
+.PHONY: book-pdf
+
+book-pdf: $(VENV)/.book-installed
+	@if ! ( $(LATEX_CHECK) ); then \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	    echo "book-pdf: installing LaTeX from Debian: $(LATEX_PACKAGES)"; \
+	    apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
+	      --no-install-recommends $(LATEX_PACKAGES) || exit 1; \
+	  else \
+	    echo "book-pdf: skipped: no LaTeX (latexmk, xelatex, texlive-latex-extra, FreeFont), and it"; \
+	    echo "  cannot be installed here (needs root and apt-get). Install: $(LATEX_PACKAGES)"; \
+	    exit 0; \
+	  fi; \
+	fi; \
+	test -f $(BOOK)/html/index.html || $(MAKE) book || exit 1; \
+	rm -rf $(BOOK)/latex; \
+	$(BIN)/python -m sphinx -b latex -E -W --keep-going -T -d $(BOOK)/doctrees-latex \
+	  -D nb_execution_mode=off -D fricctl_executed_notebooks=$(abspath $(BOOK))/html/_sources/chapters \
+	  -D fricctl_reproduce=reuse -D fricctl_reproduce_dir=$(abspath $(BOOK))/reproduce \
+	  $(SPHINXOPTS) docs $(BOOK)/latex || exit 1; \
+	$(MAKE) -C $(BOOK)/latex LATEXMKOPTS="-silent -interaction=nonstopmode" all-pdf || exit 1; \
+	echo "The book is in $(BOOK)/latex/fricctl.pdf"

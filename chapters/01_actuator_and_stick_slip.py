@@ -29,6 +29,8 @@
 # All quantities are on the load side of the gear, in SI units.  Friction has the
 # sign of the velocity and enters the rigid joint of paper Eq. (2) as
 #
+# <a id="eq-motion"></a>
+#
 # $$ I\,\ddot q = T_m - T_{at}, \qquad \dot q\,T_{at} \ge 0, $$
 #
 # with $q$ the joint position [rad], $I$ the inertia of motor, gear and link
@@ -96,6 +98,8 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # [kg m²], the flexspline stiffness $K$ [N m/rad] and the friction $T_{at}$ [N m] acting on
 # the motor side of the spring (where the encoder also sits), the simulator integrates
 #
+# <a id="eq-elastic"></a>
+#
 # $$
 # \begin{aligned}
 # n^2 I_r\,\ddot q &= T_m - T_{at} - K\,(q - q_s) - d\,(\dot q - \dot q_s),\\
@@ -111,6 +115,8 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # A stiff enough spring keeps $q_s = q$; adding the two equations removes the spring and
 # leaves one inertia,
 #
+# <a id="eq-rigid"></a>
+#
 # $$ I\,\ddot q = T_m - T_{at}, \qquad I = n^2 I_r + I_s, $$
 #
 # the total inertia reflected to the load side.  Which of these numbers the paper gives:
@@ -120,7 +126,7 @@ print(f"\nmaximum torque {p.max_torque:.4f} N*m; static friction is "
 # [Chapter 6](06_gain_design_and_closed_loop)); the gear ratio $n = 100$, the stiffness $K$ and the damping $d$ are
 # *assumptions*, so $I_r$ itself is known only through the assumed $n$.  The cell below
 # reads all of them from the simulator's own joint objects and checks that their
-# accelerations are the right-hand sides above.
+# accelerations are the right-hand sides of [the two equations of the elastic joint](#eq-elastic).
 
 # %%
 n = p.gear_ratio
@@ -161,6 +167,8 @@ assert np.isclose(acc, (tm - t_at) / (n**2 * i_r + p_link.link_inertia), rtol=1e
 #
 # Together, while the joint slides,
 #
+# <a id="eq-friction"></a>
+#
 # $$
 # T_{at}(\omega) = b\,\omega + \operatorname{sign}(\omega)\Big[F_c + (F_s - F_c)\,
 # e^{-(|\omega|/v_s)^2}\Big], \qquad \omega \ne 0.
@@ -168,11 +176,11 @@ assert np.isclose(acc, (tm - t_at) / (n**2 * i_r + p_link.link_inertia), rtol=1e
 #
 # At $\omega = 0$ friction is *not* a function of velocity: it is whatever reaction
 # keeps the joint at rest, anywhere in $-F_s \le T_{at} \le F_s$; the joint breaks loose
-# when $|T_m|$ exceeds $F_s$.  The curve below therefore leaves out the point
+# when $|T_m|$ exceeds $F_s$.  [The friction curve below](#fig-friction) therefore leaves out the point
 # $\omega = 0$.  Of the four coefficients the paper gives $b$ and $F_s$; $F_c$ (80 % of
 # $F_s$) and $v_s$ are assumptions (the table above).
 
-# %% mystnb={"figure": {"caption": "The nominal friction $T_{at}(\\omega)$ built up term by term: viscous, plus Coulomb, plus the Stribeck excess that lifts it toward $F_s$ near zero speed.  The point $\\omega = 0$ is left out: at rest, friction is a reaction anywhere between $-F_s$ and $F_s$."}}
+# %% mystnb={"figure": {"caption": "The nominal friction $T_{at}(\\omega)$ built up term by term: viscous, plus Coulomb, plus the Stribeck excess that lifts it toward $F_s$ near zero speed.  The point $\\omega = 0$ is left out: at rest, friction is a reaction anywhere between $-F_s$ and $F_s$.", "name": "fig-friction"}}
 law = p.friction_model()
 print(law)
 print(f"breakaway +{law.breakaway(+1):.4f} / -{law.breakaway(-1):.4f} N*m, "
@@ -224,6 +232,8 @@ assert above.q[-1] > 0.0 and not above.stuck[-1]      # ...and breaks loose just
 # torque $K_p\,|r - q|$ is below the breakaway level $F_s$ [N m].  Every error
 # inside the band
 #
+# <a id="eq-dead-band"></a>
+#
 # $$ |e| = |r - q| \le \frac{F_s}{K_p} $$
 #
 # is an equilibrium: a **dead band** of the position loop, and the smaller the
@@ -247,7 +257,7 @@ for step_deg in (25.0, 60.0):
         assert 0.0 < run.q.max() < run.reference[-1]  # moves, then freezes short of r
 
 # %% [markdown]
-# The smaller step never starts: its initial torque `Kp * r` is already below the
+# In [the two steps below](#fig-dead-band) the smaller step never starts: its initial torque `Kp * r` is already below the
 # breakaway level.  The larger one moves, but freezes short of the reference, where
 # its velocity first reaches zero inside the band.  The linear model the gain was
 # designed on predicts an overshoot instead (Chapter 6).
@@ -322,7 +332,7 @@ for t_a, t_b in stuck:
     ax1.axvspan(t_a, t_b, color="0.9", lw=0)
 ax1.set_ylabel("angle [rad]")
 ax1.legend(fontsize="small")
-ax2.plot(ramp.t, ramp.torque_motor, drawstyle="steps-post", label="motor torque Tm")
+ax2.plot(ramp.t, ramp.torque_motor, drawstyle="steps-post", label="motor torque $T_m$")
 ax2.plot(ramp.t, ramp.friction, lw=1, label="friction Tat")
 ax2.set_xlabel("time t [s]")
 ax2.set_ylabel("torque [N*m]")
@@ -333,10 +343,11 @@ plt.show()
 # ## 6. Rigid or flexible joint?
 #
 # Paper Eq. (1) (Section 1) models the flexspline as a spring $K$ (with a little
-# damping $d$) between the actuator inertia $n^2 I_r$ and the link $I_s$; Eq. (2) lumps
-# both into one rigid inertia $I$.  The simulator,
+# damping $d$) between the actuator inertia $n^2 I_r$ and the link $I_s$; the rigid joint
+# ([its equation](#eq-rigid), paper Eq. (2)) lumps both into one rigid inertia $I$.  The simulator,
 # [`simulate`](#fricctl.simulate.simulate), has both (`plant="rigid"` or `plant="flexible"`).  Run the same PD step with the SCARA link attached, on both plants,
-# and compare.  The two-mass system of Eq. (1) has, with the motor free, the resonance
+# and compare.  The two-mass system ([its equations](#eq-elastic), paper
+# Eq. (1)) has, with the motor free, the resonance
 #
 # $$ \omega_r = \sqrt{K\left(\frac{1}{n^2 I_r} + \frac{1}{I_s}\right)} \quad \text{[rad/s]}, $$
 #
@@ -383,13 +394,15 @@ assert flex.resonance > 10 * d_pd.wn  # resonance well above the loop's bandwidt
 # * Friction is viscous plus Coulomb plus a Stribeck excess near zero speed; at rest it is a
 #   reaction between $-F_s$ and $F_s$.  Below the breakaway torque the simulated joint does
 #   not move at all, not even by a fraction of a count; just above it, it breaks loose.
-# * A proportional loop stops anywhere inside its dead band $|e| \le F_s/K_p$: a step whose
+# * A proportional loop stops anywhere inside its dead band $|e| \le F_s/K_p$
+#   ([the dead band](#eq-dead-band)): a step whose
 #   first torque $K_p r$ is below $F_s$ never starts, a larger one freezes short of the
 #   reference, and the band shrinks as $1/K_p$.
 # * Under a slow ramp the same loop stick-slips: each stuck interval lasts until $K_p e$ has
 #   grown back to $F_s$, the start-up $F_s/(K_p v)$ for a ramp speed $v$ (Exercise 2).
 # * With the assumed stiffness the flexspline's twist is far smaller than the error friction
-#   leaves and its resonance far above the loop's bandwidth, so the rigid Eq. (2) is enough
+#   leaves and its resonance far above the loop's bandwidth, so the rigid joint ([its
+#   equation](#eq-rigid)) is enough
 #   for these controllers -- a conclusion that holds only as far as the assumed stiffness.
 
 # %% [markdown]
@@ -485,13 +498,9 @@ plt.show()
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the actuator, Eqs. (1)-(2), the P design.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: the friction laws (Coulomb, viscous, Stribeck), stick and
-#   stick-slip.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the actuator, Eqs. (1)-(2), the P design.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): the friction laws
+#   (Coulomb, viscous, Stribeck), stick and stick-slip.
 #
 # In fricctl: [`paper_actuator`](#fricctl.params.paper_actuator) and
 # [`ActuatorParams`](#fricctl.params.ActuatorParams),

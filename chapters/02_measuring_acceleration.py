@@ -19,6 +19,8 @@
 # To learn friction from experiments we need it as a signal.  The rigid joint of paper
 # Eq. (2), $I\,\ddot q = T_m - T_{at}$, gives it as
 #
+# <a id="eq-experimental-friction"></a>
+#
 # $$ T_{at} = T_m - I\,\hat\alpha, $$
 #
 # with $T_m$ the motor torque [N m] (known: it is what the controller commands), $I$ the
@@ -72,6 +74,8 @@ BORDER = 25                       # samples ignored at each end when scoring [-]
 # the reading at $t_k = k\,T_s$ (sample time $T_s$ [s]) is the position rounded down to
 # the grid, $y_k = \Delta\lfloor q(t_k)/\Delta \rfloor$.  The controller's velocity is the
 # backward difference
+#
+# <a id="eq-backward-difference"></a>
 #
 # $$ \hat\omega_k = \frac{y_k - y_{k-1}}{T_s}, $$
 #
@@ -216,10 +220,12 @@ assert set(best.values()) == {"polynomial_segments"}  # the paper's method wins 
 # $e_k$ behave like independent uniform errors (standard deviation $\Delta/\sqrt{12}$), and
 # this term has the RMS value
 #
+# <a id="eq-quantisation-noise"></a>
+#
 # $$ \sqrt{1 + 4 + 1}\;\frac{\Delta}{\sqrt{12}\,T_s^2} = \frac{\Delta}{\sqrt{2}\,T_s^2}, $$
 #
 # of the order of $\Delta/T_s^2$: a single count divided by a very small $T_s^2$.  The
-# prediction, against the table's first row (within 25 %):
+# prediction of [the RMS value](#eq-quantisation-noise), against the table's first row (within 25 %):
 
 # %%
 quant = res / (np.sqrt(2) * p.sample_time ** 2)
@@ -256,7 +262,7 @@ plt.show()
 poly = estimates[1]
 fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
 ax.plot(poly.velocity[moving], sim.torque_motor[moving] - p.total_inertia * poly.acceleration[moving],
-        ".", ms=2, label=r"$T_m - I\hat{a}$ (polynomial segments)")
+        ".", ms=2, label=r"$T_m - I\hat\alpha$ (polynomial segments)")
 w = np.linspace(-np.abs(sim.omega).max(), np.abs(sim.omega).max(), 400)
 w = w[w != 0.0]
 ax.plot(w, p.friction_model().torque(w), "k", lw=1, label="true friction law")
@@ -382,14 +388,11 @@ for seed in (0, 1, 2):
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Section 4 and Fig. 4, the polynomial velocity estimate.
-# * A. Savitzky and M. J. E. Golay, "Smoothing and differentiation of data by simplified
-#   least squares procedures", *Analytical Chemistry* 36(8), 1964: the Savitzky-Golay filter.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the Butterworth
-#   and central-difference recipe.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Section 4 and Fig. 4, the polynomial
+#   velocity estimate.
+# * [Savitzky & Golay 1964](#savitzky1964): the Savitzky-Golay filter.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the Butterworth and
+#   central-difference recipe.
 #
 # In fricctl: [`backward_difference`](#fricctl.estimation.backward_difference),
 # [`polynomial_segments`](#fricctl.estimation.polynomial_segments),

@@ -21,6 +21,8 @@
 # friction *model* to them.  The inverse dynamic identification model (IDIM) reads
 # the joint's equation backwards: at each sample $k$,
 #
+# <a id="eq-idim"></a>
+#
 # $$ T_{m,k} = I\,\hat\alpha_k + b\,\hat\omega_k + F_c\operatorname{sign}(\hat\omega_k) + o
 #    + \varepsilon_k, $$
 #
@@ -31,6 +33,8 @@
 # but the model is **linear in the parameters** $\theta = (I, b, F_c, o)$: stacking one row
 # per sample gives
 #
+# <a id="eq-linear-system"></a>
+#
 # $$ y = X\theta + \varepsilon, \qquad
 #    y = \begin{bmatrix} T_{m,1} \\ \vdots \\ T_{m,N} \end{bmatrix}, \qquad
 #    X = \begin{bmatrix} \hat\alpha_1 & \hat\omega_1 & \operatorname{sign}\hat\omega_1 & 1 \\
@@ -40,6 +44,8 @@
 # an over-determined linear system (the regressor $X$ has many more rows than columns),
 # solved by bounded least squares:
 #
+# <a id="eq-least-squares"></a>
+#
 # $$ \hat\theta = \arg\min_{\theta} \lVert y - X\theta \rVert_2^2
 #    \quad\text{subject to}\quad I \ge 0,\; b \ge 0,\; F_c \ge 0. $$
 #
@@ -48,6 +54,8 @@
 # CasADi over scaled variables and solved by IPOPT, so the same code also handles models
 # that are nonlinear in their parameters (the Stribeck curve).  The result reports each
 # estimate with its standard deviation, as the EMPS identification reports do:
+#
+# <a id="eq-standard-deviation"></a>
 #
 # $$ \sigma_j = \hat\sigma\,\sqrt{\big[(X^\top X)^{-1}\big]_{jj}}, $$
 #
@@ -129,7 +137,8 @@ for name, true_value in truth.items():
 # model learns nothing there) and fits the Coulomb + viscous model.  After it, the same
 # problem is rebuilt by hand, the regressor $X$ from [`fricctl.identify.regressor`](#fricctl.identify.regressor) and
 # the solution from numpy's unconstrained `lstsq` (none of the bounds is active here),
-# to check that the CasADi fit and its standard deviations are the formulas above.
+# to check that the CasADi fit and its standard deviations are
+# [the least squares](#eq-least-squares) and [their standard deviations](#eq-standard-deviation).
 
 # %%
 cv_fit = identify_run(run, model="coulomb_viscous", estimator="polynomial_segments")
@@ -524,27 +533,16 @@ assert all(1.3 < q < 1.9 for q in ratios)
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Section 4, friction from measured torque and acceleration.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the data,
-#   the IDIM-LS recipe and its published results.
-# * M. Gautier, A. Janot and P.-O. Vandanjon, "A new closed-loop output error method for
-#   parameter identification of robot dynamics", *IEEE Transactions on Control Systems
-#   Technology* 21(2), 2013: DIDIM.
-# * A. Janot, P.-O. Vandanjon and M. Gautier, "A generic instrumental variable approach for
-#   industrial robot identification", *IEEE Transactions on Control Systems Technology*
-#   22(1), 2014: IDIM-IV.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: the Stribeck friction model.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019.
-# * A. Wächter and L. T. Biegler, "On the implementation of an interior-point filter
-#   line-search algorithm for large-scale nonlinear programming", *Mathematical Programming*
-#   106(1), 2006: IPOPT.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Section 4, friction from measured torque and
+#   acceleration.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the data, the IDIM-LS recipe and its
+#   published results.
+# * [Gautier, Janot & Vandanjon 2013](#gautier2013didim): DIDIM.
+# * [Janot, Vandanjon & Gautier 2014](#janot2014idimiv): IDIM-IV.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): the Stribeck
+#   friction model.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi).
+# * [Wächter & Biegler 2006](#wachter2006ipopt): IPOPT.
 #
 # In fricctl: [`fit_friction`](#fricctl.identify.fit_friction),
 # [`identify_run`](#fricctl.identify.identify_run), [`regressor`](#fricctl.identify.regressor),

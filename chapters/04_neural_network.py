@@ -88,6 +88,8 @@ plt.show()
 # %% [markdown]
 # Each pattern is a measured friction torque [N m] from paper Eq. (2),
 #
+# <a id="eq-patterns"></a>
+#
 # $$ T_{at}(k) = T_m(k) - I\,\hat\alpha(k), $$
 #
 # with $I$ the inertia [kg m²] and $\hat\alpha$ the estimated acceleration [rad/s²].
@@ -100,6 +102,8 @@ plt.show()
 #
 # The paper's 2-4-1 network maps the scaled inputs through four tanh units to one
 # linear output:
+#
+# <a id="eq-network"></a>
 #
 # $$ \hat T = W_2 \tanh(W_1 x + b_1) + b_2, \qquad
 #    x = \left(\frac{T_m - c_T}{s_T},\ \frac{\omega - c_\omega}{s_\omega}\right), $$
@@ -213,6 +217,8 @@ assert r8.fit_exact.fit_percent > r8.fit_held_out.fit_percent + 10
 #
 # [Chapter 5](05_open_loop_compensation_and_dead_zone) shows that one number of the net decides what the compensator does while the
 # joint is stuck: the at-rest gain
+#
+# <a id="eq-gain-at-rest"></a>
 #
 # $$ g = \left.\frac{\partial \hat T_{at}}{\partial T_m}\right|_{\omega = 0}, $$
 #
@@ -501,20 +507,13 @@ assert min(sliding_g) > 1
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the friction patterns (Fig. 5), the 2-4-1 network, Fig. 8.
-# * D. E. Rumelhart, G. E. Hinton and R. J. Williams, "Learning representations by
-#   back-propagating errors", *Nature* 323, 1986: back-propagation.
-# * K. Levenberg, "A method for the solution of certain non-linear problems in least
-#   squares", *Quarterly of Applied Mathematics* 2(2), 1944, and D. W. Marquardt, "An
-#   algorithm for least-squares estimation of nonlinear parameters", *Journal of the Society
-#   for Industrial and Applied Mathematics* 11(2), 1963: the Levenberg-Marquardt trainer.
-# * L. Ljung, *System Identification: Theory for the User*, 2nd ed., Prentice Hall, 1999:
-#   the normalised fit.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the friction patterns (Fig. 5), the 2-4-1
+#   network, Fig. 8.
+# * [Rumelhart, Hinton & Williams 1986](#rumelhart1986): back-propagation.
+# * [Levenberg 1944](#levenberg1944) and [Marquardt 1963](#marquardt1963): the
+#   Levenberg-Marquardt trainer.
+# * [Ljung 1999](#ljung1999): the normalised fit.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi).
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`train_network`](#fricctl.bench.experiments.train_network),

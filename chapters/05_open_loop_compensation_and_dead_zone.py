@@ -79,13 +79,15 @@ assert all(DEFAULT_GAIN_BAND[0] <= g[("fricctl", k)] <= DEFAULT_GAIN_BAND[1] for
 # adds a fraction $s$ [-] of the net's friction estimate $\hat T_{at}$ [N m] and commands,
 # for the next sample,
 #
+# <a id="eq-compensation"></a>
+#
 # $$ T_m(k+1) = T_c(k) + s\,\hat T_{at}(k), \qquad
 #    \hat T_{at}(k) = \operatorname{net}\big(T_m(k),\ \hat\omega(k)\big), $$
 #
 # with $T_m$ the motor torque [N m] (held by the ZOH for one sampling period $T_s$ [s])
 # and $\hat\omega$ the velocity estimated from the encoder [rad/s].  The net reads the
-# motor torque the compensator itself commanded one sample earlier: the loop drawn
-# below has an inner feedback, $T_m \to z^{-1} \to$ net $\to s \to T_m$, that no
+# motor torque the compensator itself commanded one sample earlier: the loop of
+# [the block diagram below](#fig-compensation-loop) has an inner feedback, $T_m \to z^{-1} \to$ net $\to s \to T_m$, that no
 # friction law has.  At rest it is the only loop left.
 #
 # The at-rest gain $g = \partial\hat T_{at}/\partial T_m$ at $\omega = 0$ [-] of the two
@@ -101,17 +103,23 @@ plt.show()
 # %% [markdown]
 # ## 2. The stuck loop and its fixed point
 #
-# While the joint is stuck the encoder does not move, $\hat\omega = 0$, and Eq. 3 becomes
-# an iteration in $T_m$ alone:
+# While the joint is stuck the encoder does not move, $\hat\omega = 0$, and
+# [the compensation law](#eq-compensation) becomes an iteration in $T_m$ alone:
+#
+# <a id="eq-stuck-loop"></a>
 #
 # $$ T_m(k+1) = T_c + s\,\hat T_{at}(T_m(k), 0). $$
 #
 # For a linear estimate $\hat T_{at} = g\,T_m$ it converges (for $|s g| < 1$) to the fixed point
 #
+# <a id="eq-fixed-point"></a>
+#
 # $$ T_m^\star = \frac{T_c}{1 - s g}, $$
 #
 # and the joint stays stuck as long as $T_m^\star < F_s$, the breakaway torque [N m].  The
 # compensated dead zone and its reduction are therefore
+#
+# <a id="eq-dead-zone"></a>
 #
 # $$ D = F_s\,(1 - s g), \qquad \frac{F_s}{D} = \frac{1}{1 - s g}. $$
 #
@@ -122,7 +130,7 @@ plt.show()
 # once none lies below $F_s$: $D = \max_{0 \le T_m \le F_s} \big(T_m - s\,\hat T_{at}(T_m, 0)\big)$
 # ([`fricctl.bench.experiments.predicted_dead_zone`](#fricctl.bench.experiments.predicted_dead_zone)).
 
-# %% mystnb={"figure": {"caption": "Fixed points of the stuck loop, first seed of each pipeline: where the estimate at rest $\\hat T_{at}(T_m, 0)$ crosses the lines $T_m - T_c$ for three control torques $T_c$ (filled dots stable, open dots unstable; grey line: $F_s$).  The paper pipeline's curve leaves the origin above the identity ($g > 1$) and latches a torque at $T_c = 0$; the fricctl pipeline's stays just below it."}}
+# %% mystnb={"figure": {"caption": "Fixed points of the stuck loop, first seed of each pipeline: where the estimate at rest $\\hat T_{at}(T_m, 0)$ crosses the lines $T_m - T_c$ for three control torques $T_c$ (filled dots stable, open dots unstable; grey line: $F_s$).  The paper pipeline's curve leaves the origin above the identity ($g > 1$) and latches a torque at $T_c = 0$; the fricctl pipeline's stays just below it.", "name": "fig-fixed-points"}}
 def fixed_points(net, tc, s=1.0, n=4001):
     """Torques 0 <= Tm <= Fs where s*net(Tm, 0) = Tm - tc, and whether each is stable [N*m]."""
     tm = np.linspace(-0.01 * Fs, Fs, n)  # from just below 0: a root at Tm = 0 is a sign change
@@ -170,7 +178,7 @@ axes[1].legend(fontsize="x-small", loc="upper left")
 plt.show()
 
 # %% [markdown]
-# Filled dots are stable fixed points, open dots unstable ones, the grey line is $F_s$; a
+# In [the fixed points' figure](#fig-fixed-points), filled dots are stable fixed points, open dots unstable ones, the grey line is $F_s$; a
 # line with no dot below $F_s$ is a control torque that breaks the joint loose.
 # The paper pipeline's curve leaves the origin above the identity ($g > 1$): near
 # $T_m = 0$ any offset grows, and with $T_c = 0$ the loop climbs by itself to the stable
@@ -328,7 +336,9 @@ assert np.all(meas >= pred - 0.0005) and np.all(meas - pred <= 0.0015)  # within
 #
 # A stuck joint under a position controller $T_c = K_p(r - \hat q) - K_d\hat\omega$ sees
 # $T_c = K_p e$ at rest ($e$ the position error [rad]); it stays stuck while
-# $K_p|e| < D$, so it may stop anywhere within
+# $K_p|e| < D$ ([the dead zone](#eq-dead-zone)), so it may stop anywhere within
+#
+# <a id="eq-band"></a>
 #
 # $$ |e| \le \frac{F_s\,(1 - s g)}{K_p} $$
 #
@@ -493,13 +503,10 @@ assert n_noisy == n_quiet >= 2
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the compensation law (Eq. 3), Figs. 9 and 10, the dead-zone
-#   and accuracy claims.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: friction compensation and its hazards.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the compensation law (Eq. 3), Figs. 9 and
+#   10, the dead-zone and accuracy claims.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): friction
+#   compensation and its hazards.
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`FrictionNet.gain_at_rest`](#fricctl.nn.FrictionNet.gain_at_rest),

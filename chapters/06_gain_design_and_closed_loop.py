@@ -80,6 +80,8 @@ PIPELINES = ("fricctl", "paper")  # fricctl.nn.pipelines.PIPELINES
 # Drop Coulomb and static friction, keep the viscous term: the joint of paper
 # Eq. (2) becomes the linear plant
 #
+# <a id="eq-plant"></a>
+#
 # $$ G(s) = \frac{q(s)}{T_m(s)} = \frac{1}{s\,(I s + b)}, $$
 #
 # with $I$ the inertia [kg m²] and $b$ the viscous coefficient [N m s/rad]: a pole
@@ -99,6 +101,8 @@ assert np.allclose(np.sort(control.poles(G).real), [-p.viscous / p.total_inertia
 #
 # With $T_c = K_p (r - q)$ ($K_p$ in [N m/rad]) the closed loop is
 #
+# <a id="eq-p-loop"></a>
+#
 # $$ \frac{q}{r} = \frac{K_p}{I s^2 + b s + K_p}, \qquad
 #    2\zeta\omega_n = \frac{b}{I}, \qquad \omega_n^2 = \frac{K_p}{I}: $$
 #
@@ -111,6 +115,8 @@ assert np.allclose(np.sort(control.poles(G).real), [-p.viscous / p.total_inertia
 #
 # The PD uses *rate feedback*, $T_c = K_p (r - q) - K_d \hat\omega$ ($K_d$ in
 # [N m s/rad], $\hat\omega$ the backward-difference velocity [rad/s]):
+#
+# <a id="eq-pd-loop"></a>
 #
 # $$ \frac{q}{r} = \frac{K_p}{I s^2 + (b + K_d) s + K_p}, \qquad
 #    2\zeta\omega_n = \frac{b + K_d}{I}, $$
@@ -153,12 +159,12 @@ print(design_table(designs))
 # %% [markdown]
 # ## 3. Root locus and step response
 #
-# The root locus of the P loop shows the trade-off: as $K_p$ grows the poles leave
+# The root locus of the P loop ([the first figure below](#fig-root-locus)) shows the trade-off: as $K_p$ grows the poles leave
 # the real axis and move up the vertical line $\operatorname{Re} s = -b / (2 I)$, so
-# the damping falls as the loop gets faster.  The step plot marks the achieved rise time,
+# the damping falls as the loop gets faster.  The step plot ([the second](#fig-pd-step)) marks the achieved rise time,
 # overshoot and settling time of the PD design.
 
-# %% mystnb={"figure": {"caption": "Root locus of the P loop in $K_p$ on the linear viscous model, with the design's closed-loop poles (circles) and its ray of constant damping: as $K_p$ grows the poles leave the real axis and climb the vertical line at $-b/(2I)$, so the damping falls as the loop gets faster."}}
+# %% mystnb={"figure": {"caption": "Root locus of the P loop in $K_p$ on the linear viscous model, with the design's closed-loop poles (circles) and its ray of constant damping: as $K_p$ grows the poles leave the real axis and climb the vertical line at $-b/(2I)$, so the damping falls as the loop gets faster.", "name": "fig-root-locus"}}
 cl_poles = control.poles(d_p.closed_loop)
 print(f"P closed-loop poles {np.round(cl_poles, 3)} rad/s; -b/(2I) = "
       f"{-p.viscous / (2 * p.total_inertia):.3f} rad/s")
@@ -166,7 +172,7 @@ assert np.allclose(cl_poles.real, -p.viscous / (2 * p.total_inertia))
 ax = figures.plot_root_locus(d_p)
 plt.show()
 
-# %% mystnb={"figure": {"caption": "The PD design's unit step on the linear model, continuous and sampled at $T_s$, with its achieved rise time, overshoot and settling time marked, and the settling band shaded."}}
+# %% mystnb={"figure": {"caption": "The PD design's unit step on the linear model, continuous and sampled at $T_s$, with its achieved rise time, overshoot and settling time marked, and the settling band shaded.", "name": "fig-pd-step"}}
 ax = figures.plot_step(d_pd)
 plt.show()
 
@@ -254,11 +260,13 @@ plt.show()
 # motor torque of the previous sample and the estimated velocity, to the
 # controller's torque:
 #
+# <a id="eq-closed-compensation"></a>
+#
 # $$ T_m(k+1) = T_c(k) + s\,\hat T_{at}\big(T_m(k), \hat\omega(k)\big), $$
 #
 # with $s$ the compensation scale [-] (1 here, 0.95 for the aged actuator of
 # [Chapter 7](07_wear_load_and_coulomb)) and $\hat T_{at}$ the network's output [N m].  The motor torque feeds
-# back into the network: the compensator is a loop of its own inside the position
+# back into the network ([the block diagram](#fig-closed-loop)): the compensator is a loop of its own inside the position
 # loop.
 
 # %% tags=["hide-input"] mystnb={"figure": {"caption": "The closed compensated loop of paper Eq. (3): the position controller's $T_c$ plus $s$ times the net's estimate $\\hat T_{at}$, held by the ZOH; the net reads the motor torque $T_m$ of the previous sample ($z^{-1}$) and the estimated velocity $\\hat\\omega$.", "name": "fig-closed-loop"}}
@@ -277,7 +285,9 @@ plt.show()
 # *is* the friction.  A compensator that cancels all friction cancels that damping
 # too.  The linear analysis makes this precise.  Take the sampled P loop of
 # Section 2 (zero-order hold, one sample of computation delay, backward-difference
-# velocity) and let the compensator cancel a fraction $c$ [-] of the viscous term,
+# velocity; [the P loop](#eq-p-loop) sampled) and let the compensator cancel a fraction $c$ [-] of the viscous term,
+#
+# <a id="eq-viscous-compensated"></a>
 #
 # $$ T_m(k+1) = K_p\big(r(k) - q(k)\big) + c\,b\,\hat\omega(k), \qquad
 #    \hat\omega(k) = \frac{q(k) - q(k-1)}{T_s}, $$
@@ -366,13 +376,15 @@ assert all(nets[("paper", k)].trained.viscous_removed == 0.0 for k in SEEDS)
 # While the joint is stuck the encoder does not move, $\hat\omega = 0$ and the
 # controller's torque is constant, $T_c = K_p e$.  Near rest the network is linear
 # in the motor torque, $\hat T_{at} \approx g\,T_m$ with $g = \partial\hat T_{at} /
-# \partial T_m$ at $\omega = 0$ the *at-rest gain* [-] (Chapter 5), so Eq. (3)
-# iterates $T_m(k+1) = K_p e + s g\,T_m(k)$ to the fixed point
+# \partial T_m$ at $\omega = 0$ the *at-rest gain* [-] (Chapter 5), so
+# [the compensation law](#eq-closed-compensation) iterates $T_m(k+1) = K_p e + s g\,T_m(k)$ to the fixed point
 #
 # $$ T_m^\ast = \frac{K_p e}{1 - s g}, $$
 #
 # and the joint stays stuck as long as $|T_m^\ast|$ is below the breakaway torque
 # $F_s$ [N m].  A compensated joint therefore stops anywhere inside the band
+#
+# <a id="eq-stuck-band"></a>
 #
 # $$ |e_{ss}| \le \frac{F_s\,(1 - s g)}{K_p}, $$
 #
@@ -651,16 +663,13 @@ assert pd_zeta[1.0] > 0.5 and pd_zeta[1.0] < pd_zeta[0.0]
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the controller design, Eq. (3), Figs. 11-14.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021: transfer functions, root locus, step responses.
-# * G. F. Franklin, J. D. Powell and A. Emami-Naeini, *Feedback Control of Dynamic
-#   Systems*, Pearson: second-order design from rise time and damping, the root locus.
-# * G. F. Franklin, J. D. Powell and M. L. Workman, *Digital Control of Dynamic Systems*,
-#   3rd ed., Addison-Wesley, 1998: the sampled loop, poles mapped by $s = \ln z / T_s$.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the controller design, Eq. (3), Figs. 11-14.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control): transfer functions, root locus,
+#   step responses.
+# * [Franklin, Powell & Emami-Naeini 2019](#franklin_feedback): second-order design from rise time
+#   and damping, the root locus.
+# * [Franklin, Powell & Workman 1998](#franklin1998digital): the sampled loop, poles mapped by
+#   $s = \ln z / T_s$.
 #
 # In fricctl: [`plant_tf`](#fricctl.design.plant_tf), [`design_p`](#fricctl.design.design_p),
 # [`design_pd`](#fricctl.design.design_pd), [`Design`](#fricctl.design.Design),

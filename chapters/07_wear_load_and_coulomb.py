@@ -85,9 +85,11 @@ print(f"PD of Figs. 16-17 (0.4 s, 0.85, with the link): Kp = {kp:.4f} N*m/rad, K
 # ## 1. The aged actuator and its band
 #
 # Chapter 6 showed that a stuck compensated joint stops anywhere inside a band set by
-# the loop's gain at rest.  With the compensation scaled by $s$ and the true friction
+# the loop's gain at rest ([Chapter 6's band](#eq-stuck-band)).  With the compensation scaled by $s$ and the true friction
 # by $\varphi$ (breakaway $\varphi F_s$), the fixed point $T_m^\ast = K_p e/(1 - s g)$
 # stays below the breakaway for
+#
+# <a id="eq-aged-band"></a>
 #
 # $$ |e_{ss}| \le \frac{\varphi F_s\,(1 - s g)}{K_p}, $$
 #
@@ -467,17 +469,12 @@ assert kp_light < kp and np.mean(shares["redesigned"]) < np.mean(shares["fixed g
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: the actuator with the SCARA link, Figs. 16-18.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: Coulomb compensation, hunting and limit cycles.
-# * A. Gelb and W. E. Vander Velde, *Multiple-Input Describing Functions and Nonlinear
-#   System Design*, McGraw-Hill, 1968: the describing function of a relay.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): the actuator with the SCARA link, Figs.
+#   16-18.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): Coulomb
+#   compensation, hunting and limit cycles.
+# * [Gelb & Vander Velde 1968](#gelb1968): the describing function of a relay.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control).
 #
 # In fricctl: [`train_paper_network`](#fricctl.paper.train_paper_network),
 # [`paper_claims`](#fricctl.paper.paper_claims),

@@ -360,18 +360,14 @@ assert share < COLLINEAR_SHARE and "load_dependent" not in diagnose(never_brakes
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Section 5, the aged actuator with the SCARA link.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the data and
-#   the published IDIM-LS and direction-dependent models.
-# * B. Armstrong-Hélouvry, P. Dupont and C. Canudas de Wit, "A survey of models, analysis
-#   tools and compensation methods for the control of machines with friction",
-#   *Automatica* 30(7), 1994: the friction effects a diagnosis looks for.
-# * C. Canudas de Wit, H. Olsson, K. J. Åström and P. Lischinsky, "A new model for control
-#   of systems with friction", *IEEE Transactions on Automatic Control* 40(3), 1995: the
-#   LuGre model behind the presliding cause.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Section 5, the aged actuator with the SCARA
+#   link.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the data and the published IDIM-LS
+#   and direction-dependent models.
+# * [Armstrong-Hélouvry, Dupont & Canudas de Wit 1994](#armstrong1994survey): the friction
+#   effects a diagnosis looks for.
+# * [Canudas de Wit, Olsson, Åström & Lischinsky 1995 (LuGre)](#canudas1995lugre): the LuGre
+#   model behind the presliding cause.
 #
 # In fricctl: [`diagnose`](#fricctl.diagnose.diagnose) and its
 # [`Diagnosis`](#fricctl.diagnose.Diagnosis),

@@ -71,6 +71,8 @@ warnings.simplefilter("ignore", DesignWarning)  # the designs' warnings are in D
 # equation of paper Eq. (2), a constant offset, and a friction law with one set of
 # coefficients per direction:
 #
+# <a id="eq-joint-model"></a>
+#
 # $$ I\,\ddot q = T_m - o - T_{at}(\dot q), \qquad
 #    T_{at}(\omega) = b^{\pm}\omega + \operatorname{sign}(\omega)\Big[F_c^{\pm}
 #    + S^{\pm} e^{-(|\omega|/v_s)^{\delta}}\Big] \quad (\omega \ne 0), $$
@@ -154,7 +156,9 @@ if est is not None:
 # ## 3. Identify, and write the model file
 # The benchmark's IDIM-LS gives the published estimates with their standard deviations.
 # Its model, per sample $k$, is the joint equation read backwards
-# ([Chapter 3](03_identifying_friction); [`idim_ls`](#fricctl.identify.idim_ls)):
+# ([Chapter 3](03_identifying_friction), [its model](#eq-idim); [`idim_ls`](#fricctl.identify.idim_ls)):
+#
+# <a id="eq-emps-idim"></a>
 #
 # $$ F_{m,k} = M\,\ddot q_k + F_v\,\dot q_k + F_c\,\operatorname{sign}(\dot q_k) + o
 #    + \varepsilon_k, $$
@@ -167,6 +171,8 @@ if est is not None:
 # $y$ low-pass filtered and kept one sample in 10 (decimation $D$, "parallel filtering",
 # which removes the noise above the dynamics without shifting any column against the
 # others), and least squares on what remains:
+#
+# <a id="eq-emps-least-squares"></a>
 #
 # $$ \hat\theta = \arg\min_{\theta} \lVert D y - (D X)\,\theta \rVert_2^2, \qquad
 #    \theta = (M, F_v, F_c, o), \qquad
@@ -209,6 +215,8 @@ if est is not None:
 # rise time 0.05 s, damping 0.7, rate feedback, checked on the sampled loop at 1 kHz.
 # With $T_c = K_p(r - q) - K_d\,\hat\omega$ the closed loop is
 #
+# <a id="eq-emps-loop"></a>
+#
 # $$ M s^2 + (F_v + K_d)\,s + K_p, \qquad \omega_n = \sqrt{K_p/M}, \qquad
 #    \zeta = \frac{F_v + K_d}{2\sqrt{K_p M}}, $$
 #
@@ -248,7 +256,7 @@ if est is not None:
     print(f"{len(pats)} patterns, {int(pats.at_rest.sum())} at rest; RMS distance to the "
           f"identified law {np.sqrt(np.mean((pats.friction - law) ** 2)):.2f} N")
     fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
-    ax.plot(pats.omega, pats.friction, ".", ms=1, alpha=0.3, label="patterns $T_m - M\\hat\\alpha$")
+    ax.plot(pats.omega, pats.friction, ".", ms=1, alpha=0.3, label="patterns $F_m - M\\hat\\alpha$")
     w = np.linspace(pats.omega.min(), pats.omega.max(), 400)
     ax.plot(w, model.friction.torque(w) + model.offset, "k", lw=1, label="identified law")
     ax.set_xlabel("velocity [m/s]")
@@ -523,18 +531,13 @@ if est is not None:
 # %% [markdown]
 # ## References
 #
-# * Gervini, Gomes & da Rosa, "A new robotic drive joint friction compensation mechanism
-#   using neural networks", *Journal of the Brazilian Society of Mechanical Sciences and
-#   Engineering* 25(2), 2003: Sections 3-5, the chain identify, design, learn, compensate.
-# * A. Janot, M. Gautier and M. Brunot, "Data set and reference models of EMPS", 2019
-#   Workshop on Nonlinear System Identification Benchmarks, Eindhoven, 2019: the records,
-#   the IDIM-LS recipe and its published results, the axis's own controller.
-# * S. Fuller, B. Greiner, J. Moore, R. Murray, R. van Paassen and R. Yorke, "The Python
-#   Control Systems Library (python-control)", 60th IEEE Conference on Decision and Control
-#   (CDC), 2021: the PD design.
-# * J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings and M. Diehl, "CasADi: a software
-#   framework for nonlinear optimization and optimal control", *Mathematical Programming
-#   Computation* 11, 2019: the least squares and the Levenberg-Marquardt trainer.
+# * [Gervini, Gomes & da Rosa 2003](#gervini2003): Sections 3-5, the chain identify, design,
+#   learn, compensate.
+# * [Janot, Gautier & Brunot 2019 (EMPS)](#janot2019emps): the records, the IDIM-LS recipe and
+#   its published results, the axis's own controller.
+# * [Fuller et al. 2021 (python-control)](#fuller2021control): the PD design.
+# * [Andersson et al. 2019 (CasADi)](#andersson2019casadi): the least squares and the
+#   Levenberg-Marquardt trainer.
 #
 # In fricctl: [`JointModel`](#fricctl.plant.JointModel), [`emps`](#fricctl.datasets.emps),
 # [`record_patterns`](#fricctl.datasets.record_patterns), [`idim_ls`](#fricctl.identify.idim_ls),

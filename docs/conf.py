@@ -40,6 +40,7 @@ extensions = [
     "numpydoc",
     "sphinx.ext.mathjax",
     "sphinx-mathjax-offline",  # MathJax 3 copied into _static/mathjax: no CDN
+    "sphinxcontrib.bibtex",    # the one bibliography, docs/references.bib (bibliography.md)
     "fricctl_book",
 ]
 
@@ -55,14 +56,23 @@ myst_heading_anchors = 3
 
 # an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
 # not red text
-# every display equation numbered (per page): "Chapter 5, Eq. (3)" can be cited (issue 24 item 5)
+# every display equation numbered: "Eq. (19)" can be cited (issue 24 item 5); with numfig the
+# numbers of equations and figures run on through the book (no page is a numbered section)
 math_number_all = True
-# captioned figures numbered on their page ("Fig. 2"), as the equations are
+# captioned figures numbered ("Fig. 2"), as the equations are
 numfig = True
 numfig_format = {"figure": "Fig. %s", "table": "Table %s", "code-block": "Listing %s",
                  "section": "Section %s"}
 math_eqref_format = "Eq. ({number})"
 mathjax3_config = {"tex": {"packages": {"[-]": ["noundefined"]}}}
+
+# -- the bibliography ------------------------------------------------------------------------
+# one file, listed whole on bibliography.md; a chapter cites an entry with a Markdown link to its
+# key, [Gervini, Gomes & da Rosa 2003](#gervini2003), which Jupyter shows as its text and MyST
+# resolves (like the `any` role) to a citation, "(Gervini et al., 2003)", linked to the entry
+bibtex_bibfiles = ["references.bib"]
+bibtex_default_style = "plain"
+bibtex_reference_style = "author_year"
 
 # -- myst-nb: execution and rendering -------------------------------------------------------
 nb_custom_formats = {".py": ["fricctl_book.read_chapter", {}, False]}
@@ -100,3 +110,22 @@ html_theme_options = {
 }
 html_show_sourcelink = True
 html_last_updated_fmt = None
+
+# -- PDF (`make book-pdf`) ---------------------------------------------------------------------
+# Sphinx's LaTeX builder and latexmk, with XeLaTeX for the Unicode of the outputs and prose
+# (ω, ≤, ±, ², Å) in Debian's FreeFont; the chapters are not executed again: `make book-pdf`
+# gives the notebooks the HTML build executed (fricctl_executed_notebooks, fricctl_book.py)
+latex_engine = "xelatex"
+latex_documents = [(root_doc, "fricctl.tex",
+                    "fricctl: friction in a robot drive joint, learned and compensated",
+                    author, "manual")]
+latex_elements = {
+    "papersize": "a4paper",
+    "pointsize": "10pt",
+    # long code and output lines wrap (as on the printed HTML page) instead of running off
+    "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
+}
+# the index holds the API's names (ASCII): makeindex, not xindy (one Debian package less)
+latex_use_xindy = False
+latex_show_urls = "no"
+latex_show_pagerefs = False

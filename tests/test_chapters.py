@@ -105,3 +105,30 @@ def test_every_figure_has_a_caption(path):
             shows = re.findall(r"^(\s*)plt\.show\(\)", cell.source, re.M)
             assert shows == [""], \
                 f"a named figure's cell shows {len(shows)} figures (or one in a loop): {first!r}"
+
+
+def test_cross_references_name_labels_of_the_book():
+    """A chapter cites an equation or a figure by a Markdown link to its label
+    (``[the equation of motion](#eq-motion)``, docs/book_authoring.md): every such link names
+    a label that exists -- an anchor ``<a id="eq-...">`` on the line before a display
+    equation, or a figure's ``"name"`` -- and every label is defined once in the whole book
+    (the book resolves them across chapters; an unknown or doubled one fails its build)."""
+    labels: dict[str, str] = {}
+    cited: list[tuple[str, str]] = []
+    for path in CHAPTERS:
+        nb = jupytext.reads(path.read_text(encoding="utf-8"), fmt="py:percent")
+        for cell in nb.cells:
+            if cell.cell_type == "markdown":
+                for m in re.finditer(r'<a id="((?:eq|fig)-[\w-]+)"></a>', cell.source):
+                    after = cell.source[m.end():].lstrip(" \t\n")
+                    assert after.startswith("$$"), f"{path.name}: {m.group(1)} is not before an equation"
+                    assert m.group(1) not in labels, f"{m.group(1)}: in {labels.get(m.group(1))} and {path.name}"
+                    labels[m.group(1)] = path.name
+                cited += [(path.name, t) for t in re.findall(r"\]\(#((?:eq|fig)-[\w-]+)\)", cell.source)]
+            name = cell.metadata.get("mystnb", {}).get("figure", {}).get("name")
+            if name:
+                assert name not in labels, f"{name}: in {labels.get(name)} and {path.name}"
+                labels[name] = path.name
+    assert cited, "no chapter cites an equation or a figure by its number"
+    for chapter, target in cited:
+        assert target in labels, f"{chapter}: [...](#{target}) names no label of the book"

@@ -757,7 +757,7 @@ def test_plot_friction_map_draws_curves_and_envelope(casadi_net):
     net = casadi_net.net
     ax = plot_friction_map(net, tm_values=[0.0, 0.1])
     solid = [ln for ln in ax.get_lines() if ln.get_linestyle() == "-" and ln.get_label()
-             .startswith("Tm")]
+             .startswith("$T_m$")]  # "$T_m$ = 0.1 N·m": typeset (issue 24)
     assert len(solid) == 2
     x, y = solid[1].get_data()
     inside = np.isfinite(y)

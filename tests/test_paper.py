@@ -761,6 +761,14 @@ def test_plot_fig12_lines(figs):
     np.testing.assert_allclose(ax.get_lines()[-1].get_ydata(), np.rad2deg(figs[12].ideal_no_viscous.q))
 
 
+def test_plot_fig12_legend_covers_no_data(figs, ffigs, points_under_legend):
+    """Issue 24 item 7: the six lines oscillate over the whole plot; the legend sits beside it."""
+    for result in (figs[12], ffigs[12]):
+        ax = fp.plot_fig12(result)
+        assert len(ax.get_legend().get_texts()) == 6
+        assert points_under_legend(ax) == 0
+
+
 def test_plot_sweep_and_rejects(network):
     s = paper.robustness_sweep(network.net, P, friction_scales=(1.0,), link_inertias=(0.0,), duration=1.0)
     ax = fp.plot_sweep(s)

@@ -8,9 +8,13 @@
   (the cell runs; the book shows the static fallback that follows it instead).
 * At ``builder-inited``, ``fricctl reproduce`` runs into ``fricctl_reproduce_dir`` (the
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
-  page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` and the PNGs of the
-  representative seeds in that place.
-* ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`).
+  page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
+  first, every detail section folded: :func:`fold_details`) and the PNGs of the
+  representative seeds at :data:`FIGURES_PLACEHOLDER`.
+* ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`);
+  ``fricctl_executed_notebooks = <folder>`` (with ``nb_execution_mode = "off"``: the PDF of
+  ``make book-pdf``) takes each chapter's notebook as an earlier build executed it
+  (:func:`read_chapter`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
@@ -26,6 +30,8 @@
 
 from __future__ import annotations
 
+import ast
+import importlib
 import os
 import re
 import shutil
@@ -55,13 +61,168 @@ TAGS = {
 _EXERCISE = re.compile(r"#\s*Exercise\s+(\d+[a-z]?)\b", re.I)
 
 
+#: An anchor on the line before a display equation, ``<a id="eq-motion"></a>``: in Jupyter an
+#: invisible link target; in the book the equation's MyST label (``$$ ... $$ (eq-motion)``).
+_EQ_ANCHOR = re.compile(r'<a id="(eq-[\w-]+)"></a>[ \t]*\n(?:[ \t]*\n)?(\$\$.*?\$\$)', re.S)
+#: A Markdown link to a labelled equation or figure, ``[the equation of motion](#eq-motion)``.
+_NUMBERED_LINK = re.compile(r"\[[^\]]*\]\(#((eq|fig)-[\w-]+)\)")  # its words may wrap
+
+
+#: The chapters this build does not execute (``nb_execution_mode = "off"``, or not in
+#: ``fricctl_book_only``), by their text: their figures do not exist, and a link to one stays
+#: its words instead of an unresolvable ``{numref}``.  Set by :func:`execute_only`.
+UNEXECUTED: set[str] = set()
+
+
+def cross_references(source: str, *, figures: bool = True) -> str:
+    """A markdown cell's links to its chapter's equations and figures made numbered
+    cross-references: Jupyter shows the link's words ("the equation of motion"), the book
+    the number ("Eq. (2)", "Fig. 3") by MyST's ``{eq}`` and ``{numref}`` roles, which Jupyter
+    would show raw; an equation is labelled by an anchor before it (:data:`_EQ_ANCHOR`), a
+    figure by the ``name`` in its cell's metadata.  An unknown label fails the build."""
+    source = _EQ_ANCHOR.sub(lambda m: f"{m.group(2)} ({m.group(1)})", source)
+
+    def numbered(m):
+        if m.group(2) == "fig" and not figures:
+            return m.group(0)[1:m.group(0).index("](")]
+        return ("{eq}" if m.group(2) == "eq" else "{numref}") + f"`{m.group(1)}`"
+
+    return _NUMBERED_LINK.sub(numbered, source)
+
+
+#: Where the API reference lives, and the line of one of its pages that documents a module.
+API = Path(__file__).resolve().parent.parent / "api"
+_AUTOMODULE = re.compile(r"^\.\. automodule:: ([\w.]+)\n(?![ \t]+:no-members:)", re.M)
+
+
+def api_names() -> dict[int, str]:
+    """``id`` of every function and class the API reference documents -> its documented name
+    (the members in ``__all__`` of each module a ``docs/api`` page gives to ``automodule``)."""
+    names: dict[int, str] = {}
+    for page in sorted(API.glob("*.md")):
+        for module_name in _AUTOMODULE.findall(page.read_text(encoding="utf-8")):
+            module = importlib.import_module(module_name)
+            for name in getattr(module, "__all__", ()):
+                obj = getattr(module, name)
+                # functions and classes: a constant's entry exists only if it has a docstring
+                if callable(obj) and getattr(obj, "__doc__", None):
+                    names.setdefault(id(obj), f"{module_name}.{name}")
+    return names
+
+
+def _resolve(node, scope: dict):
+    """The object a ``Name`` or ``a.b.c`` expression names in ``scope``, or None."""
+    if isinstance(node, ast.Name):
+        return scope.get(node.id)
+    if isinstance(node, ast.Attribute):
+        base = _resolve(node.value, scope)
+        return None if base is None else getattr(base, node.attr, None)
+    return None
+
+
+def api_uses(nb, names: dict[int, str] | None = None) -> list[tuple[int, list[str]]]:
+    """For each code cell of ``nb`` that uses a documented fricctl object for the first time
+    (and no markdown cell before it links to it): the cell's index and those objects'
+    documented names, in order of use.  Cells the book hides or removes (``hide-input``,
+    ``remove-cell``, ``remove-input``) do not count as a use: their code is not on the page."""
+    names = api_names() if names is None else names
+    scope: dict = {}
+    linked: set[str] = set()
+    out = []
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type == "markdown":
+            linked.update(re.findall(r"\]\(#(fricctl[\w.]*)\)", cell.source))
+            continue
+        if cell.cell_type != "code":
+            continue
+        try:
+            tree = ast.parse(cell.source)
+        except SyntaxError:
+            continue
+        new: list[str] = []
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fricctl"):
+                module = importlib.import_module(node.module)
+                for alias in node.names:
+                    if hasattr(module, alias.name):
+                        scope[alias.asname or alias.name] = getattr(module, alias.name)
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.name.startswith("fricctl"):
+                        module = importlib.import_module(alias.name)
+                        scope[alias.asname or alias.name.split(".")[0]] = (
+                            module if alias.asname else importlib.import_module("fricctl"))
+        hidden = {"hide-input", "remove-cell", "remove-input"} & set(cell.metadata.get("tags", []))
+        if hidden:
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Name, ast.Attribute)):
+                obj = _resolve(node, scope)
+                name = names.get(id(obj)) if obj is not None else None
+                if name and name not in linked and name not in new:
+                    new.append(name)
+        if new:
+            # in source order, not ast.walk's
+            new.sort(key=lambda n: min((m.start() for m in re.finditer(
+                rf"\b{re.escape(n.rsplit('.', 1)[1])}\b", cell.source)), default=0))
+            linked.update(new)
+            out.append((index, new))
+    return out
+
+
+def api_links(nb) -> None:
+    """Before each code cell that uses a documented fricctl object first (:func:`api_uses`), a
+    line linking each to its API page: every function a chapter calls is one click from its
+    reference where it is first used, without the chapter's prose having to name them all."""
+    import nbformat
+
+    for index, used in reversed(api_uses(nb)):
+        links = ", ".join(f"[`{n.rsplit('.', 1)[1]}`](#{n})" for n in used)
+        cell = nbformat.v4.new_markdown_cell(f"<small>fricctl used below: {links}</small>")
+        cell.metadata["tags"] = ["fricctl-api"]
+        nb.cells.insert(index, cell)
+
+
+#: ``fricctl_executed_notebooks``: a chapter's text -> the notebook an earlier build executed
+#: from it (``_sources/chapters/<chapter>.ipynb`` of the HTML book).  Set by :func:`execute_only`.
+EXECUTED: dict[str, Path] = {}
+
+
 def read_chapter(text: str):
-    """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's."""
+    """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's,
+    links to its equations and figures made numbered cross-references -- and, given
+    ``fricctl_executed_notebooks`` (the PDF of ``make book-pdf``), the outputs the HTML build
+    computed from this very code, so that no chapter runs twice (a chapter whose code changed
+    since is refused)."""
+    nb = _read_chapter(text)
+    executed = EXECUTED.get(text)
+    if executed is None:
+        return nb
+    import nbformat
+
+    done = nbformat.read(executed, as_version=4)
+    code = [[(c.cell_type, c.source if c.cell_type == "code" else "") for c in n.cells]
+            for n in (done, nb)]
+    if code[0] != code[1]:
+        raise ExtensionError(f"{executed} was executed from another version of its chapter's "
+                             f"code: build the HTML book again (make book) before the PDF")
+    # the outputs of the code as executed, the prose as the chapter reads now
+    for fresh, old in zip(nb.cells, done.cells):
+        if fresh.cell_type == "code":
+            fresh.outputs = old.outputs
+            fresh.execution_count = old.get("execution_count")
+    nb.metadata = done.metadata
+    return nb
+
+
+def _read_chapter(text: str):
     nb = jupytext.reads(text, fmt="py:percent")
     # the kernel fills this in when it runs; set here so that a build without execution
     # (nb_execution_mode=off, an author's quick look) still highlights the code
     nb.metadata.setdefault("language_info", {"name": "python"})
     for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            cell.source = cross_references(cell.source, figures=text not in UNEXECUTED)
         tags = list(cell.metadata.get("tags", []))
         for tag in [t for t in tags if t in TAGS]:
             extra_tags, options = TAGS[tag]
@@ -75,6 +236,7 @@ def read_chapter(text: str):
         if tags:
             cell.metadata["tags"] = tags
         _alt_from_caption(cell.metadata)
+    api_links(nb)
     return nb
 
 
@@ -112,11 +274,24 @@ def _alt_from_caption(metadata) -> None:
 
 def execute_only(app, config) -> None:
     """``config-inited``: with ``fricctl_book_only = "01,05"`` only those chapters are executed
-    (the others are rendered without outputs): an author's quick look at one chapter."""
+    (the others are rendered without outputs): an author's quick look at one chapter.  (Also
+    notes the chapters that are not executed: :data:`UNEXECUTED`.)"""
     only = [n.strip() for n in config.fricctl_book_only.split(",") if n.strip()]
+    chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
+    EXECUTED.clear()
+    if config.fricctl_executed_notebooks:
+        folder = Path(config.fricctl_executed_notebooks)
+        missing = [c.stem for c in chapters if not (folder / f"{c.stem}.ipynb").is_file()]
+        if missing:
+            raise ExtensionError(f"fricctl_executed_notebooks: no {missing[0]}.ipynb in {folder} "
+                                 f"(build the HTML book first: make book)")
+        EXECUTED.update({c.read_text(encoding="utf-8"): folder / f"{c.stem}.ipynb" for c in chapters})
+    UNEXECUTED.clear()
+    UNEXECUTED.update(c.read_text(encoding="utf-8") for c in chapters
+                      if not EXECUTED and (config.nb_execution_mode == "off"
+                      or (only and not c.name.startswith(tuple(f"{n}_" for n in only)))))
     if not only:
         return
-    chapters = sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
     unknown = [n for n in only if not any(c.name.startswith(f"{n}_") for c in chapters)]
     if unknown:
         raise ExtensionError(f"fricctl_book_only: no chapter numbered {unknown[0]!r}")
@@ -126,8 +301,10 @@ def execute_only(app, config) -> None:
 
 # -- the paper reproduced --------------------------------------------------------------------
 
-#: The line of a page that is replaced by the claims table and the figures.
+#: The line of a page that is replaced by the claims table and the figures (the figures go to
+#: :data:`FIGURES_PLACEHOLDER` instead when the page has that line too).
 PLACEHOLDER = "<!-- fricctl-reproduce: claims.md and the figures are inserted here -->"
+FIGURES_PLACEHOLDER = "<!-- fricctl-reproduce: the figures are inserted here -->"
 _SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
 
 
@@ -192,18 +369,51 @@ def _repo_links(text: str, srcdir: Path, here: Path) -> str:
     return re.sub(r"\]\(([^)#\s]+)([^)]*)\)", fix, text)
 
 
-def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
-    """MyST text: ``claims.md`` of ``out`` (headings one level down), then every figure.
+def fold_details(text: str, level: int, keep: tuple[str, ...] = ()) -> str:
+    """MyST text whose sections of heading ``level`` (but those titled in ``keep``) are each
+    folded into a collapsed ``<details>`` under their title; a deeper heading inside becomes a
+    bold line (a section cannot start inside raw HTML).  On paper (LaTeX, which drops the raw
+    HTML) everything is shown, each title as a bold line."""
+    out, fence, open_ = [], False, False
+    for line in text.splitlines():
+        if line.lstrip().startswith(("```", "~~~")):
+            fence = not fence
+        heading = None if fence else re.match(r"(#{1,6}) (.*)", line)
+        if heading and len(heading.group(1)) <= level and open_:
+            out += ["", "</details>", ""]
+            open_ = False
+        if heading and len(heading.group(1)) == level and heading.group(2).strip() not in keep:
+            title = heading.group(2).strip()
+            out += [f'<details class="fricctl-details"><summary>{title}</summary>', "",
+                    "```{only} latex", f"**{title}**", "```", ""]
+            open_ = True
+        elif heading and open_:
+            out += [f"**{heading.group(2).strip()}**", ""]
+        else:
+            out.append(line)
+    if open_:
+        out += ["", "</details>", ""]
+    return "\n".join(out)
 
-    The figures are the PNGs of ``figures/<pipeline>-seed<K>/``, one section per pipeline;
-    paths are relative to ``here`` (the folder of the page).
-    """
+
+def claims_markdown(out: Path, srcdir: Path, here: Path) -> str:
+    """MyST text: ``claims.md`` of ``out``, headings one level down, every section after the
+    at-a-glance table folded (:func:`fold_details`): the table is what a reader reads first,
+    the details are one click away (issue 24)."""
     claims = out / "claims.md"
     if not claims.is_file():
         raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
-    text = claims.read_text(encoding="utf-8")
-    lines = [_repo_links(shift_headings(text, 1), srcdir, here), ""]
+    text = shift_headings(claims.read_text(encoding="utf-8"), 1)
+    return fold_details(_repo_links(text, srcdir, here), 3, keep=("At a glance",)) + "\n"
+
+
+def figures_markdown(out: Path, here: Path) -> str:
+    """MyST text: every figure of ``out``, one section per pipeline, in the order of the
+    claims table; ``figures/<pipeline>-seed<K>/*.png``, paths relative to ``here`` (the folder
+    of the page)."""
+    text = (out / "claims.md").read_text(encoding="utf-8")
     rel = Path(os.path.relpath(out, here)).as_posix()
+    lines = []
 
     def first_mention(folder):  # the pipelines in the order of the claims table
         at = text.find(f"{folder.name.rsplit('-seed', 1)[0]} pipeline")
@@ -219,6 +429,11 @@ def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
     return "\n".join(lines)
 
 
+def reproduce_markdown(out: Path, srcdir: Path, here: Path) -> str:
+    """MyST text: the claims (:func:`claims_markdown`), then every figure (:func:`figures_markdown`)."""
+    return claims_markdown(out, srcdir, here) + "\n" + figures_markdown(out, here)
+
+
 # -- source-read and autodoc hooks -----------------------------------------------------------
 
 def on_source_read(app, docname, source) -> None:
@@ -230,7 +445,12 @@ def on_source_read(app, docname, source) -> None:
         text = text.replace(COEFFICIENTS_PLACEHOLDER, coefficients_table())
     if PLACEHOLDER in text:
         here = Path(app.env.doc2path(docname)).parent
-        text = text.replace(PLACEHOLDER, reproduce_markdown(reproduce_dir(app), Path(app.srcdir), here))
+        out = reproduce_dir(app)
+        if FIGURES_PLACEHOLDER in text:
+            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here))
+            text = text.replace(FIGURES_PLACEHOLDER, figures_markdown(out, here))
+        else:
+            text = text.replace(PLACEHOLDER, reproduce_markdown(out, Path(app.srcdir), here))
     if str(app.env.doc2path(docname)).endswith(".md"):
         first = next((ln for ln in text.splitlines() if re.match(r"#{1,6} ", ln)), "")
         if first.startswith("## "):
@@ -280,15 +500,25 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
 def number_equations(app, doctree) -> None:
     """``doctree-read``: an unlabelled display equation gets a label and its number, as
     Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Chapter 5,
-    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are."""
+    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are.
+    (With ``numfig``, the number shown and cited is numfig's: it runs on through the book's
+    pages, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
     from docutils import nodes
 
+    # a bare % in TeX starts a comment, in LaTeX and MathJax alike: "(0-100 % rise time)" in a
+    # docstring's equation would swallow the rest of its line (and break the PDF)
+    for node in list(doctree.findall(lambda n: isinstance(n, (nodes.math, nodes.math_block)))):
+        text = node.astext()
+        if re.search(r"(?<!\\)%", text):
+            node.clear()
+            node += nodes.Text(re.sub(r"(?<!\\)%", r"\\%", text))
     if not app.config.math_number_all:
         return
     env = app.env
     docname = env.docname
     domain = env.get_domain("math")
     for node in list(doctree.findall(nodes.math_block)):
+        node.setdefault("docname", docname)  # the LaTeX writer labels an equation by it
         if node.get("label") or node.get("nowrap"):
             continue
         node["label"] = f"{docname}:{env.new_serialno('sphinx.ext.math#equations')}"
@@ -306,6 +536,7 @@ def setup(app):
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce", "run", "env", types=[str])
     app.add_config_value("fricctl_book_only", "", "env", types=[str])
+    app.add_config_value("fricctl_executed_notebooks", "", "env", types=[str])
     app.connect("config-inited", execute_only, priority=400)  # before myst-nb reads its config
     app.connect("builder-inited", run_reproduce)
     app.connect("source-read", on_source_read)

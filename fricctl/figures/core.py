@@ -50,10 +50,10 @@ def plot_response(result, *, ax=None, label=None, unit: str = "deg", measured: b
 def plot_torques(result, *, ax=None, estimate: bool = True):
     """Control torque Tc, motor torque Tm (held: steps-post) and the friction estimate."""
     ax = get_ax(ax)
-    ax.plot(result.t, result.torque_cmd, drawstyle="steps-post", label="control torque Tc")
-    ax.plot(result.t, result.torque_motor, drawstyle="steps-post", label="motor torque Tm")
+    ax.plot(result.t, result.torque_cmd, drawstyle="steps-post", label="control torque $T_c$")
+    ax.plot(result.t, result.torque_motor, drawstyle="steps-post", label="motor torque $T_m$")
     if estimate and np.any(result.friction_est != 0):
-        ax.plot(result.t, result.friction_est, drawstyle="steps-post", lw=1, label="friction estimate T^at")
+        ax.plot(result.t, result.friction_est, drawstyle="steps-post", lw=1, label=r"friction estimate $\hat T_{at}$")
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("torque [N·m]")
     ax.legend(loc="best", fontsize="small")
@@ -66,14 +66,14 @@ def plot_friction_law(model, *, ax=None, omega_max: float = 1.0, n: int = 801, l
     w = np.linspace(-omega_max, omega_max, n)
     w = w[w != 0]
     neg, pos = w[w < 0], w[w > 0]
-    line, = ax.plot(pos, model.torque(pos), label=label or "sliding friction Tat(ω)", **style)
+    line, = ax.plot(pos, model.torque(pos), label=label or r"sliding friction $T_{at}(\omega)$", **style)
     ax.plot(neg, model.torque(neg), color=line.get_color(), **{k: v for k, v in style.items() if k != "color"})
     ax.plot([0, 0], [-model.breakaway(-1), model.breakaway(1)], color=line.get_color(), lw=3, alpha=0.5,
-            label="at rest: any Tat in the breakaway band")
+            label="at rest: any $T_{at}$ in the breakaway band")
     ax.axhline(0, color="0.8", lw=0.8)
     ax.axvline(0, color="0.8", lw=0.8)
     ax.set_xlabel("velocity ω [rad/s]")
-    ax.set_ylabel("friction torque Tat [N·m]")
+    ax.set_ylabel("friction torque $T_{at}$ [N·m]")
     ax.legend(loc="best", fontsize="small")
     return ax
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..design import Design, RISE_TIME_DEFINITIONS, SETTLING_THRESHOLD, linear_response
-from ._common import get_ax
+from ._common import get_ax, legend_beside
 
 __all__ = ["plot_root_locus", "plot_step"]
 
@@ -53,24 +53,24 @@ def plot_root_locus(design: Design, *, ax=None, gain_range: float = 4.0, points:
     loci = np.asarray(control.root_locus_map(loop, gains).loci)
     for j in range(loci.shape[1]):
         ax.plot(loci[:, j].real, loci[:, j].imag, color="C0",
-                label="locus, Kp from 0" if j == 0 else None)
+                label=r"locus, $K_p$ from 0" if j == 0 else None)
     ol = np.asarray(control.poles(loop))
     ax.plot(ol.real, ol.imag, "x", color="k", ms=8, label="open-loop poles")
     cl = np.asarray(control.poles(design.closed_loop))
     ax.plot(cl.real, cl.imag, "o", color="C3", ms=8, mfc="none", mew=2,
-            label=f"design: Kp = {design.kp:.3g} N*m/rad, zeta = {design.zeta:.2f}")
+            label=f"design: $K_p$ = {design.kp:.3g} N·m/rad, $\\zeta$ = {design.zeta:.2f}")
     if design.zeta < 1.0:
         r = 1.3 * design.wn
         ang = math.acos(design.zeta)
         for sgn in (1, -1):
             ax.plot([0.0, -r * math.cos(ang)], [0.0, sgn * r * math.sin(ang)], ":",
-                    color="C3", lw=1, label=f"zeta = {design.zeta:.2f}" if sgn == 1 else None)
+                    color="C3", lw=1, label=f"$\\zeta$ = {design.zeta:.2f}" if sgn == 1 else None)
     ax.axhline(0.0, color="0.7", lw=0.5)
     ax.axvline(0.0, color="0.7", lw=0.5)
     ax.set_xlabel(r"Re $s$ [rad/s]")
     ax.set_ylabel(r"Im $s$ [rad/s]")
     ax.set_title(f"{design.law.upper()} root locus")
-    ax.legend(loc="best", fontsize="small")
+    legend_beside(ax)  # the locus climbs through every corner a "best" legend would pick
     return ax
 
 

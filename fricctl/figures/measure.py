@@ -71,7 +71,8 @@ def plot_identification(result, *, t=None, ax=None):
     v.instance("result", result, IdentificationResult)
     x = np.arange(result.n_samples) if t is None else v.array("t", t, size=result.n_samples)
     ax = get_ax(ax)
-    name = r"torque $\tau$" if result.units == "rotary" else "force $F$"
+    # the regressed quantity is the motor torque T_m (docs/notation.md), a force on a prismatic axis
+    name = "motor torque $T_m$" if result.units == "rotary" else "motor force $T_m$"
     unit = units_of(result.units).torque
     ax.plot(x, result.measured, lw=1.2, label="measured")
     ax.plot(x, result.predicted, "--", lw=1.2, label=f"predicted ({result.model or 'custom'})")

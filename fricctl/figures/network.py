@@ -52,13 +52,13 @@ def plot_friction_map(net: FrictionNet, *, ax=None, tm_values=None, omega_margin
     ax = get_ax(ax)
     width = hi[1] - lo[1]
     omega = np.linspace(lo[1] - omega_margin * width, hi[1] + omega_margin * width, points)
-    ax.axvspan(lo[1], hi[1], color="0.9", zorder=0, label="training envelope (omega)")
+    ax.axvspan(lo[1], hi[1], color="0.9", zorder=0, label=r"training envelope ($\omega$)")
     for k, tm in enumerate(tm_values):
         y = net(tm, omega)
         out = net.outside_envelope(tm, omega)
         color = f"C{k % 10}"
         y_in = np.where(out, np.nan, y)
-        ax.plot(omega, y_in, color=color, label=f"Tm = {tm:.3g} N*m"
+        ax.plot(omega, y_in, color=color, label=f"$T_m$ = {tm:.3g} N·m"
                 + (" (outside envelope)" if tm < lo[0] or tm > hi[0] else ""))
         ax.plot(omega, np.where(out, y, np.nan), color=color, ls=":")
     ax.set_xlabel(r"velocity $\omega$ [rad/s]")

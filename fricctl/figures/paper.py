@@ -36,7 +36,7 @@ from ..paper.fig14 import Fig14Result
 from ..paper.fig16 import Fig16Result
 from ..paper.fig17 import Fig17Result
 from ..paper.fig18 import Fig18Result
-from ._common import get_ax
+from ._common import get_ax, legend_beside
 from .core import plot_dead_zone
 from .measure import plot_velocity_estimates
 from .network import plot_fit
@@ -120,8 +120,8 @@ def plot_fig4(result: Fig4Result, ax=None):
 def plot_fig5(result: Fig5Result, ax=None):
     """Training torque sequence and the friction patterns it gives (Fig. 5)."""
     ax = get_ax(ax)
-    ax.plot(result.t, result.torque, drawstyle="steps-post", lw=1, label="motor torque Tm")
-    ax.plot(result.t, result.friction, ".", ms=1.5, label="patterns Tat = Tm - I·α̂")
+    ax.plot(result.t, result.torque, drawstyle="steps-post", lw=1, label="motor torque $T_m$")
+    ax.plot(result.t, result.friction, ".", ms=1.5, label=r"patterns $T_{at} = T_m - I\hat\alpha$")
     ax.plot(result.t, result.friction_true, "k", lw=0.6, alpha=0.6, label="true friction (bench)")
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("torque [N·m]")
@@ -140,9 +140,9 @@ def plot_fig8(result: Fig8Result, ax=None):
 
 def _torques(ax, run, *, which=("cmd", "motor")):
     if "cmd" in which:
-        ax.plot(run.t, run.torque_cmd, drawstyle="steps-post", label="control torque Tc")
+        ax.plot(run.t, run.torque_cmd, drawstyle="steps-post", label="control torque $T_c$")
     if "motor" in which:
-        ax.plot(run.t, run.torque_motor, drawstyle="steps-post", label="motor torque Tm")
+        ax.plot(run.t, run.torque_motor, drawstyle="steps-post", label="motor torque $T_m$")
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("torque [N·m]")
 
@@ -162,7 +162,7 @@ def plot_fig9(result: Fig9Result, ax=None):
         a.set_ylabel("velocity ω [rad/s]")
         a.set_title(f"{name}: {len(sticks)} stick intervals", fontsize="small")
         a.legend(loc="best", fontsize="small")
-    fig.suptitle(f"Fig. 9: open-loop Tc = {result.amplitude:.3f} N·m · sin(2π·{result.frequency:g} Hz·t)",
+    fig.suptitle(f"Fig. 9: open-loop $T_c$ = {result.amplitude:.3f} N·m · sin(2π·{result.frequency:g} Hz·t)",
                  fontsize="medium")
     return fig
 
@@ -188,7 +188,7 @@ def plot_fig11(result: Fig11Result, ax=None):
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "--", label="linear viscous simulation")
     _position(ax, result.run, "joint, no compensation")
-    ax.set_title(f"Fig. 11: P step, e_ss = {_DEG * result.steady_state_error:.2f} deg", fontsize="small")
+    ax.set_title(f"Fig. 11: P step, $e_{{ss}}$ = {_DEG * result.steady_state_error:.2f} deg", fontsize="small")
     ax.legend(loc="best", fontsize="small")
     return ax
 
@@ -199,13 +199,14 @@ def plot_fig12(result: Fig12Result, ax=None):
     ax = get_ax(ax)
     ax.plot(result.run.t, _DEG * result.linear, "k--", label="linear viscous simulation")
     _position(ax, result.run, "NN compensation")
-    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label="estimate - b·ω (extra)")
+    ax.plot(result.variant.t, _DEG * result.variant.q, lw=1, label=r"estimate $-\,b\,\omega$ (extra)")
     ax.plot(result.ideal.t, _DEG * result.ideal.q, lw=0.8, ls="-.", color="0.4",
             label="ideal estimate (extra)")
     ax.plot(result.ideal_no_viscous.t, _DEG * result.ideal_no_viscous.q, lw=0.8, ls=":", color="C2",
-            label="ideal - b·ω (extra)")
-    ax.set_title(f"Fig. 12: max |q - q_lin| = {_DEG * result.max_deviation:.1f} deg", fontsize="small")
-    ax.legend(loc="best", fontsize="small")
+            label=r"ideal $-\,b\,\omega$ (extra)")
+    ax.set_title(f"Fig. 12: max $|q - q_{{lin}}|$ = {_DEG * result.max_deviation:.1f} deg",
+                 fontsize="small")
+    legend_beside(ax)  # six lines that oscillate over the whole plot: no corner is free
     return ax
 
 
@@ -227,14 +228,14 @@ def plot_fig13(result: Fig13Result, ax=None):
     """PD step without compensation; the residual motor torque and the NN estimate (Fig. 13)."""
     def extra(a):
         a.axhline(result.nn_at_rest, color="C3", ls=":", label=f"NN estimate at rest {result.nn_at_rest:.3f} N·m")
-    return _pd_figure(result, ax, f"Fig. 13: PD step, no compensation, e_ss = "
+    return _pd_figure(result, ax, f"Fig. 13: PD step, no compensation, $e_{{ss}}$ = "
                       f"{_DEG * result.steady_state_error:.2f} deg", extra)
 
 
 @paper_plot(14)
 def plot_fig14(result: Fig14Result, ax=None):
     """PD step with NN compensation (Fig. 14)."""
-    return _pd_figure(result, ax, f"Fig. 14: PD step with NN compensation, e_ss = "
+    return _pd_figure(result, ax, f"Fig. 14: PD step with NN compensation, $e_{{ss}}$ = "
                       f"{_DEG * result.steady_state_error:.3f} deg")
 
 
@@ -242,11 +243,11 @@ def _link_figure(result, ax, title):
     fig, (a0, a1) = _axes(ax, 2)
     first = True
     for name, run in result.runs.items():
-        _position(a0, run, f"{name}: e_ss {_DEG * result.steady_state_error[name]:.2f} deg", reference=first)
-        a1.plot(run.t, run.torque_motor, drawstyle="steps-post", lw=1, label=f"Tm, {name}")
+        _position(a0, run, f"{name}: $e_{{ss}}$ {_DEG * result.steady_state_error[name]:.2f} deg", reference=first)
+        a1.plot(run.t, run.torque_motor, drawstyle="steps-post", lw=1, label=f"$T_m$, {name}")
         first = False
     a1.set_xlabel("time t [s]")
-    a1.set_ylabel("motor torque Tm [N·m]")
+    a1.set_ylabel("motor torque $T_m$ [N·m]")
     a0.legend(loc="best", fontsize="small")
     a1.legend(loc="best", fontsize="small")
     fig.suptitle(title, fontsize="medium")
@@ -298,9 +299,9 @@ def plot_sweep(result: SweepResult, ax=None):
     ax.set_xticks(range(e.shape[1]), [f"{s:.2f}" for s in result.friction_scales])
     ax.set_yticks(range(e.shape[0]), [f"{j:.4f}" for j in result.link_inertias])
     ax.set_xlabel("friction scale (true / trained) [-]")
-    ax.set_ylabel("link inertia J_link [kg·m²]")
-    ax.figure.colorbar(im, ax=ax, label="|e_ss| with NN compensation [deg]")
-    ax.set_title(f"PD step {_DEG * result.step:.0f} deg: * = |e_ss| >= {_DEG * result.tolerance:.2f} deg",
+    ax.set_ylabel(r"link inertia $I_s$ [kg·m²]")
+    ax.figure.colorbar(im, ax=ax, label=r"$|e_{ss}|$ with NN compensation [deg]")
+    ax.set_title(f"PD step {_DEG * result.step:.0f} deg: * = $|e_{{ss}}| \\geq$ {_DEG * result.tolerance:.2f} deg",
                  fontsize="small")
     return ax
 
