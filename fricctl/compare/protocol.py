@@ -262,6 +262,11 @@ def compare(*, compensators: Sequence[str] | None = None, experiments: Sequence[
     if unknown:
         raise ValueError(f"options given for {unknown[0]!r}, which is not compared")
     opts = {n: contender(n).check_options(options[n] if n in options else {}) for n in comps}
+    for n, o in opts.items():  # a contender trained on a bench (the networks) is trained on this one
+        if "bench" in (contender(n).options or ()):
+            if "bench" in o and o["bench"] != bench:
+                raise ValueError(f"options of {n!r}: bench {o['bench']!r} is not the compared bench {bench!r}")
+            o["bench"] = bench
     if executor is not None and not hasattr(executor, "submit"):
         raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
     runs = {n: list(range(seeds)) if contender(n).seeded else [0] for n in comps}
