@@ -48,9 +48,10 @@ def executor(kind: str, workers: int):
 def table_size(seeds: int) -> tuple:
     """(networks, evaluation jobs) of the full list of contenders and plants at ``seeds``."""
     from fricctl.compare import CONTENDERS, PLANTS
+    from fricctl.compare.plants import noisy
 
     nets = sum(seeds for c in CONTENDERS.values() if c.seeded)
-    jobs = sum((seeds if c.seeded else 1) * len(PLANTS) for c in CONTENDERS.values())
+    jobs = sum(seeds if c.seeded or noisy(p) else 1 for c in CONTENDERS.values() for p in PLANTS.values())
     return nets, jobs
 
 

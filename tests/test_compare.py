@@ -103,6 +103,7 @@ def test_realise_applies_each_field():
     assert realise("encoder_500", base).params.encoder_resolution == pytest.approx(4 * base.encoder_resolution)
     assert realise("stribeck_2", base).params.stribeck_velocity == pytest.approx(2 * base.stribeck_velocity)
     assert realise("delay_1", base).delay == 1
+    assert realise("noise", base).noise_std == 0.002 and nominal.noise_std == 0.0
     # a plant of the caller's: any subset of the fields
     mine = realise({"name": "mine", "friction_scale": 0.5, "delay": 2}, base)
     assert mine.delay == 2
@@ -115,6 +116,7 @@ def test_realise_applies_each_field():
     ({"name": "x", "friction_scale": -1.0}, "friction_scale"),
     ({"name": "x", "delay": 0.5}, "delay"),
     ({"name": "x", "encoder_counts": 0}, "encoder_counts"),
+    ({"name": "x", "torque_noise": -0.1}, "torque_noise"),
     ("bogus", "unknown plant 'bogus'"),
     (3, "name or a mapping"),
 ])
@@ -196,6 +198,18 @@ def test_json_and_markdown(small):
     n_lines = sum(1 for line in md.splitlines() if line.startswith("| none |")
                   or line.startswith("| coulomb_breakaway |"))
     assert n_lines == len(small.rows)
+
+
+def test_a_plant_with_noise_runs_every_compensator_over_the_seeds():
+    r = compare(compensators=("none",), experiments=("pd_steps",), plants=("noise", "nominal"), seeds=3)
+    noisy, clean = r.row("none", "pd_steps", "noise"), r.row("none", "pd_steps", "nominal")
+    assert noisy["seeded"] is True and noisy["seeds"] == [0, 1, 2]
+    assert clean["seeded"] is False and clean["seeds"] == [0]
+    # each seed its own noise: three different efforts; the same seed again, the same number
+    effort = noisy["metrics"]["effort_rms"]["values"]
+    assert len(set(effort)) == 3
+    again = compare(compensators=("none",), experiments=("pd_steps",), plants=("noise",), seeds=1)
+    assert again.row("none", "pd_steps", "noise")["metrics"]["effort_rms"]["values"] == effort[:1]
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -2,8 +2,9 @@
 
 Runs every compensator on the paper's experiments (dead zone, PD steps, small steps, sawtooth
 tracking, coast, limit cycle) and on perturbed plants (friction x0.8 and x1.2, wear, the SCARA
-link, Stribeck velocity x0.5 and x2, a coarser encoder, one more sample of delay), the trained
-networks over seeds 0 .. N-1 (fricctl.compare).  Writes into DIR:
+link, Stribeck velocity x0.5 and x2, a coarser encoder, one more sample of delay, torque noise),
+the trained networks -- and every compensator on the noisy plant -- over seeds 0 .. N-1
+(fricctl.compare).  Writes into DIR:
 
   comparison.json  {"rows": [...]}: one row per compensator x experiment x plant, with the
                    plant as an object, each metric with its unit (median, min, max and the

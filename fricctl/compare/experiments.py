@@ -39,7 +39,7 @@ from .. import controllers as ctl
 from ..bench.experiments import dead_zone
 from ..compensators import Compensator, NoCompensation
 from ..paper import coast as coast_test
-from ..paper.common import SS_WINDOW, designs, restarts, sign_changes
+from ..paper.common import SS_WINDOW, designs, restarts
 from ..paper.fig14 import STEPS_DEG
 from ..paper.runaway import coast_decay, reversal, wind_up
 from ..simulate import simulate, simulate_batch
@@ -70,8 +70,8 @@ METRICS = MappingProxyType({
     "coast_excess": ("%", "largest excess of |omega| over the viscous decay after the pulse, in % "
                      "of |omega| at its end (fricctl.paper.runaway.coast_decay)"),
     "limit_cycle_amplitude": ("deg", f"half the peak-to-peak of q over the last {LC_WINDOW:g} s"),
-    "limit_cycle_frequency": ("Hz", "crossings of q through its mean over that window / (2*window); 0 "
-                              "when the amplitude is below half an encoder count"),
+    "limit_cycle_frequency": ("Hz", "half the rate of crossings of q through its mean over that window; 0 "
+                              "below half an encoder count of amplitude or under three crossings"),
     "effort_rms": ("N*m", "RMS of the motor torque Tm over the run(s)"),
     "effort_hf_share": ("%", f"share of the motor torque's variance above {HF_CUTOFF:g} Hz over the last "
                         f"{100 * HF_TAIL:.0f} % of each run (mean over runs)"),
@@ -127,10 +127,11 @@ def hf_share(torque, sample_time: float, cutoff: float = HF_CUTOFF) -> float:
 def limit_cycle(t, q, resolution: float, window: float = LC_WINDOW) -> tuple[float, float]:
     """Amplitude [rad] and frequency [Hz] of the oscillation of ``q`` over the last ``window`` s.
 
-    The amplitude is half the peak-to-peak; the frequency the number of crossings of the
-    window's mean (a crossing counted only when ``q`` moves more than a quarter count from the
-    mean) over twice the window.  Below half an encoder count of amplitude there is no limit
-    cycle the controller could see: frequency 0.
+    The amplitude is half the peak-to-peak; the frequency is half the rate of crossings of the
+    window's mean between the first and the last crossing (a crossing counted only where ``q``
+    is more than a quarter count from the mean).  Below half an encoder count of amplitude there
+    is no limit cycle the controller could see, and fewer than three crossings are no full
+    period: frequency 0.
 
     Examples
     --------
@@ -141,12 +142,17 @@ def limit_cycle(t, q, resolution: float, window: float = LC_WINDOW) -> tuple[flo
     """
     t, q = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
     sel = t >= t[-1] - window + 1e-12
-    seg = q[sel]
+    ts, seg = t[sel], q[sel]
     amp = 0.5 * float(seg.max() - seg.min())
     if amp < 0.5 * resolution:
         return amp, 0.0
-    span = float(t[sel][-1] - t[sel][0]) + (float(t[1] - t[0]) if t.size > 1 else 0.0)
-    return amp, sign_changes(seg - seg.mean(), tol=0.25 * resolution) / (2.0 * span)
+    x = seg - seg.mean()
+    idx = np.flatnonzero(np.abs(x) > 0.25 * resolution)
+    s = np.sign(x[idx])
+    cross = idx[1:][s[1:] != s[:-1]]
+    if cross.size < 3:
+        return amp, 0.0
+    return amp, float((cross.size - 1) / (2.0 * (ts[cross[-1]] - ts[cross[0]])))
 
 
 def scaled(compensator: Compensator, scale: float) -> Compensator:
@@ -177,7 +183,8 @@ class Experiment:
         closed loop, the loop's controller)
     linked : whether it runs the paper's link (Figs. 16-18: the bench's ``linked_actuator``)
     metrics : the metrics it reports (keys of :data:`METRICS`)
-    run : ``run(bench, realised, compensator, design) -> Outcome``
+    run : ``run(bench, realised, compensator, design, rng) -> Outcome`` (``rng``: the torque
+        noise's generator, used only on a plant with noise)
     """
 
     name: str
@@ -188,6 +195,12 @@ class Experiment:
     run: Callable
 
 
+def _loop(pl, rng) -> dict:
+    """The simulator's arguments of the plant: true friction, delay, torque noise."""
+    return dict(friction=pl.friction, delay=pl.delay, noise_std=pl.noise_std,
+                rng=rng if pl.noise_std > 0 else None)
+
+
 def _effort(runs_tm, ts) -> dict:
     tm = np.asarray(runs_tm, dtype=float)
     tm2 = tm.reshape(-1, tm.shape[-1])
@@ -196,54 +209,54 @@ def _effort(runs_tm, ts) -> dict:
             "effort_hf_share": float(np.mean([hf_share(x, ts) for x in tail]))}
 
 
-def _dead_zone(bench, pl, comp, design) -> Outcome:
+def _dead_zone(bench, pl, comp, design, rng) -> Outcome:
     p = pl.params
-    dz1 = dead_zone(p, comp, friction=pl.friction, delay=pl.delay)
-    dz0 = dead_zone(p, NoCompensation(), friction=pl.friction, delay=pl.delay)
+    dz1 = dead_zone(p, comp, **_loop(pl, rng))
+    dz0 = dead_zone(p, NoCompensation(), **_loop(pl, rng))
     # Fig. 10's run: a sinusoid at 10 % of Tmax, 1 Hz, 3 s (its runaway checks and effort)
     c = ctl.open_loop(ctl.sinusoid(0.10 * p.max_torque, 1.0))
-    r = simulate(p, c, comp, duration=3.0, friction=pl.friction, delay=pl.delay)
+    r = simulate(p, c, comp, duration=3.0, **_loop(pl, rng))
     factor = dz0.dead_zone / dz1.dead_zone if dz1.dead_zone > 0 else math.inf
     return Outcome(metrics={"dead_zone": 100 * dz1.fraction, "dead_zone_factor": factor,
                             **_effort(r.torque_motor, p.sample_time)},
                    checks=(wind_up(r), reversal(r, 1.0)))
 
 
-def _steps(bench, pl, comp, design, steps, duration) -> Outcome:
+def _steps(bench, pl, comp, design, rng, steps, duration) -> Outcome:
     p = pl.params
     ctrls = [ctl.pd_control(design.kp, design.kd, ctl.step(float(x))) for x in steps]
-    b = simulate_batch(p, ctrls, comp, duration=duration, friction=pl.friction, delay=pl.delay)
+    b = simulate_batch(p, ctrls, comp, duration=duration, **_loop(pl, rng))
     e = np.abs(np.asarray(b.steady_state_error(SS_WINDOW)))
     return Outcome(metrics={"steady_state_error": float(np.rad2deg(e.max())),
                             **_effort(b.torque_motor, p.sample_time)},
                    checks=tuple(wind_up(b[i]) for i in range(len(b))))
 
 
-def _pd_steps(bench, pl, comp, design) -> Outcome:
-    return _steps(bench, pl, comp, design, np.deg2rad(np.asarray(STEPS_DEG)), 3.0)
+def _pd_steps(bench, pl, comp, design, rng) -> Outcome:
+    return _steps(bench, pl, comp, design, rng, np.deg2rad(np.asarray(STEPS_DEG)), 3.0)
 
 
-def _small_steps(bench, pl, comp, design) -> Outcome:
-    return _steps(bench, pl, comp, design, (-0.08, 0.08), 3.0)
+def _small_steps(bench, pl, comp, design, rng) -> Outcome:
+    return _steps(bench, pl, comp, design, rng, (-0.08, 0.08), 3.0)
 
 
-def _sawtooth(bench, pl, comp, design) -> Outcome:
+def _sawtooth(bench, pl, comp, design, rng) -> Outcome:
     p = pl.params
     amp, period = bench.fig18_amplitude, bench.fig18_period
     c = ctl.pd_control(design.kp, design.kd, ctl.sawtooth(amp, period))
-    r = simulate(p, c, comp, duration=2 * period, friction=pl.friction, delay=pl.delay)
+    r = simulate(p, c, comp, duration=2 * period, **_loop(pl, rng))
     return Outcome(metrics={"tracking_rms": float(np.rad2deg(np.sqrt(np.mean(r.error ** 2)))),
                             "stick_slip_cycles": float(restarts(r)),
                             **_effort(r.torque_motor, p.sample_time)},
                    checks=(wind_up(r),))
 
 
-def _coast(bench, pl, comp, design) -> Outcome:
+def _coast(bench, pl, comp, design, rng) -> Outcome:
     p = pl.params
     amp = coast_test.PULSE_FACTOR * p.static
     c = ctl.open_loop(ctl.sequence([amp, 0.0], [coast_test.PULSE_DURATION, coast_test.COAST_DURATION]))
     r = simulate(p, c, comp, duration=coast_test.PULSE_DURATION + coast_test.COAST_DURATION,
-                 friction=pl.friction, delay=pl.delay)
+                 **_loop(pl, rng))
     # Tc(k) reaches the joint as Tm(k+1+delay): the pulse acts until then (as fricctl.paper.coast)
     off = np.flatnonzero((r.t > 0) & (r.torque_cmd == 0.0))
     k_end = int(off[0]) + 1 + pl.delay
@@ -252,10 +265,10 @@ def _coast(bench, pl, comp, design) -> Outcome:
                    checks=(decay, wind_up(r)))
 
 
-def _limit_cycle(bench, pl, comp, design) -> Outcome:
+def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
     p = pl.params
     c = ctl.pd_control(design.kp, design.kd, ctl.step(float(np.deg2rad(30.0))))
-    r = simulate(p, c, comp, duration=6.0, friction=pl.friction, delay=pl.delay)
+    r = simulate(p, c, comp, duration=6.0, **_loop(pl, rng))
     amp, freq = limit_cycle(r.t, r.q, p.encoder_resolution)
     return Outcome(metrics={"limit_cycle_amplitude": float(np.rad2deg(amp)), "limit_cycle_frequency": freq,
                             **_effort(r.torque_motor, p.sample_time)},

@@ -16,6 +16,8 @@ link_inertia          kg m2  the link's inertia, replacing the experiment's own 
 encoder_counts        1/rev  encoder counts per revolution (None: the bench's)
 delay                 -      extra samples before the joint receives the torque (0)
 compensation_scale    -      s of Tm(k+1) = Tc(k) + s*T^at(k) (1); the paper's answer to wear
+torque_noise          N m    standard deviation of white torque noise at the joint (0); a
+                             plant with noise runs every contender over the seeds
 ====================  =====  ============================================================
 """
 
@@ -30,7 +32,7 @@ from .. import _validate as v
 from ..params import PAPER_LINK_INERTIA, ActuatorParams
 from ..paper.common import AGED_SCALE
 
-__all__ = ["PLANTS", "FIELDS", "check_plant", "plant_key", "Realised", "realise"]
+__all__ = ["PLANTS", "FIELDS", "check_plant", "plant_key", "Realised", "realise", "noisy"]
 
 #: Plant field -> (unit, nominal value).
 FIELDS = MappingProxyType({
@@ -40,13 +42,15 @@ FIELDS = MappingProxyType({
     "encoder_counts": ("counts/rev", None),
     "delay": ("samples", 0),
     "compensation_scale": ("-", 1.0),
+    "torque_noise": ("N*m", 0.0),
 })
 
 #: The plants of the comparison, by name.  Wear is the paper's Fig. 16: friction x 0.95 after
 #: 30 h, the compensation lowered to s = 0.95 without retraining (fricctl.paper.common.AGED_SCALE);
 #: the link is the SCARA link of Figs. 16-18; the coarse encoder has a quarter of the bench's
 #: 2000 counts/rev (an assumption: a cheaper encoder); the delay is one more sample (a slower
-#: drive or bus).
+#: drive or bus); the noise is white torque noise of 0.002 N*m, about 1 % of the breakaway level
+#: (an assumption: a current loop's noise, which the paper does not give).
 PLANTS: Mapping[str, Mapping] = MappingProxyType({p["name"]: MappingProxyType(p) for p in (
     {"name": "nominal"},
     {"name": "friction_0.8", "friction_scale": 0.8},
@@ -57,6 +61,7 @@ PLANTS: Mapping[str, Mapping] = MappingProxyType({p["name"]: MappingProxyType(p)
     {"name": "stribeck_2", "stribeck_velocity_scale": 2.0},
     {"name": "encoder_500", "encoder_counts": 500},
     {"name": "delay_1", "delay": 1},
+    {"name": "noise", "torque_noise": 0.002},
 )})
 
 
@@ -85,6 +90,8 @@ def check_plant(plant) -> dict:
             continue
         if key in ("friction_scale", "stribeck_velocity_scale", "compensation_scale"):
             out[key] = v.real(key, val, positive=key != "compensation_scale", nonneg=True)
+        elif key == "torque_noise":
+            out[key] = v.real(key, val, nonneg=True, unit="N*m")
         elif key == "link_inertia":
             out[key] = None if val is None else v.real(key, val, nonneg=True, unit="kg*m^2")
         elif key == "encoder_counts":
@@ -109,12 +116,14 @@ class Realised:
     friction : its true friction model (scale and Stribeck velocity applied)
     delay : extra samples of delay [-]
     compensation_scale : s [-]
+    noise_std : white torque noise at the joint [N*m]
     """
 
     params: ActuatorParams
     friction: object
     delay: int
     compensation_scale: float
+    noise_std: float
 
 
 def realise(plant, params: ActuatorParams) -> Realised:
@@ -130,4 +139,11 @@ def realise(plant, params: ActuatorParams) -> Realised:
     fr = q.friction_model()
     if p["friction_scale"] != 1.0:
         fr = fr.scaled(p["friction_scale"])
-    return Realised(params=q, friction=fr, delay=p["delay"], compensation_scale=p["compensation_scale"])
+    return Realised(params=q, friction=fr, delay=p["delay"], compensation_scale=p["compensation_scale"],
+                    noise_std=p["torque_noise"])
+
+
+def noisy(plant) -> bool:
+    """Whether ``plant`` draws random numbers (torque noise): its runs then differ by seed."""
+    p = check_plant(plant)
+    return "torque_noise" in p and p["torque_noise"] > 0

@@ -27,7 +27,7 @@ import numpy as np
 from .. import _validate as v
 from .contenders import contender, make_contender
 from .experiments import EXPERIMENTS, METRICS, experiment, scaled
-from .plants import check_plant, realise
+from .plants import check_plant, noisy, realise
 
 __all__ = ["ComparisonResult", "compare", "MAX_SEEDS"]
 
@@ -68,12 +68,14 @@ def _evaluate_job(name: str, seed: int, options: dict, plant: dict, experiments:
     out = []
     for en in experiments:
         ex = EXPERIMENTS[en]
+        # the torque noise of seed s in experiment k: its own stream, whatever else is compared
+        rng = np.random.default_rng([seed, list(EXPERIMENTS).index(en)])
         design = designs(b)[ex.design]
         base = b.linked_actuator if ex.linked else b.actuator
         pl = realise(plant, base)
         comp = make_contender(name, _model(bench_name, ex.linked), design, base.sample_time, seed, options)
         try:
-            o = ex.run(b, pl, scaled(comp, pl.compensation_scale), design)
+            o = ex.run(b, pl, scaled(comp, pl.compensation_scale), design, rng)
         except ValueError as exc:  # a diverged loop, a run the compensator cannot make: a result
             out.append({"experiment": en, "error": str(exc).splitlines()[0]})
             continue
@@ -92,7 +94,7 @@ def _stats(values: list) -> dict:
             "values": [None if x is None or not math.isfinite(x) else x for x in values]}
 
 
-def _row(name: str, en: str, plant: dict, seeds: list, outs: list) -> dict:
+def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool) -> dict:
     ex = EXPERIMENTS[en]
     warnings = []
     metrics = {}
@@ -114,7 +116,7 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list) -> dict:
         else:
             passed += 1
     return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
-            "seeded": contender(name).seeded, "metrics": metrics,
+            "seeded": seeded, "metrics": metrics,
             "runaway": {"passed": passed, "runs": len(outs), "rate": passed / len(outs),
                         "failures": reasons[:3]},
             "errors": [f"seed {s}: {o['error']}" for s, o in zip(seeds, outs) if "error" in o],
@@ -166,8 +168,8 @@ class ComparisonResult:
         """Markdown: one table per experiment, a line per compensator and plant, each metric as
         median [min, max] over the seeds, and the runaway checks passed of the runs."""
         out = [f"# Compensator comparison (bench {self.bench})", "",
-               f"Seeded contenders (trained networks) ran {self.seeds} seed(s) each; the others do not "
-               "depend on the seed and ran once. Cells: median [min, max] over the seeds. Runaway: runs "
+               f"Trained networks, and every compensator on a plant with noise, ran {self.seeds} seed(s) "
+               "each; a run that does not depend on the seed ran once. Cells: median [min, max] over the seeds. Runaway: runs "
                "whose runaway checks (fricctl.paper.runaway) all passed.", ""]
         for en in self.experiments:
             ex = EXPERIMENTS[en]
@@ -269,9 +271,15 @@ def compare(*, compensators: Sequence[str] | None = None, experiments: Sequence[
             o["bench"] = bench
     if executor is not None and not hasattr(executor, "submit"):
         raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
-    runs = {n: list(range(seeds)) if contender(n).seeded else [0] for n in comps}
-    prep = [(n, s) for n in comps if contender(n).prepare is not None for s in runs[n]]
-    jobs = [(n, s, p) for n in comps for s in runs[n] for p in pls]
+    def seeded(n, p) -> bool:
+        return contender(n).seeded or noisy(p)
+
+    def runs(n, p) -> list:
+        return list(range(seeds)) if seeded(n, p) else [0]
+
+    prep = [(n, s) for n in comps if contender(n).prepare is not None
+            for s in sorted({s for p in pls for s in runs(n, p)})]
+    jobs = [(n, s, p) for n in comps for p in pls for s in runs(n, p)]
 
     import sys
 
@@ -290,8 +298,8 @@ def compare(*, compensators: Sequence[str] | None = None, experiments: Sequence[
         for en in exps:
             for p in pls:
                 outs = [next(o for o in results[(n, s, p["name"])] if o["experiment"] == en)
-                        for s in runs[n]]
-                rows.append(_row(n, en, p, runs[n], outs))
+                        for s in runs(n, p)]
+                rows.append(_row(n, en, p, runs(n, p), outs, seeded(n, p)))
     return ComparisonResult(rows=tuple(rows), bench=bench, compensators=comps, experiments=exps,
                             plants=pls, seeds=seeds)
 
