@@ -140,7 +140,7 @@ def test_reproduce_refuses_a_non_empty_folder_without_force(reproduced, tmp_path
     (["--pipelines", "paper,bogus"], "unknown pipeline 'bogus'"),
     (["--pipelines", "paper,paper"], "twice"),
     (["--pipelines", ""], "names separated by commas"),
-    (["--executor", "gpu"], "--executor must be process or dask"),
+    (["--executor", "gpu"], "--executor must be one of process, dask"),
     (["--scheduler", "tcp://x:8786", "--executor", "process"], "needs --executor dask"),
     (["--scheduler", "tcp://x:8786", "--workers", "2"], "give one or the other"),
 ])

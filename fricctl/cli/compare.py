@@ -93,6 +93,26 @@ def _check_out(out: Path, force: bool) -> None:
             raise ValueError(f"--out {out / n} is a folder where this command writes a file; move it away")
 
 
+def executor_of(args, kinds: tuple, default: str) -> tuple:
+    """``(kind, scheduler)`` of ``--executor`` (one of ``kinds``; ``default``, or dask with
+    ``--scheduler``) and ``--scheduler`` (None, or the address), checked together with
+    ``--workers`` (shared by ``compare`` and ``reproduce``)."""
+    scheduler = None if args.scheduler is None else str(args.scheduler).strip()
+    kind = ("dask" if scheduler is not None else default) if args.executor is None else \
+        str(args.executor).strip()
+    if kind not in kinds:
+        raise ValueError(f"--executor must be one of {', '.join(kinds)}, got {args.executor!r}")
+    if scheduler is not None:
+        if not scheduler:
+            raise ValueError("--scheduler needs an address, e.g. tcp://10.0.0.1:8786")
+        if kind != "dask":
+            raise ValueError(f"--scheduler joins a Dask cluster: it needs --executor dask, not {kind}")
+        if args.workers is not None:
+            raise ValueError("--workers starts a local cluster; with --scheduler the cluster's own "
+                             "workers run the jobs: give one or the other")
+    return kind, scheduler
+
+
 @contextlib.contextmanager
 def _executor(kind: str, workers: int, scheduler: str | None):
     """The executor of ``--executor`` (None for serial), closed when the block ends."""
@@ -131,19 +151,7 @@ def run(args) -> int:
     exps = _list("--experiments", args.experiments, tuple(EXPERIMENTS))
     plants = _list("--plants", args.plants, tuple(PLANTS))
     bench = _bench(args.bench)
-    kind = ("dask" if args.scheduler is not None else "serial") if args.executor is None else \
-        str(args.executor).strip()
-    if kind not in EXECUTORS:
-        raise ValueError(f"--executor must be one of {', '.join(EXECUTORS)}, got {args.executor!r}")
-    scheduler = None if args.scheduler is None else str(args.scheduler).strip()
-    if scheduler is not None:
-        if not scheduler:
-            raise ValueError("--scheduler needs an address, e.g. tcp://10.0.0.1:8786")
-        if kind != "dask":
-            raise ValueError(f"--scheduler joins a Dask cluster: it needs --executor dask, not {kind}")
-        if args.workers is not None:
-            raise ValueError("--workers starts a local cluster; with --scheduler the cluster's own "
-                             "workers run the jobs: give one or the other")
+    kind, scheduler = executor_of(args, EXECUTORS, "serial")
     if kind == "serial" and args.workers is not None:
         raise ValueError("--workers needs --executor process or dask")
     workers = _cpus() if args.workers is None else _count("--workers", args.workers, 1, MAX_WORKERS)

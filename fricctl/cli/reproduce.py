@@ -348,24 +348,6 @@ def _write_figures(res, out: Path, executor) -> list:
     return [f for fut in futures for f in fut.result()]
 
 
-def _executor_kind(args) -> tuple:
-    """``(kind, scheduler)`` of --executor and --scheduler (kind "process" or "dask")."""
-    scheduler = None if args.scheduler is None else str(args.scheduler).strip()
-    kind = ("dask" if scheduler is not None else "process") if args.executor is None else \
-        str(args.executor).strip()
-    if kind not in ("process", "dask"):
-        raise ValueError(f"--executor must be process or dask, got {args.executor!r}")
-    if scheduler is not None:
-        if not scheduler:
-            raise ValueError("--scheduler needs an address, e.g. tcp://10.0.0.1:8786")
-        if kind != "dask":
-            raise ValueError(f"--scheduler joins a Dask cluster: it needs --executor dask, not {kind}")
-        if args.workers is not None:
-            raise ValueError("--workers starts a local cluster; with --scheduler the cluster's own "
-                             "workers run the jobs: give one or the other")
-    return kind, scheduler
-
-
 def run(args) -> int:
     from ..paper.reproduce import MAX_SEEDS
 
@@ -373,7 +355,9 @@ def run(args) -> int:
     seeds = _count("--seeds", args.seeds, 1, MAX_SEEDS)
     pipelines = _pipelines(args.pipelines)
     workers = _cpus() if args.workers is None else _count("--workers", args.workers, 1, MAX_WORKERS)
-    kind, scheduler = _executor_kind(args)
+    from .compare import executor_of
+
+    kind, scheduler = executor_of(args, ("process", "dask"), "process")
     out: Path = args.out
     _prepare_out(out, args.force)
     import matplotlib
