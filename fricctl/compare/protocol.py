@@ -73,10 +73,11 @@ def _evaluate_job(name: str, seed: int, options: dict, plant: dict, experiments:
         design = designs(b)[ex.design]
         base = b.linked_actuator if ex.linked else b.actuator
         pl = realise(plant, base)
-        comp = make_contender(name, _model(bench_name, ex.linked), design, base.sample_time, seed, options)
         try:
+            comp = make_contender(name, _model(bench_name, ex.linked), design, base.sample_time, seed,
+                                  options)
             o = ex.run(b, pl, scaled(comp, pl.compensation_scale), design, rng)
-        except ValueError as exc:  # a diverged loop, a run the compensator cannot make: a result
+        except ValueError as exc:  # a diverged loop, a compensator this loop cannot have: a result
             out.append({"experiment": en, "error": str(exc).splitlines()[0]})
             continue
         out.append({"experiment": en, "metrics": {k: float(o.metrics[k]) for k in ex.metrics},
