@@ -23,7 +23,6 @@ torque_noise          N m    standard deviation of white torque noise at the joi
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping
@@ -32,7 +31,7 @@ from .. import _validate as v
 from ..params import PAPER_LINK_INERTIA, ActuatorParams
 from ..paper.common import AGED_SCALE
 
-__all__ = ["PLANTS", "FIELDS", "check_plant", "plant_key", "Realised", "realise", "noisy"]
+__all__ = ["PLANTS", "FIELDS", "check_plant", "Realised", "realise", "noisy"]
 
 #: Plant field -> (unit, nominal value).
 FIELDS = MappingProxyType({
@@ -99,11 +98,6 @@ def check_plant(plant) -> dict:
         else:  # delay
             out[key] = v.integer(key, val, low=0)
     return out
-
-
-def plant_key(plant) -> str:
-    """A canonical JSON text of a checked plant (a key for caches and for sorting)."""
-    return json.dumps(check_plant(plant), sort_keys=True)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
