@@ -131,14 +131,14 @@ class ComparisonResult:
     Attributes
     ----------
     rows : plain dicts (JSON-ready): ``compensator``, ``experiment``, ``plant`` (the plant
-        object), ``seeds`` (the seeds run; one for a contender that does not depend on it),
-        ``seeded``, ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
+        object), ``seeds`` (the seeds run; one where nothing depends on the seed), ``seeded``
+        (whether the runs depend on the seed: a trained network, or a plant with noise), ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
         seed), ``runaway`` (``passed`` of ``runs``, ``rate``, the first ``failures``' reasons),
         ``errors`` (runs that could not be made, e.g. a diverged loop), ``warnings``
     bench : the bench's name
     compensators, experiments : names, in table order
     plants : the plant objects, in table order
-    seeds : the number of seeds of the seeded contenders [-]
+    seeds : the number of seeds of the runs that depend on the seed [-]
     """
 
     rows: tuple
