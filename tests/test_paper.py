@@ -405,7 +405,7 @@ def test_fig16_aged_actuator(figs, claims, network):
         assert np.abs(cr.friction_est).max() * r.scale == pytest.approx(r.coulomb_level(k), rel=1e-12)
         # sign(omega_hat) is 0 at rest, so the stuck joint gets no compensation: no chatter, no cycle
         assert cr.stuck[-1] and cr.friction_est[-1] == 0.0 and r.torque_sign_changes[k] == 0
-        assert r.cycles[k].amplitude == 0.0 and not r.cycles[k].sustained
+        assert r.cycles[k].amplitude == 0.0 and r.cycles[k].counts == 0 and not r.cycles[k].sustained
         # a limit cycle or not, the Coulomb compensation stays within the friction: no runaway
         assert r.coulomb_wind_up[k].passed
     fs_claim, fc_claim = claims["fig16-coulomb-fs"], claims["fig16-coulomb-fc"]
@@ -449,6 +449,8 @@ def test_oscillation_measures_the_predicted_limit_cycle():
     assert o.frequency == pytest.approx(cyc.frequency, rel=0.10)
     # the same cycle measured over a longer window: the same frequency to 1 %
     assert oscillation(run, 4.0).frequency == pytest.approx(o.frequency, rel=0.01)
+    # peak to peak in counts: 2A over one count, to the count
+    assert abs(o.counts - 2 * o.amplitude / RES) <= 1
 
 
 def test_fig17_small_step(figs, claims, network):

@@ -142,6 +142,8 @@ class Oscillation:
     ``(n - 1)/2`` periods between the first and the last of ``n >= 2`` changes; 0 with fewer [Hz]."""
     crossings: int
     """Those sign changes [-]."""
+    counts: int
+    """Peak-to-peak encoder motion over the window [counts]."""
     window: float
     """The window at the end of the run [s]."""
 
@@ -161,18 +163,20 @@ def oscillation(result: SimResult, window: float = CYCLE_WINDOW) -> Oscillation:
     >>> import fricctl.controllers as ctl
     >>> r = simulate(paper_actuator(), ctl.open_loop(ctl.sinusoid(0.01, 1.0)), duration=2.0)
     >>> oscillation(r)                      # 0.01 N*m is below breakaway: at rest
-    Oscillation(amplitude=0.0, frequency=0.0, crossings=0, window=1.0)
+    Oscillation(amplitude=0.0, frequency=0.0, crossings=0, counts=0, window=1.0)
     """
     v.instance("result", result, SimResult)
     window = v.real("window", window, positive=True, unit="s")
     w = last_window(result, window)
     y, t = result.q_meas[w], result.t[w]
-    keep = np.abs(y - y.mean()) > result.info.params.encoder_resolution
+    res = result.info.params.encoder_resolution
+    keep = np.abs(y - y.mean()) > res
     s, t = np.sign(y - y.mean())[keep], t[keep]
     at = t[1:][s[1:] != s[:-1]]  # the first sample past each sign change
     f = (at.size - 1) / (2 * (at[-1] - at[0])) if at.size >= 2 else 0.0
+    counts = int(round(np.ptp(y) / res)) if res > 0 else 0
     return Oscillation(amplitude=float(np.ptp(y) / 2), window=window, frequency=float(f),
-                       crossings=int(at.size))
+                       crossings=int(at.size), counts=counts)
 
 
 # --------------------------------------------------------------------------
