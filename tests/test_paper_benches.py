@@ -347,3 +347,41 @@ def test_reproduce_on_the_consistent_bench(tmp_path):
         assert by[("fig18-without", p)].pass_rate == 1.0
         assert by[("fig11-stuck", p)].pass_rate == 1.0
         assert by[("fig17-none", p)].pass_rate == 1.0
+
+
+# -- docs/paper_consistency.md, "Coulomb compensation (Fig. 16)" --------------------------------------
+def test_coulomb_section_of_the_consistency_page(consistent_net):
+    """The page's table of the two benches' Coulomb runs at the breakaway level, recomputed: the
+    describing function (fricctl.design.coulomb_limit_cycle), the simulated run and the flicker sum,
+    to the digits printed; the identified levels to the page's "~"."""
+    import re
+
+    from fricctl.paper import fig16, train_paper_network
+    from fricctl.paper.common import COULOMB_AT_FC, COULOMB_AT_FS
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "paper_consistency.md").read_text()
+    sec = text[text.index("## Coulomb compensation (Fig. 16)"):text.index("## Caveats")]
+    assert "0.1808 N·m on both benches, to its amplitude step of 0.0014" in sec
+    rows = {m[1]: m for m in re.finditer(
+        r"\| (literal|consistent) \| ([\d.]+) \| ([\d.]+)° at ([\d.]+) Hz, ([\d.]+) < ([\d.]+) N·m: sticks \| "
+        r"overshoot to e_ss −([\d.]+)°, stuck \| ([\d.]+) > ([\d.]+) N·m: breaks loose \|", sec)}
+    assert sorted(rows) == ["consistent", "literal"]
+    fc_doc = {"literal": 0.143, "consistent": 0.107}
+    nets = {"consistent": consistent_net,
+            "literal": train_paper_network(bench="literal", fast=True, seed=0, pipeline="fricctl")}
+    for name, m in rows.items():
+        r = fig16.run(nets[name])
+        lv, cyc = r.coulomb_levels, r.predicted[COULOMB_AT_FS]
+        aged_fs = r.friction_scale * bench(name).actuator.static
+        assert f"{lv.breakaway:.4f}" == "0.1808" and f"{lv.breakaway_step:.4f}" == "0.0014"
+        assert f"{r.coulomb_level(COULOMB_AT_FS):.4f}" == m[2]
+        assert (f"{np.rad2deg(cyc.amplitude):.3f}", f"{cyc.frequency:.2f}", f"{cyc.pull:.4f}") == (m[3], m[4], m[5])
+        assert not cyc.sustained and f"{aged_fs:.3f}" == m[6] == m[9]
+        e = r.steady_state_error[COULOMB_AT_FS]
+        assert e < 0 and f"{-np.rad2deg(e):.3f}" == m[7] and r.runs[COULOMB_AT_FS].stuck[-1]
+        push = r.coulomb_level(COULOMB_AT_FS) + r.design.kp * abs(e)
+        assert f"{push:.4f}" == m[8] and push > aged_fs
+        # the smaller level: the fit gives ~ the page's value; with a flicker the sum stays below
+        assert lv.coulomb == pytest.approx(fc_doc[name], abs=0.0015)
+        e_fc = r.steady_state_error[COULOMB_AT_FC]
+        assert r.coulomb_level(COULOMB_AT_FC) + r.design.kp * abs(e_fc) < aged_fs

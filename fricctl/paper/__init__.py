@@ -35,8 +35,9 @@ Assumptions (the paper does not give these; labelled as such in the results):
 * Fig. 9: sinusoidal torque of 1.1 x the breakaway level Fs, 0.5 Hz, 4 s;
 * Fig. 16: step of 30 deg; the aged actuator is the bench's true friction x 0.95
   (the paper lowers the compensation scale to s = 0.95 after 30 h of wear
-  without retraining); the Coulomb compensator is the nominal Coulomb level
-  with the same s = 0.95;
+  without retraining); the Coulomb compensator at the breakaway level the
+  dead-zone experiment reads and at the Coulomb level a least-squares fit on the
+  sliding patterns gives, both with the same s = 0.95;
 * Fig. 17 runs on the same aged actuator and compensation as Fig. 16;
 * Fig. 18: the sawtooth's span and period are the bench's (fig18_amplitude, fig18_period;
   literal: 0 to 0.1 rad over 1 s), two periods.

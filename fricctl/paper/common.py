@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import _validate as v
 from .. import controllers as ctl
+from ..bench.experiments import DeadZone, dead_zone
 from ..compensators import CoulombCompensator, NoCompensation
 from ..design import Design, DesignWarning, linear_response, paper_designs
 from ..params import PAPER_LINK_INERTIA, ActuatorParams
@@ -27,7 +28,8 @@ from .runaway import RunawayCheck
 __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "designs",
            "stick_intervals_after_motion", "restarts", "sign_changes", "last_window", "deg",
            "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction",
-           "OpenLoopChecks", "LinkFigure"]
+           "OpenLoopChecks", "LinkFigure", "COULOMB_AT_FS", "COULOMB_AT_FC", "CoulombLevels",
+           "uncompensated_dead_zone", "coulomb_levels", "Oscillation", "oscillation"]
 
 #: The paper's steady-state accuracy, Fig. 14 ("less than 0.3 deg") [deg].
 ACCURACY_DEG = 0.3
@@ -37,6 +39,14 @@ STICK_MIN_DURATION = 0.02
 AGED_SCALE = 0.95
 #: Window at the end of a run over which steady state is measured [s].
 SS_WINDOW = 0.5
+#: Window at the end of a run over which a limit cycle is measured (Figs. 16-17) [s]: a few
+#: periods of the PD loop's mode (3-5 Hz with the link).
+CYCLE_WINDOW = 1.0
+#: Keys of the two Coulomb runs of Figs. 16-17: the paper's compensation at the dry friction
+#: identified experimentally (the breakaway level), and at a smaller level (the identified
+#: Coulomb level), both scaled by s like the network (:class:`CoulombLevels`).
+COULOMB_AT_FS = "Coulomb at Fs"
+COULOMB_AT_FC = "Coulomb at Fc"
 
 
 def designs(bench) -> Mapping[str, Design]:
@@ -116,6 +126,59 @@ def deg(x) -> float:
     return float(np.rad2deg(x))
 
 
+@dataclass(frozen=True, kw_only=True)
+class Oscillation:
+    """The oscillation of a run's position over its last ``window`` seconds (a limit cycle, if
+    it is sustained there).
+
+    Measured on the encoder reading ``q_meas`` about its mean over the window: zero amplitude
+    and frequency for a joint at rest (the encoder still) over the whole window.
+    """
+
+    amplitude: float
+    """Half the peak-to-peak encoder motion over the window [rad]."""
+    frequency: float
+    """From the sign changes of ``q_meas - mean`` (beyond one encoder count) over the window:
+    ``(n - 1)/2`` periods between the first and the last of ``n >= 2`` changes; 0 with fewer [Hz]."""
+    crossings: int
+    """Those sign changes [-]."""
+    counts: int
+    """Peak-to-peak encoder motion over the window [counts]."""
+    window: float
+    """The window at the end of the run [s]."""
+
+    @property
+    def sustained(self) -> bool:
+        """True when the joint still moves back and forth in the window (two crossings or more)."""
+        return self.crossings >= 2
+
+
+def oscillation(result: SimResult, window: float = CYCLE_WINDOW) -> Oscillation:
+    """Amplitude and frequency of ``result``'s position over its last ``window`` seconds.
+
+    Examples
+    --------
+    >>> from fricctl.simulate import simulate
+    >>> from fricctl.params import paper_actuator
+    >>> import fricctl.controllers as ctl
+    >>> r = simulate(paper_actuator(), ctl.open_loop(ctl.sinusoid(0.01, 1.0)), duration=2.0)
+    >>> oscillation(r)                      # 0.01 N*m is below breakaway: at rest
+    Oscillation(amplitude=0.0, frequency=0.0, crossings=0, counts=0, window=1.0)
+    """
+    v.instance("result", result, SimResult)
+    window = v.real("window", window, positive=True, unit="s")
+    w = last_window(result, window)
+    y, t = result.q_meas[w], result.t[w]
+    res = result.info.params.encoder_resolution
+    keep = np.abs(y - y.mean()) > res
+    s, t = np.sign(y - y.mean())[keep], t[keep]
+    at = t[1:][s[1:] != s[:-1]]  # the first sample past each sign change
+    f = (at.size - 1) / (2 * (at[-1] - at[0])) if at.size >= 2 else 0.0
+    counts = int(round(np.ptp(y) / res)) if res > 0 else 0
+    return Oscillation(amplitude=float(np.ptp(y) / 2), window=window, frequency=float(f),
+                       crossings=int(at.size), counts=counts)
+
+
 # --------------------------------------------------------------------------
 # the runs several figures make
 # --------------------------------------------------------------------------
@@ -182,19 +245,92 @@ def step_run(params: ActuatorParams, design: Design, step_rad: float, compensato
     return StepRun(run=r, linear=linear_prediction(design, r, ("step", float(step_rad))))
 
 
+@functools.lru_cache(maxsize=4)
+def uncompensated_dead_zone(params: ActuatorParams) -> DeadZone:
+    """The dead-zone experiment without compensation on ``params`` (memoised, read-only).
+
+    The paper's way of reading the breakaway level off the bench: open-loop sinusoids of
+    growing amplitude, the joint "moves" when its encoder spans more than a few counts
+    (:func:`fricctl.bench.experiments.dead_zone`, defaults).  The same for every network of
+    a process (Figs. 10, 16 and 17 share it).
+    """
+    dz = dead_zone(params)
+    read_only(dz)
+    return dz
+
+
+@dataclass(frozen=True, kw_only=True)
+class CoulombLevels:
+    """The levels of the Coulomb compensator of Figs. 16-17, identified on the bench's records.
+
+    The paper compensated "at the dry friction identified experimentally" -- its breakaway
+    level, 0.18 N*m -- and saw the joint oscillate; at a smaller level the oscillation
+    disappeared.  Both levels are read here from what the bench's experiments record, never
+    from the bench's true parameters:
+
+    * ``breakaway``: the dead zone of the uncompensated dead-zone experiment
+      (:func:`uncompensated_dead_zone`), the torque at which the joint breaks away, to the
+      experiment's amplitude step;
+    * ``coulomb``: the smaller level, the Coulomb level a least-squares fit of
+      ``Tat = Fc*sign(omega) + b*omega`` gives on the sliding friction patterns the pipeline
+      measured (``network.patterns`` not at rest): the level the identification gives, not a
+      fraction of the breakaway level.
+
+    Both are compensated times the scale s of the aged actuator, like the network.
+    """
+
+    breakaway: float
+    """Breakaway level read off the dead-zone experiment [N*m]."""
+    breakaway_step: float
+    """Amplitude step of that experiment near the breakaway level: its resolution [N*m]."""
+    coulomb: float
+    """Coulomb level of the least-squares fit on the sliding patterns [N*m]."""
+    viscous: float
+    """Viscous coefficient of the same fit [N*m*s/rad]."""
+    patterns: int
+    """Sliding patterns the fit used [-]."""
+
+    def level(self, key: str) -> float:
+        """The identified level of the run ``key`` (:data:`COULOMB_AT_FS` or :data:`COULOMB_AT_FC`) [N*m]."""
+        return {COULOMB_AT_FS: self.breakaway, COULOMB_AT_FC: self.coulomb}[
+            v.choice("key", key, (COULOMB_AT_FS, COULOMB_AT_FC))]
+
+
+def coulomb_levels(network: PaperNetwork) -> CoulombLevels:
+    """The breakaway and Coulomb levels identified on ``network``'s bench records (:class:`CoulombLevels`)."""
+    dz = uncompensated_dead_zone(network.params)
+    fs = dz.dead_zone
+    if not np.isfinite(fs):
+        raise ValueError("the dead-zone experiment never moved the joint: no breakaway level to "
+                         "compensate")
+    i = int(np.searchsorted(dz.amplitudes, fs))
+    step = float(fs - dz.amplitudes[i - 1]) if i > 0 else float(fs)
+    pats = network.patterns
+    sliding = ~pats.at_rest & (pats.omega != 0.0)
+    w = pats.omega[sliding]
+    if np.unique(np.sign(w)).size < 2:
+        raise ValueError("the friction patterns hold no sliding samples in both directions: no "
+                         "Coulomb level to identify")
+    (fc, b), *_ = np.linalg.lstsq(np.column_stack([np.sign(w), w]), pats.friction[sliding], rcond=None)
+    return CoulombLevels(breakaway=float(fs), breakaway_step=step, coulomb=float(fc), viscous=float(b),
+                         patterns=int(w.size))
+
+
 @dataclass(frozen=True, eq=False, kw_only=True)
 class LinkRuns:
     """The actuator with the link under one PD law: no compensation, NN x s, Coulomb x s.
 
     Attributes
     ----------
-    runs : ``{"none", "NN x <s>", "Coulomb"}`` -> run (NN: the pipeline's compensation,
-        :meth:`PaperNetwork.compensator`)
+    runs : ``{"none", "NN x <s>", COULOMB_AT_FS, COULOMB_AT_FC}`` -> run (NN: the pipeline's
+        compensation, :meth:`PaperNetwork.compensator`; Coulomb: at the identified levels x s)
     design : the PD design used
+    coulomb_levels : the identified levels of the two Coulomb runs
     """
 
     runs: dict
     design: Design
+    coulomb_levels: CoulombLevels
 
 
 def link_runs(network: PaperNetwork, design_key: str, reference, duration: float,
@@ -202,14 +338,16 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
     """The actuator with link and friction x ``friction_scale``, compensated x ``scale`` (Figs. 16-17)."""
     p = network.bench.linked_actuator
     d = designs(network.bench)[design_key]
+    levels = coulomb_levels(network)
     comps = {"none": NoCompensation(),
              f"NN x {scale:g}": network.compensator(scale),
-             "Coulomb": CoulombCompensator.symmetric(network.params.coulomb, scale=scale)}
+             **{k: CoulombCompensator.symmetric(levels.level(k), scale=scale)
+                for k in (COULOMB_AT_FS, COULOMB_AT_FC)}}
     fr = p.friction_model().scaled(friction_scale)
     c = ctl.pd_control(d.kp, d.kd, reference)
     # one run each: a batch mixing compensator kinds would fall back to the Python loop
     return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr)
-                          for k, comp in comps.items()}, design=d)
+                          for k, comp in comps.items()}, design=d, coulomb_levels=levels)
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -239,14 +377,16 @@ class LinkFigure:
 
     Attributes
     ----------
-    runs : ``{"none", "NN x <s>", "Coulomb"}`` -> run
+    runs : ``{"none", "NN x <s>", COULOMB_AT_FS, COULOMB_AT_FC}`` -> run
     design : the PD design used
+    coulomb_levels : the identified levels of the Coulomb runs (before the scale s)
     wind_up : runaway check of the NN run
     coast : the network's coast test
     """
 
     runs: dict
     design: Design
+    coulomb_levels: CoulombLevels
     wind_up: RunawayCheck
     coast: CoastResult
 

@@ -18,7 +18,7 @@ from ..compensators import NoCompensation
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import Claim, gate
-from .common import OpenLoopChecks, deg, designs, read_only
+from .common import OpenLoopChecks, deg, designs, read_only, uncompensated_dead_zone
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import reversal, wind_up
@@ -67,9 +67,9 @@ def _uncompensated(params, fraction, frequency, duration):
     """The run and the dead zone without compensation: the same for every network (memoised,
     read-only)."""
     c = ctl.open_loop(ctl.sinusoid(fraction * params.max_torque, frequency))
-    r0, dz = simulate(params, c, NoCompensation(), duration=duration), dead_zone(params)
-    read_only(r0, dz)
-    return r0, dz
+    r0 = simulate(params, c, NoCompensation(), duration=duration)
+    read_only(r0)
+    return r0, uncompensated_dead_zone(params)
 
 
 def run(network: PaperNetwork, *, fraction: float = 0.10, frequency: float = 1.0,

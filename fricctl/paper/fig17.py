@@ -23,8 +23,9 @@ class Fig17Result(LinkFigure):
 
     Attributes
     ----------
-    runs : ``{"none", "NN x 0.95", "Coulomb"}`` -> run
+    runs : ``{"none", "NN x 0.95", "Coulomb at Fs", "Coulomb at Fc"}`` -> run
     design : the PD design with the link
+    coulomb_levels : the identified levels of the Coulomb runs (before the scale s)
     step : [rad]
     steady_state_error : per run [rad]
     max_motion : per run, peak |q| [rad]
@@ -42,7 +43,7 @@ def run(network: PaperNetwork, *, step: float = 0.08, duration: float = 3.0,
     """Step of 0.08 rad with the link, without and with compensation (Fig. 17)."""
     net = check_network(network)
     lr = link_runs(net, "fig16-17", ctl.step(step), duration, friction_scale, scale)
-    return Fig17Result(runs=lr.runs, design=lr.design, step=float(step),
+    return Fig17Result(runs=lr.runs, design=lr.design, coulomb_levels=lr.coulomb_levels, step=float(step),
                        steady_state_error={k: r.steady_state_error(SS_WINDOW) for k, r in lr.runs.items()},
                        max_motion={k: float(np.abs(r.q).max()) for k, r in lr.runs.items()},
                        wind_up=wind_up(lr.runs[f"NN x {scale:g}"]), coast=coast_test.run(net))

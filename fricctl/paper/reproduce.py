@@ -160,7 +160,7 @@ class PaperResults:
         return self.runs[(pipeline, seed)].claims
 
     def summary(self) -> str:
-        """One line per pipeline: ``"<pipeline>: N of 16 claims of the paper hold in >= 90 % of N seeds"``."""
+        """One line per pipeline: ``"<pipeline>: N of M claims of the paper hold in >= 90 % of K seeds"``."""
         return "\n".join(f"{p}: {holds_summary(self.stats, p)}" for p in self.pipelines)
 
     def why(self) -> list[str]:
