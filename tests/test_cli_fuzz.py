@@ -204,9 +204,25 @@ def reproduce_args(draw, files):
                                      ["", ",", "x", "paper,paper"])), "--out", files["dir"]]]))
 
 
+@st.composite
+def compare_args(draw, files):
+    # a cheap invalid call: a bad count, name list or executor (never a valid comparison), or --help
+    bad = st.sampled_from(["-1", "0", "nan", "abc", "", "1e300", "1.5", "100000"])
+    names = st.sampled_from(["", ",", "x", "none,none", "none,"])
+    return draw(st.sampled_from([["compare", "--help"],
+                                 ["compare", "--seeds", draw(bad), "--out", files["dir"]],
+                                 ["compare", "--executor", "process", "--workers", draw(bad),
+                                  "--out", files["dir"]],
+                                 ["compare", "--executor", draw(st.sampled_from(["", "x", "threads"])),
+                                  "--out", files["dir"]],
+                                 ["compare", draw(st.sampled_from(["--compensators", "--experiments",
+                                                                   "--plants"])), draw(names),
+                                  "--out", files["dir"]]]))
+
+
 COMMANDS = {"design": design_args, "simulate": simulate_args, "identify": identify_args,
             "patterns": patterns_args, "train": train_args, "diagnose": diagnose_args,
-            "reproduce": reproduce_args}
+            "reproduce": reproduce_args, "compare": compare_args}
 
 
 def _run(argv):

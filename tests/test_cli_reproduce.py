@@ -140,6 +140,9 @@ def test_reproduce_refuses_a_non_empty_folder_without_force(reproduced, tmp_path
     (["--pipelines", "paper,bogus"], "unknown pipeline 'bogus'"),
     (["--pipelines", "paper,paper"], "twice"),
     (["--pipelines", ""], "names separated by commas"),
+    (["--executor", "gpu"], "--executor must be one of process, dask"),
+    (["--scheduler", "tcp://x:8786", "--executor", "process"], "needs --executor dask"),
+    (["--scheduler", "tcp://x:8786", "--workers", "2"], "give one or the other"),
 ])
 def test_reproduce_bad_arguments_exit_2_with_one_line(argv, match, tmp_path, capsys):
     code = main(["reproduce", "--out", str(tmp_path / "o")] + argv)

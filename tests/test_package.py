@@ -35,6 +35,7 @@ LAYERS = (
     ("diagnose",),
     ("bench",),
     ("paper",),
+    ("compare",),
     ("figures", "cli", "__init__", "__main__", "_readme"),
 )
 

@@ -402,7 +402,8 @@ class DeadZone:
 
 def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
               friction: FrictionModel | None = None, amplitudes=None, frequency: float = 1.0,
-              periods: float = 2.0, threshold_counts: int = 3, keep_results: bool = False) -> DeadZone:
+              periods: float = 2.0, threshold_counts: int = 3, keep_results: bool = False,
+              delay: int = 0, noise_std: float = 0.0, rng: np.random.Generator | None = None) -> DeadZone:
     """Measure the torque dead zone with open-loop sinusoidal control torques.
 
     One run per amplitude (a batch), each ``periods`` periods of
@@ -423,6 +424,14 @@ def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
         Periods per run.
     threshold_counts : int
         "A few encoder counts".
+    keep_results : bool
+        Keep every run in ``results``.
+    delay : int
+        Extra samples before the joint receives the torque
+        (:func:`~fricctl.simulate.simulate_batch`) [-].
+    noise_std : float
+        White torque noise at the joint [N*m] (needs ``rng``).
+    rng : numpy.random.Generator, optional
     """
     params = _params(params)
     comp = NoCompensation() if compensator is None else compensator
@@ -431,7 +440,8 @@ def dead_zone(params: ActuatorParams, compensator: Compensator | None = None, *,
     if amps.ndim != 1 or amps.size < 2 or np.any(np.diff(amps) <= 0) or np.any(amps <= 0):
         raise ValueError("amplitudes must be a 1-D increasing array of positive torques")
     ctrls = [open_loop(sinusoid(float(a), frequency)) for a in amps]
-    batch = simulate_batch(params, ctrls, comp, duration=periods / frequency, friction=friction)
+    batch = simulate_batch(params, ctrls, comp, duration=periods / frequency, friction=friction,
+                           delay=delay, noise_std=noise_std, rng=rng)
     counts = np.round(np.ptp(batch.q_meas, axis=1) / params.encoder_resolution).astype(int)
     results = tuple(batch[i] for i in range(len(batch))) if keep_results else ()
     return DeadZone(amplitudes=amps, counts=counts, threshold_counts=int(threshold_counts),

@@ -28,8 +28,8 @@ import threading
 import warnings
 
 #: Sub-command modules, in the order ``fricctl --help`` lists them.
-SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce", "diagnose",
-               "model")
+SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce", "compare",
+               "diagnose", "model")
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -1,4 +1,4 @@
-"""``fricctl reproduce [--out DIR] [--bench NAME] [--seeds N] [--pipelines paper,fricctl] [--workers W] [--fast] [--force]``.
+"""``fricctl reproduce [--out DIR] [--bench NAME] [--seeds N] [--pipelines paper,fricctl] [--workers W] [--executor process|dask] [--scheduler ADDRESS] [--fast] [--force]``.
 
 Trains N networks (seeds 0 .. N-1) with each training pipeline -- "paper" (the paper's
 literal recipe) and "fricctl" (the fix) --, re-runs the experiments of Figs. 4-18 and
@@ -78,6 +78,12 @@ def register(subparsers) -> None:
                    help="comma-separated training pipelines (default paper,fricctl)")
     p.add_argument("--workers", default=None, metavar="W",
                    help=f"worker processes (default: the CPUs available, here {_cpus()})")
+    p.add_argument("--executor", default=None, metavar="KIND",
+                   help="where the seeds, sweeps and figures run: process (a local pool of W workers; "
+                        "the default) or dask (a Dask LocalCluster of W workers, or with --scheduler a "
+                        "running cluster: docs/cluster.md)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="join the Dask cluster whose scheduler is at ADDRESS; implies --executor dask")
     p.add_argument("--fast", action="store_true",
                    help="short training experiments and a small sweep (for tests)")
     p.add_argument("--force", action="store_true",
@@ -349,6 +355,9 @@ def run(args) -> int:
     seeds = _count("--seeds", args.seeds, 1, MAX_SEEDS)
     pipelines = _pipelines(args.pipelines)
     workers = _cpus() if args.workers is None else _count("--workers", args.workers, 1, MAX_WORKERS)
+    from .compare import executor_of
+
+    kind, scheduler = executor_of(args, ("process", "dask"), "process")
     out: Path = args.out
     _prepare_out(out, args.force)
     import matplotlib
@@ -360,12 +369,16 @@ def run(args) -> int:
     from ..paper import reproduce_paper
 
     workers = min(workers, seeds * len(pipelines))
+    if kind == "process" and workers == 1:
+        kind = "serial"
     progress = _Progress()
     Path(os.path.abspath(out)).parent.mkdir(parents=True, exist_ok=True)
     # the whole tree is built beside DIR and replaces it only when complete (issue 26)
     with replace_folder(out, keep=_earlier_run(Path(os.path.realpath(out))),
                         overwrite=args.force) as new, contextlib.ExitStack() as stack:
-        ex = None if workers == 1 else stack.enter_context(_worker_pool(workers))
+        from .compare import _executor
+
+        ex = stack.enter_context(_executor(kind, workers, scheduler))
         res = reproduce_paper(bench=bench, fast=args.fast, seeds=seeds, pipelines=pipelines, executor=ex,
                               progress=progress, figures=False)
         t0 = time.perf_counter()
@@ -388,7 +401,9 @@ def run(args) -> int:
             s = by[(cid, p)]
             cells.append(f"{'holds' if s.holds else 'FAILS'} {s.n_passed:>3d}/{s.n_seeds:<3d}".rjust(18))
         print(f"{cid:<15s} " + " ".join(cells))
+    where = (scheduler if scheduler is not None else
+             f"{workers} worker{'s' if workers != 1 else ''}{', dask' if kind == 'dask' else ''}")
     print(f"wrote {len(res.runs)} networks, {len(figures)} figures, claims.md and claims.json to {out} "
-          f"({time.perf_counter() - progress.t0:.0f} s, {workers} worker{'s' if workers != 1 else ''})")
+          f"({time.perf_counter() - progress.t0:.0f} s, {where})")
     print(res.summary())
     return 0

@@ -18,7 +18,7 @@ import importlib
 
 #: The submodules, in the order their names are listed.
 SUBMODULES = ("core", "design", "measure", "network", "paper", "diagnosis", "diagram",
-              "identification")
+              "identification", "compare")
 
 _WHERE = {
     "core": ("plot_response", "plot_torques", "plot_friction_law", "plot_stuck",
@@ -33,6 +33,7 @@ _WHERE = {
                   "plot_diagnosis"),
     "diagram": ("plot_compensation_loop",),
     "identification": ("plot_held_out", "plot_validation"),
+    "compare": ("plot_comparison",),
 }
 
 _MODULE_OF = {name: module for module, names in _WHERE.items() for name in names}

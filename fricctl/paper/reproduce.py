@@ -343,7 +343,8 @@ def reproduce_paper(params: ActuatorParams | None = None, *, bench=None, fast: b
     grid = dict(friction_scales=(0.8, 1.0, 1.2), link_inertias=(0.0, 0.0046)) if fast else {}
     for i, name in enumerate(names, start=len(jobs) + 1):
         run = runs[(name, rep[name])]
-        sweeps[name] = robustness_sweep(run.net, p, design=designs(b)["fig16-17"], **grid)
+        # its rows (one per link inertia) through the same executor: deterministic, so the same numbers
+        sweeps[name] = robustness_sweep(run.net, p, design=designs(b)["fig16-17"], executor=executor, **grid)
         if keep_figures:
             networks[name], figs[name] = representative_figures(b, fast, name, rep[name], run.net_json)
             tick(i, f"{name} seed {rep[name]} figures")

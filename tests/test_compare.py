@@ -1,0 +1,279 @@
+"""Tests of the compensator comparison (fricctl.compare): contenders, plants, metrics, protocol,
+figure; the runs without trained networks (the networks' rows are under ``slow``)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from fricctl.compare import (CONTENDERS, EXPERIMENTS, METRICS, PLANTS, REGISTERED, ComparisonResult,
+                             check_plant, compare, make_contender, realise)
+from fricctl.compare.experiments import hf_share, limit_cycle, scaled
+from fricctl.compensators import Compensator, CoulombCompensator, NNCompensator, NoCompensation
+from fricctl.paper.benches import bench
+from fricctl.paper.common import designs
+from fricctl.params import PAPER_LINK_INERTIA
+
+B = bench("literal")
+D = designs(B)["fig13-14"]
+
+#: The fast table: the contenders that train nothing, three experiments, two plants.
+FAST = dict(compensators=("none", "coulomb_breakaway"), experiments=("pd_steps", "coast", "dead_zone"),
+            plants=("nominal", "delay_1"), seeds=3)
+
+
+@pytest.fixture(scope="module")
+def small():
+    return compare(**FAST)
+
+
+# ------------------------------------------------------------------ contenders
+def test_coulomb_levels_come_from_the_design_model():
+    # literal bench (paper): Fc = 0.144 N*m (assumption), Fs = 0.18 N*m (paper, Section 4)
+    c = make_contender("coulomb", B.model, D, B.actuator.sample_time)
+    s = make_contender("coulomb_breakaway", B.model, D, B.actuator.sample_time)
+    assert isinstance(c, CoulombCompensator) and type(s) is type(c)
+    assert (c.coulomb_pos, c.coulomb_neg) == pytest.approx((0.144, 0.144), abs=1e-12)
+    assert (s.coulomb_pos, s.coulomb_neg) == pytest.approx((0.18, 0.18), abs=1e-12)
+    # from the model given, not from the bench: a model with another friction gives its levels
+    other = B.model.__class__.from_params(B.actuator.replace(coulomb=0.1, static=0.15), source="test")
+    assert make_contender("coulomb_breakaway", other, D, 0.002).coulomb_pos == pytest.approx(0.15)
+    assert isinstance(make_contender("none", B.model, D, 0.002), NoCompensation)
+
+
+def test_network_contender_is_built_from_a_given_network_without_training():
+    from fricctl.nn import FrictionNet
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
+                      envelope_low=[-1, -1], envelope_high=[1, 1])
+    comp = make_contender("nn", B.model, D, 0.002, seed=3, options={"network": net.to_json()})
+    assert isinstance(comp, NNCompensator) and comp.name == "nn"
+    assert comp.estimator.to_json() == net.to_json()
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: make_contender("bogus", B.model, D, 0.002), "unknown compensator 'bogus'"),
+    (lambda: make_contender("coulomb", B.model, D, 0.002, options={"level": 1}), "takes no option 'level'"),
+    (lambda: make_contender("coulomb", B.actuator, D, 0.002), "JointModel"),
+    (lambda: make_contender("none", B.model, D, 0.002, seed=-1), "seed"),
+    (lambda: make_contender("nn", B.model, D, 0.001, options={"network": "{}"}), "trained at the bench's Ts"),
+    (lambda: make_contender("nn", B.model, D, 0.002, options={"bench": "bogus"}), "bench"),
+])
+def test_bad_contender_arguments_raise(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_registered_compensators_join_only_when_available():
+    from fricctl import compensators
+
+    have = set(compensators.available()) if hasattr(compensators, "available") else set()
+    for name in REGISTERED:
+        assert (name in CONTENDERS) == (name in have)
+    for name in ("none", "coulomb", "coulomb_breakaway", "nn", "nn_paper"):
+        assert name in CONTENDERS
+
+
+# ------------------------------------------------------------------ plants
+def test_every_plant_is_a_plain_json_object_and_realises():
+    for name, p in PLANTS.items():
+        d = check_plant(name)
+        assert d["name"] == name and json.loads(json.dumps(d)) == d
+        realise(d, B.actuator)
+
+
+def test_realise_applies_each_field():
+    base = B.actuator
+    nominal = realise("nominal", base)
+    assert nominal.params == base and nominal.delay == 0 and nominal.compensation_scale == 1.0
+    w = np.linspace(-1, 1, 41)
+    f0 = nominal.friction.torque(w)
+    # friction x1.2: every term x1.2 (closed form)
+    np.testing.assert_allclose(realise("friction_1.2", base).friction.torque(w), 1.2 * f0, rtol=1e-12)
+    # the paper's wear: friction and compensation x 0.95 (Fig. 16)
+    wear = realise("wear", base)
+    np.testing.assert_allclose(wear.friction.torque(w), 0.95 * f0, rtol=1e-12)
+    assert wear.compensation_scale == 0.95
+    assert realise("link", base).params.link_inertia == PAPER_LINK_INERTIA
+    # 500 counts/rev: a count 4x the bench's 2000
+    assert realise("encoder_500", base).params.encoder_resolution == pytest.approx(4 * base.encoder_resolution)
+    assert realise("stribeck_2", base).params.stribeck_velocity == pytest.approx(2 * base.stribeck_velocity)
+    assert realise("delay_1", base).delay == 1
+    assert realise("noise", base).noise_std == 0.002 and nominal.noise_std == 0.0
+    # a plant of the caller's: any subset of the fields
+    mine = realise({"name": "mine", "friction_scale": 0.5, "delay": 2}, base)
+    assert mine.delay == 2
+    np.testing.assert_allclose(mine.friction.torque(w), 0.5 * f0, rtol=1e-12)
+
+
+@pytest.mark.parametrize("plant, match", [
+    ({"friction_scale": 1.2}, "needs a 'name'"),
+    ({"name": "x", "friction": 1.2}, "unknown field 'friction'"),
+    ({"name": "x", "friction_scale": -1.0}, "friction_scale"),
+    ({"name": "x", "delay": 0.5}, "delay"),
+    ({"name": "x", "encoder_counts": 0}, "encoder_counts"),
+    ({"name": "x", "torque_noise": -0.1}, "torque_noise"),
+    ("bogus", "unknown plant 'bogus'"),
+    (3, "name or a mapping"),
+])
+def test_bad_plants_raise(plant, match):
+    with pytest.raises(ValueError, match=match):
+        check_plant(plant)
+
+
+# ------------------------------------------------------------------ measurements
+def test_hf_share_of_a_sum_of_two_tones():
+    # equal-amplitude tones at 5 Hz and 100 Hz, whole periods: half the variance above 25 Hz
+    t = 0.002 * np.arange(2000)
+    x = np.sin(2 * np.pi * 5 * t) + np.sin(2 * np.pi * 100 * t)
+    assert hf_share(x, 0.002) == pytest.approx(50.0, abs=1e-9)
+    assert hf_share(np.full(100, 0.3), 0.002) == 0.0  # a held torque has none
+
+
+def test_limit_cycle_below_half_a_count_is_none():
+    t = 0.002 * np.arange(3000)
+    a, f = limit_cycle(t, 0.4e-4 * np.sin(2 * np.pi * 5 * t), 1e-4)
+    assert a == pytest.approx(0.4e-4, rel=1e-3) and f == 0.0
+    a, f = limit_cycle(t, 3e-4 * np.sign(np.sin(2 * np.pi * 7 * t + 0.1)), 1e-4)  # a relay's square wave
+    assert a == pytest.approx(3e-4) and f == pytest.approx(7.0, abs=0.25)
+
+
+def test_scaled_sets_the_compensation_scale():
+    c = CoulombCompensator.symmetric(0.18)
+    assert scaled(c, 1.0) is c and scaled(c, 0.95).scale == 0.95
+
+    class Bare(Compensator):  # the interface, without a scale field
+        name = "bare"
+
+    with pytest.raises(ValueError, match="no compensation scale"):
+        scaled(Bare(), 0.95)
+
+
+# ------------------------------------------------------------------ the protocol
+def test_one_row_per_compensator_experiment_and_plant(small):
+    r = small
+    assert len(r.rows) == 2 * 3 * 2
+    keys = [(x["compensator"], x["experiment"], x["plant"]["name"]) for x in r.rows]
+    assert len(set(keys)) == len(keys)
+    for x in r.rows:
+        assert x["plant"] == check_plant(x["plant"]["name"])
+        # neither contender depends on the seed: one run each, said so
+        assert x["seeds"] == [0] and x["seeded"] is False
+        ex = EXPERIMENTS[x["experiment"]]
+        assert tuple(x["metrics"]) == ex.metrics
+        for m, s in x["metrics"].items():
+            assert s["unit"] == METRICS[m][0]
+            assert s["median"] == s["min"] == s["max"] == s["values"][0]
+        rw = x["runaway"]
+        assert rw["runs"] == 1 and rw["rate"] == rw["passed"] / rw["runs"]
+        assert (rw["passed"] == 1) == (not rw["failures"])
+
+
+def test_physics_of_the_small_table(small):
+    r = small
+    # no compensation: the dead zone is the breakaway level, 12.7 % of Tmax by the bench's
+    # definition Tmax = Fs/0.127, within one step of the 200-level grid (0.0995 % of Tmax)
+    dz = r.row("none", "dead_zone", "nominal")["metrics"]
+    assert dz["dead_zone"]["median"] == pytest.approx(12.7, abs=0.1)
+    assert dz["dead_zone_factor"]["median"] == 1.0  # the same runs, with and without
+    # friction only slows a coasting joint: without compensation no excess over the viscous decay
+    assert r.row("none", "coast", "nominal")["metrics"]["coast_excess"]["median"] <= 1e-9
+    # Coulomb at the breakaway level Fs over-compensates the sliding friction (Fc < Fs): while
+    # the joint coasts the net torque Fs - Fc - stribeck(w) > 0 pushes it, above the decay
+    assert r.row("coulomb_breakaway", "coast", "nominal")["metrics"]["coast_excess"]["median"] > 0
+
+
+def test_json_and_markdown(small):
+    d = json.loads(small.to_json())
+    assert set(d) >= {"rows", "bench", "compensators", "experiments", "plants", "seeds", "metrics"}
+    assert d["rows"] == json.loads(json.dumps(list(small.rows)))
+    md = small.table()
+    for en in FAST["experiments"]:
+        assert f"## {en}:" in md
+    assert "| compensator | plant | steady_state_error [deg] |" in md
+    n_lines = sum(1 for line in md.splitlines() if line.startswith("| none |")
+                  or line.startswith("| coulomb_breakaway |"))
+    assert n_lines == len(small.rows)
+
+
+def test_a_plant_with_noise_runs_every_compensator_over_the_seeds():
+    r = compare(compensators=("none",), experiments=("pd_steps",), plants=("noise", "nominal"), seeds=3)
+    noisy, clean = r.row("none", "pd_steps", "noise"), r.row("none", "pd_steps", "nominal")
+    assert noisy["seeded"] is True and noisy["seeds"] == [0, 1, 2]
+    assert clean["seeded"] is False and clean["seeds"] == [0]
+    # each seed its own noise: three different efforts; the same seed again, the same number
+    effort = noisy["metrics"]["effort_rms"]["values"]
+    assert len(set(effort)) == 3
+    again = compare(compensators=("none",), experiments=("pd_steps",), plants=("noise",), seeds=1)
+    assert again.row("none", "pd_steps", "noise")["metrics"]["effort_rms"]["values"] == effort[:1]
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(compensators=("bogus",)), "unknown compensator"),
+    (dict(compensators=("none", "none")), "twice"),
+    (dict(experiments=("bogus",)), "unknown experiment"),
+    (dict(plants=({"name": "a"}, {"name": "a"})), "share a name"),
+    (dict(seeds=0), "seeds"),
+    (dict(bench="bogus"), "bench"),
+    (dict(compensators=("none",), options={"nn": {}}), "not compared"),
+    (dict(compensators=("nn",), options={"nn": {"bench": "consistent"}}), "not the compared bench"),
+    (dict(executor=object()), "Executor"),
+])
+def test_bad_compare_arguments_raise(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        compare(**{"compensators": ("none",), "experiments": ("coast",), "plants": ("nominal",),
+                   **kwargs})
+
+
+def test_a_thread_pool_gives_the_serial_rows(small):
+    # the same jobs through an Executor (threads here; processes and Dask in the slow tests)
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(2) as ex:
+        r = compare(**FAST, executor=ex)
+    assert r.to_json() == small.to_json()
+
+
+def test_plot_comparison(small):
+    from fricctl.figures import plot_comparison
+
+    ax = plot_comparison(small, experiment="coast", metric="coast_excess")
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["nominal", "delay_1"]
+    assert ax.get_ylabel() == "coast_excess [%]"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["none", "coulomb_breakaway"]
+    # the medians drawn are the rows' (filled where every runaway check passed, open otherwise)
+    drawn = sorted(float(y) for line in ax.get_lines() if line.get_marker() == "o" for y in line.get_ydata())
+    want = sorted(small.row(c, "coast", p)["metrics"]["coast_excess"]["median"]
+                  for c in FAST["compensators"] for p in FAST["plants"])
+    assert drawn == pytest.approx(want)
+    with pytest.raises(ValueError, match="metric"):
+        plot_comparison(small, experiment="coast", metric="tracking_rms")
+
+
+# ------------------------------------------------------------------ slow: networks, processes, Dask
+@pytest.mark.slow
+def test_networks_over_seeds():
+    r = compare(compensators=("nn", "nn_paper"), experiments=("pd_steps", "coast"), plants=("nominal",),
+                seeds=2, options={"nn": {"fast": True}, "nn_paper": {"fast": True}})
+    for x in r.rows:
+        assert x["seeds"] == [0, 1] and x["seeded"] is True
+        for s in x["metrics"].values():
+            assert len(s["values"]) == 2
+            vals = [v for v in s["values"] if v is not None and math.isfinite(v)]
+            if vals:
+                assert s["min"] == min(vals) and s["max"] == max(vals)
+        assert x["runaway"]["runs"] == 2
+
+
+@pytest.mark.slow
+def test_dask_local_cluster_gives_the_serial_rows_bit_for_bit(small):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        r = compare(**FAST, executor=client.get_executor())
+    assert r.to_json() == small.to_json()
+    assert r.rows == small.rows
