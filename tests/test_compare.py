@@ -68,14 +68,29 @@ def test_bad_contender_arguments_raise(call, match):
         call()
 
 
-def test_registered_compensators_join_only_when_available():
+def test_every_registered_compensator_is_a_contender():
     from fricctl import compensators
 
-    have = set(compensators.available()) if hasattr(compensators, "available") else set()
+    have = set(compensators.available())
     for name in REGISTERED:
-        assert (name in CONTENDERS) == (name in have)
+        assert name in have and name in CONTENDERS
     for name in ("none", "coulomb", "coulomb_breakaway", "nn", "nn_paper"):
         assert name in CONTENDERS
+
+
+def test_lugre_observer_on_a_model_without_lugre_gets_the_assumed_bristle():
+    from fricctl.compare.contenders import BRISTLE_COUNTS
+
+    b = bench("literal")
+    m = b.model
+    assert m.friction.lugre_sigma0 == 0.0
+    obs = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time)
+    fs = m.friction.coulomb_pos + m.friction.static_excess_pos
+    assert obs.sigma0 == pytest.approx(fs / (BRISTLE_COUNTS * m.encoder_resolution))
+    assert obs.sigma1 == pytest.approx(math.sqrt(obs.sigma0 * m.inertia))
+    given = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time,
+                           options={"sigma0": 500.0, "sigma1": 2.0})
+    assert (given.sigma0, given.sigma1) == (500.0, 2.0)
 
 
 # ------------------------------------------------------------------ plants

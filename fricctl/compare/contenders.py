@@ -151,12 +151,39 @@ def _network(pipeline: str, name: str):
     return factory, prepare
 
 
+#: ASSUMPTION (not in the paper, whose bench has no presliding model): where the model has no
+#: LuGre law, the LuGre observer's bristle deflects ``BRISTLE_COUNTS`` encoder counts at the
+#: breakaway level (``sigma0 = Fs / (BRISTLE_COUNTS * count)``; the diagnosis's presliding scan
+#: starts at a few counts, below which the encoder cannot see a bristle), and its damping is
+#: that of Canudas de Wit et al.'s example, ``sigma1 = sqrt(sigma0 * I)`` (ratio 0.5 on the
+#: rotor's inertia).  Either is overridden by the option ``sigma0`` / ``sigma1``.
+BRISTLE_COUNTS = 10.0
+
+
+def _lugre_defaults(model, options: dict) -> dict:
+    """``options`` with the assumed bristle of :data:`BRISTLE_COUNTS` where the model has none."""
+    fr = model.friction
+    if fr.lugre_sigma0 > 0.0 or "sigma0" in options:
+        return options
+    count = model.encoder_resolution
+    if not count > 0.0:
+        raise ValueError("lugre_observer: the model has neither a LuGre law nor an encoder count "
+                         "to size an assumed bristle from; give the option sigma0")
+    fs = max(fr.coulomb_pos + fr.static_excess_pos, fr.coulomb_neg + fr.static_excess_neg)
+    sigma0 = fs / (BRISTLE_COUNTS * count)
+    out = {"sigma0": sigma0, **options}
+    out.setdefault("sigma1", (sigma0 * model.inertia) ** 0.5)
+    return out
+
+
 def _registered(name: str, description: str) -> Contender:
     """A contender that :func:`fricctl.compensators.make` builds (the stateful compensators)."""
 
     def factory(model, design, sample_time, seed, options):
         from .. import compensators
 
+        if name == "lugre_observer":
+            options = _lugre_defaults(model, dict(options))
         return compensators.make(name, model, design, sample_time, **options)
 
     return Contender(name=name, description=description, factory=factory, options=None)
@@ -183,7 +210,8 @@ _TABLE = (
 #: a name here joins :data:`CONTENDERS` when ``fricctl.compensators.available()`` lists it.
 REGISTERED = {
     "feedforward": "model-based feedforward: the identified static (Stribeck) law at omega_hat",
-    "lugre_observer": "LuGre observer-based compensation (Canudas de Wit et al. 1995)",
+    "lugre_observer": "LuGre observer-based compensation (Canudas de Wit et al. 1995); the model's "
+                      "LuGre law, or an assumed bristle of BRISTLE_COUNTS encoder counts at Fs",
     "dob": "disturbance observer (Ohnishi), nominal inertia, Q-filter bandwidth",
     "integral": "integral action: the PD becomes a PID with anti-windup",
 }
@@ -193,9 +221,8 @@ def _table() -> dict:
     from .. import compensators
 
     table = {c.name: c for c in _TABLE}
-    if hasattr(compensators, "available"):  # issue 23 item 1 merged: its registry's names
-        have = set(compensators.available())
-        table.update({n: _registered(n, d) for n, d in REGISTERED.items() if n in have})
+    have = set(compensators.available())
+    table.update({n: _registered(n, d) for n, d in REGISTERED.items() if n in have})
     return table
 
 
