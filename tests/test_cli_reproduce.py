@@ -86,6 +86,17 @@ def test_reproduce_writes_everything(reproduced):
     assert by[("fig9-stick", "paper")]["runaway_failures"] == 2
     # the progress line goes to stderr and ends at the last step
     assert re.search(r"(\d+)/\1 done", stderr)
+    # issue 23: the paper's continuation on the bench's nominal plant, every contender, the
+    # networks of both pipelines over the same 2 seeds
+    from fricctl.compare import CONTENDERS, EXPERIMENTS
+
+    rows = json.loads((out / "comparison.json").read_text())["rows"]
+    assert {r["plant"]["name"] for r in rows} == {"nominal"}
+    assert len(rows) == len(CONTENDERS) * len(EXPERIMENTS)
+    assert {r["compensator"] for r in rows} == set(CONTENDERS)
+    for r in rows:
+        assert len(r["seeds"]) == (2 if r["compensator"] in ("nn", "nn_paper") else 1)
+    assert "# Compensator comparison" in (out / "comparison.md").read_text()
 
 
 def test_reproduce_writes_every_net_reloadable(reproduced):
@@ -196,6 +207,8 @@ def _fake_reproduce(monkeypatch, seeds_written, *, interrupt=False):
 
     monkeypatch.setattr(fricctl.paper, "reproduce_paper", reproduce_paper)
     monkeypatch.setattr(cli_reproduce, "_write_figures", write_figures)
+    monkeypatch.setattr(cli_reproduce, "_comparison", lambda *a: types.SimpleNamespace(
+        table=lambda: "comparison\n", to_json=lambda: '{"rows": []}'))
 
 
 def _tree(folder):
@@ -210,7 +223,8 @@ def test_reproduce_force_removes_only_what_the_manifest_lists(tmp_path, monkeypa
     _fake_reproduce(monkeypatch, (7, 8))
     assert main(argv + ["--seeds", "2"]) == 0
     manifest = json.loads((out / "fricctl-manifest.json").read_text())
-    assert sorted(manifest["files"]) == ["claims.json", "claims.md", "figures/fricctl-seed7/fig04.png",
+    assert sorted(manifest["files"]) == ["claims.json", "claims.md", "comparison.json", "comparison.md",
+                                         "figures/fricctl-seed7/fig04.png",
                                          "nets/fricctl-seed7.json", "nets/fricctl-seed8.json"]
     # the user's own files, among the run's and beside them
     (out / "figures" / "fricctl-seed7" / "my-notes.txt").write_text("notes")
@@ -229,7 +243,8 @@ def test_reproduce_force_removes_only_what_the_manifest_lists(tmp_path, monkeypa
     assert "nets/fricctl-seed7.json" not in after and "figures/fricctl-seed7/fig04.png" not in after
     assert after["claims.md"][0] == b"seeds (0,)\n"
     assert sorted(json.loads((out / "fricctl-manifest.json").read_text())["files"]) == [
-        "claims.json", "claims.md", "figures/fricctl-seed0/fig04.png", "nets/fricctl-seed0.json"]
+        "claims.json", "claims.md", "comparison.json", "comparison.md", "figures/fricctl-seed0/fig04.png",
+        "nets/fricctl-seed0.json"]
     assert not [p for p in tmp_path.rglob("*") if ".fricctl-tmp" in p.name]
 
 

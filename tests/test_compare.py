@@ -292,3 +292,17 @@ def test_dask_local_cluster_gives_the_serial_rows_bit_for_bit(small):
         r = compare(**FAST, executor=client.get_executor())
     assert r.to_json() == small.to_json()
     assert r.rows == small.rows
+
+
+def test_a_compensator_of_the_position_error_is_not_applicable_open_loop():
+    res = compare(compensators=["integral"], experiments=["coast", "pd_steps"], plants=["nominal"],
+                  seeds=1, bench="literal")
+    coast, steps = res.row("integral", "coast", "nominal"), res.row("integral", "pd_steps", "nominal")
+    assert "open loop" in coast["not_applicable"] and coast["runaway"]["runs"] == 0
+    assert coast["metrics"]["coast_excess"]["median"] is None
+    assert "not_applicable" not in steps and steps["runaway"]["runs"] == 1
+    assert steps["metrics"]["steady_state_error"]["median"] is not None
+    md = res.table()
+    assert "| integral | nominal | n/a | n/a | n/a | not applicable (open loop) |" in md
+    assert "- integral / coast: not applicable: integral acts on the position error" in md
+    json.loads(res.to_json())

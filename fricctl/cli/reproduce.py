@@ -19,7 +19,12 @@ DIR:
                `fricctl simulate --compensation nn --net ...`);
   figures/<pipeline>-seed<K>/    one PNG per figure of the representative seed (the
                seed whose number of claims passed is the median), the coast test and a
-               robustness sweep.
+               robustness sweep;
+  comparison.md / comparison.json   the paper's continuation on this bench's nominal plant:
+               every compensator of fricctl.compare (none, Coulomb at Fc and at the breakaway
+               level, the networks of these pipelines and seeds, the static-model feedforward,
+               the LuGre observer, the disturbance observer, integral action) on the paper's
+               experiments (`fricctl compare` runs the perturbed plants too).
 
   fricctl-manifest.json   the files this run wrote, with their SHA-256.
 
@@ -348,6 +353,22 @@ def _write_figures(res, out: Path, executor) -> list:
     return [f for fut in futures for f in fut.result()]
 
 
+#: The network contender of each training pipeline (fricctl.compare.contenders).
+_PIPELINE_CONTENDER = {"fricctl": "nn", "paper": "nn_paper"}
+
+
+def _comparison(bench: str, fast: bool, seeds: int, pipelines: tuple, executor):
+    """Every contender on the bench's nominal plant, the networks of ``pipelines`` only (the
+    runs' networks, read back from the cache of trained networks)."""
+    from ..compare import CONTENDERS, compare
+
+    nets = {_PIPELINE_CONTENDER[p] for p in pipelines}
+    comps = [n for n in CONTENDERS if n not in _PIPELINE_CONTENDER.values() or n in nets]
+    options = {n: {"fast": True} for n in comps if fast and "fast" in (CONTENDERS[n].options or ())}
+    return compare(compensators=comps, plants=["nominal"], seeds=seeds, bench=bench,
+                   options=options, executor=executor)
+
+
 def run(args) -> int:
     from ..paper.reproduce import MAX_SEEDS
 
@@ -390,6 +411,12 @@ def run(args) -> int:
             save_net(r.net, new / "nets" / f"{name}-seed{seed}.json")
         write_text(new / "claims.md", res.markdown())
         write_text(new / "claims.json", res.json() + "\n")
+        t0 = time.perf_counter()
+        cmp = _comparison(bench, args.fast, seeds, pipelines, ex)
+        write_text(new / "comparison.md", cmp.table())
+        write_text(new / "comparison.json", cmp.to_json() + "\n")
+        print(f"the compensators compared on the nominal plant in {time.perf_counter() - t0:.1f} s",
+              file=sys.stderr)
         _write_manifest(new)
     ids = list(dict.fromkeys(s.id for s in res.stats))
     by = {(s.id, s.pipeline): s for s in res.stats}
@@ -403,7 +430,8 @@ def run(args) -> int:
         print(f"{cid:<15s} " + " ".join(cells))
     where = (scheduler if scheduler is not None else
              f"{workers} worker{'s' if workers != 1 else ''}{', dask' if kind == 'dask' else ''}")
-    print(f"wrote {len(res.runs)} networks, {len(figures)} figures, claims.md and claims.json to {out} "
+    print(f"wrote {len(res.runs)} networks, {len(figures)} figures, claims.md, claims.json and the "
+          f"comparison (comparison.md, .json) to {out} "
           f"({time.perf_counter() - progress.t0:.0f} s, {where})")
     print(res.summary())
     return 0

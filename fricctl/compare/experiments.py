@@ -182,6 +182,8 @@ class Experiment:
     design : the key of :func:`fricctl.paper.common.designs` the compensator is made for (and,
         closed loop, the loop's controller)
     linked : whether it runs the paper's link (Figs. 16-18: the bench's ``linked_actuator``)
+    closed_loop : whether a position loop runs (a reference to track); open loop (the dead zone,
+        the coast test), a compensator that acts on the position error is not applicable
     metrics : the metrics it reports (keys of :data:`METRICS`)
     run : ``run(bench, realised, compensator, design, rng) -> Outcome`` (``rng``: the torque
         noise's generator, used only on a plant with noise)
@@ -193,6 +195,7 @@ class Experiment:
     linked: bool
     metrics: tuple
     run: Callable
+    closed_loop: bool = True
 
 
 def _loop(pl, rng) -> dict:
@@ -281,7 +284,7 @@ _EFFORT = ("effort_rms", "effort_hf_share")
 EXPERIMENTS: Mapping[str, Experiment] = MappingProxyType({e.name: e for e in (
     Experiment(name="dead_zone", description="open-loop dead zone, and a sinusoid at 10 % of Tmax (Fig. 10)",
                design="fig13-14", linked=False, metrics=("dead_zone", "dead_zone_factor") + _EFFORT,
-               run=_dead_zone),
+               run=_dead_zone, closed_loop=False),
     Experiment(name="pd_steps", description="PD (0.3 s, 0.9) steps of +-5 .. 40 deg, 3 s (Fig. 14)",
                design="fig13-14", linked=False, metrics=("steady_state_error",) + _EFFORT, run=_pd_steps),
     Experiment(name="small_steps", description="steps of +-0.08 rad with the link, PD (0.4 s, 0.85) "
@@ -292,7 +295,7 @@ EXPERIMENTS: Mapping[str, Experiment] = MappingProxyType({e.name: e for e in (
                run=_sawtooth),
     Experiment(name="coast", description="open-loop pulse of 2 Fs for 0.3 s, then Tc = 0 for 2 s "
                "(the coast test)", design="fig13-14", linked=False, metrics=("coast_excess",) + _EFFORT,
-               run=_coast),
+               run=_coast, closed_loop=False),
     Experiment(name="limit_cycle", description=f"PD step of 30 deg held 6 s, the last {LC_WINDOW:g} s "
                "(chatter, hunting)", design="fig13-14", linked=False,
                metrics=("limit_cycle_amplitude", "limit_cycle_frequency") + _EFFORT, run=_limit_cycle),

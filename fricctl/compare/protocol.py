@@ -76,6 +76,10 @@ def _evaluate_job(name: str, seed: int, options: dict, plant: dict, experiments:
         try:
             comp = make_contender(name, _model(bench_name, ex.linked), design, base.sample_time, seed,
                                   options)
+            if not ex.closed_loop and comp.needs_reference:
+                out.append({"experiment": en, "not_applicable": f"{name} acts on the position error "
+                            "r - y, and this experiment is open loop (no reference to track)"})
+                continue
             o = ex.run(b, pl, scaled(comp, pl.compensation_scale), design, rng)
         except ValueError as exc:  # a diverged loop, a compensator this loop cannot have: a result
             out.append({"experiment": en, "error": str(exc).splitlines()[0]})
@@ -106,6 +110,12 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
             warnings.append(f"{m} is {vals[seeds.index(bad[0])]} for seed(s) {', '.join(map(str, bad))} "
                             "(left out of median/min/max)")
         metrics[m] = {"unit": METRICS[m][0], **_stats(vals)}
+    na = [o["not_applicable"] for o in outs if "not_applicable" in o]
+    if na:  # open loop for a compensator of the position error: nothing measured, nothing failed
+        return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
+                "seeded": seeded, "metrics": metrics, "not_applicable": na[0],
+                "runaway": {"passed": 0, "runs": 0, "rate": None, "failures": []},
+                "errors": [], "warnings": []}
     passed, reasons = 0, []
     for s, o in zip(seeds, outs):
         if "error" in o:
@@ -134,7 +144,9 @@ class ComparisonResult:
         object), ``seeds`` (the seeds run; one where nothing depends on the seed), ``seeded``
         (whether the runs depend on the seed: a trained network, or a plant with noise), ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
         seed), ``runaway`` (``passed`` of ``runs``, ``rate``, the first ``failures``' reasons),
-        ``errors`` (runs that could not be made, e.g. a diverged loop), ``warnings``
+        ``errors`` (runs that could not be made, e.g. a diverged loop), ``warnings``, and
+        ``not_applicable`` (why, with no metric and no runaway run) for a compensator of the
+        position error on an open-loop experiment
     bench : the bench's name
     compensators, experiments : names, in table order
     plants : the plant objects, in table order
@@ -184,11 +196,17 @@ class ComparisonResult:
                 for m in ex.metrics:
                     cells.append(_cell(r["metrics"][m]))
                 rw = r["runaway"]
-                cells.append(f"{rw['passed']}/{rw['runs']}" + (" (errors)" if r["errors"] else ""))
+                if "not_applicable" in r:
+                    cells.append("not applicable (open loop)")
+                else:
+                    cells.append(f"{rw['passed']}/{rw['runs']}" + (" (errors)" if r["errors"] else ""))
                 out.append("| " + " | ".join(cells) + " |")
             out.append("")
         notes = [f"- {r['compensator']} / {r['experiment']} / {r['plant']['name']}: {t}"
                  for r in self.rows for t in r["runaway"]["failures"] + r["warnings"]]
+        na = sorted({(r["compensator"], r["experiment"], r["not_applicable"]) for r in self.rows
+                     if "not_applicable" in r})
+        notes += [f"- {c} / {e}: not applicable: {t}" for c, e, t in na]
         if notes:
             out += ["## Runaways, errors and warnings", ""] + notes + [""]
         out += ["## Metrics", ""] + [f"- `{k}` [{u}]: {d}" for k, (u, d) in METRICS.items()] + [""]

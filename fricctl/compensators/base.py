@@ -68,6 +68,13 @@ class Compensator:
     #: True when it has a state (it runs in the compiled loop only; no ``__call__``).
     stateful: bool = False
 
+    @property
+    def needs_reference(self) -> bool:
+        """Whether its estimate depends on the position error ``r - y`` (integral action, an
+        observer with an error gain): meaningless in an open-loop experiment, which has no
+        reference to track."""
+        return False
+
     def __call__(self, tm, omega_hat):
         if self.stateful:
             raise ValueError(f"the {self.name} compensator has a state: it is not a function of "

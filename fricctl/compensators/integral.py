@@ -126,6 +126,11 @@ class IntegralAction(Compensator):
     """Label in results and plots."""
     stateful = True  # its state: the integral of the error
 
+    @property
+    def needs_reference(self) -> bool:
+        """True: it integrates the position error ``r - y``."""
+        return True
+
     def __post_init__(self):
         v.real("ki", self.ki, positive=True, unit="N*m/(rad*s)")
         mt = v.real("max_torque", self.max_torque, positive=True, finite=False, unit="N*m")

@@ -104,6 +104,11 @@ class LuGreObserver(Compensator):
     """Label in results and plots."""
     stateful = True  # its state: z_hat (a class attribute, not a field)
 
+    @property
+    def needs_reference(self) -> bool:
+        """True when the observer gain ``k`` feeds the position error ``e = y - r`` back."""
+        return self.gain != 0.0
+
     def __post_init__(self):
         v.real("sigma0", self.sigma0, positive=True, unit="N*m/rad")
         v.real("coulomb_pos", self.coulomb_pos, positive=True, unit="N*m")
