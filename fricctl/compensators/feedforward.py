@@ -56,7 +56,7 @@ class StaticFeedforward(Compensator):
     stribeck_exponent : float
         delta [-] (> 0; 2 is the Gaussian curve).
     deadband : float
-        |w| at or below it gives 0 [rad/s] (0: only w = 0 exactly).
+        ``|w|`` at or below it gives 0 [rad/s] (0: only ``w = 0`` exactly).
     velocity : {"measured", "reference"}
         Evaluate at ``omega_hat_k`` or at ``(r_k - r_{k-1})/Ts``.
     scale : float
