@@ -85,7 +85,8 @@ def test_lugre_observer_on_a_model_without_lugre_gets_the_assumed_bristle():
     m = b.model
     assert m.friction.lugre_sigma0 == 0.0
     obs = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time)
-    fs = m.friction.coulomb_pos + m.friction.static_excess_pos
+    fs = m.friction.breakaway(1)
+    assert fs == pytest.approx(0.18)  # the paper's static friction, not Fc = 0.144
     assert obs.sigma0 == pytest.approx(fs / (BRISTLE_COUNTS * m.encoder_resolution))
     assert obs.sigma1 == pytest.approx(math.sqrt(obs.sigma0 * m.inertia))
     given = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time,

@@ -169,7 +169,7 @@ def _lugre_defaults(model, options: dict) -> dict:
     if not count > 0.0:
         raise ValueError("lugre_observer: the model has neither a LuGre law nor an encoder count "
                          "to size an assumed bristle from; give the option sigma0")
-    fs = max(fr.coulomb_pos + fr.static_excess_pos, fr.coulomb_neg + fr.static_excess_neg)
+    fs = max(fr.breakaway(1), fr.breakaway(-1))
     sigma0 = fs / (BRISTLE_COUNTS * count)
     out = {"sigma0": sigma0, **options}
     out.setdefault("sigma1", (sigma0 * model.inertia) ** 0.5)
