@@ -342,7 +342,7 @@ for cid in ("fig16-nn", "fig17-nn", "fig18-with"):
     assert by[(cid, "fricctl")].runaway_failures == 0
 assert by[("fig16-coulomb-fs", "fricctl")].n_passed == 0 and by[("fig18-without", "fricctl")].n_passed == 0
 for pipe in PIPELINES:  # the Coulomb claims do not involve the network: the same in every seed, no runaway
-    assert by[("fig16-coulomb-fs", pipe)].n_passed == 0 and by[("fig16-coulomb-fc", pipe)].n_passed == len(SEEDS)
+    assert by[("fig16-coulomb-fs", pipe)].n_passed == 0 and by[("fig16-coulomb-fc", pipe)].n_passed == 0
     assert by[("fig16-coulomb-fs", pipe)].runaway_failures == by[("fig16-coulomb-fc", pipe)].runaway_failures == 0
 
 # %% [markdown]
@@ -353,7 +353,8 @@ for pipe in PIPELINES:  # the Coulomb claims do not involve the network: the sam
 # (`fig18-without`).  The Coulomb claims carry the wind-up check of their own run: a
 # limit cycle would not fail it (the compensation never exceeds the friction it
 # estimates), a runaway would; here neither happens.  `fig16-coulomb-fc` ("at a smaller
-# level the oscillation disappears") passes in every seed -- with nothing to disappear.
+# level the oscillation disappears") fails in every seed too: with no oscillation at the
+# breakaway level there is nothing to disappear, and a claim that cannot fail reproduces nothing.
 # Both are judged on the joint's position (two reference crossings after the step, or more
 # than three counts of motion over the last second), not on the sign changes of $T_m$:
 # a velocity estimate that flickers at rest makes $T_m$ change sign at any level while the

@@ -307,3 +307,9 @@ def test_a_compensator_of_the_position_error_is_not_applicable_open_loop():
     assert "| integral | nominal | n/a | n/a | n/a | not applicable (open loop) |" in md
     assert "- integral / coast: not applicable: integral acts on the position error" in md
     json.loads(res.to_json())
+
+
+def test_a_misspelt_option_of_a_registered_compensator_is_a_value_error():
+    with pytest.raises(ValueError, match="options of 'dob'.*bandwith"):
+        compare(compensators=["dob"], experiments=["pd_steps"], plants=["nominal"], seeds=1,
+                bench="literal", options={"dob": {"bandwith": 5.0}})

@@ -410,7 +410,8 @@ def test_fig16_aged_actuator(figs, claims, network):
         assert r.coulomb_wind_up[k].passed
     fs_claim, fc_claim = claims["fig16-coulomb-fs"], claims["fig16-coulomb-fc"]
     assert not fs_claim.passed and "sign(omega_hat)" in fs_claim.note and not fs_claim.runaway
-    assert fc_claim.passed and "nothing disappears" in fc_claim.note
+    # "the oscillation disappears" needs one at the breakaway level: without it, not reproduced
+    assert not fc_claim.passed and "nothing to disappear" in fc_claim.note and not fc_claim.runaway
     # the describing function on this loop: at s x Fs^ against 0.95 x the true friction, a cycle whose
     # pull stays below the aged breakaway (the joint sticks), reported in the claim; at s x Fc^ none
     from fricctl.design import LinearLoop, coulomb_limit_cycle

@@ -171,9 +171,12 @@ def run(args) -> int:
     write_text(out / "comparison.json", res.to_json() + "\n", overwrite=args.force)
     write_text(out / "comparison.md", res.table(), overwrite=args.force)
     failed = [r for r in res.rows if r["runaway"]["passed"] < r["runaway"]["runs"]]
+    errors = [r for r in res.rows if r["errors"]]
     print(f"bench {bench}: {len(res.compensators)} compensators x {len(res.experiments)} experiments x "
           f"{len(res.plants)} plants = {len(res.rows)} rows, seeds 0..{seeds - 1} for the trained "
-          f"networks; {len(failed)} rows with a runaway check failed in some run")
+          f"networks; {len(failed)} rows with a runaway check failed in some run"
+          + (f", {len(errors)} rows with runs that could not be made (comparison.md says why)"
+             if errors else ""))
     print(f"wrote comparison.json and comparison.md to {out} ({time.perf_counter() - t0:.0f} s, "
           f"executor {kind}{'' if kind == 'serial' else f', {workers if scheduler is None else scheduler}'})")
     return 0

@@ -117,10 +117,8 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
                 "runaway": {"passed": 0, "runs": 0, "rate": None, "failures": []},
                 "errors": [], "warnings": []}
     passed, reasons = 0, []
-    for s, o in zip(seeds, outs):
-        if "error" in o:
-            reasons.append(f"seed {s}: {o['error']}")
-            continue
+    ran = [(s, o) for s, o in zip(seeds, outs) if "error" not in o]  # an error is not a runaway
+    for s, o in ran:
         failed = [c for c in o["checks"] if not c["passed"]]
         if failed:
             reasons.append(f"seed {s}: {failed[0]['reason']}")
@@ -128,7 +126,7 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
             passed += 1
     return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
             "seeded": seeded, "metrics": metrics,
-            "runaway": {"passed": passed, "runs": len(outs), "rate": passed / len(outs),
+            "runaway": {"passed": passed, "runs": len(ran), "rate": passed / len(ran) if ran else None,
                         "failures": reasons[:3]},
             "errors": [f"seed {s}: {o['error']}" for s, o in zip(seeds, outs) if "error" in o],
             "warnings": warnings}
@@ -143,7 +141,8 @@ class ComparisonResult:
     rows : plain dicts (JSON-ready): ``compensator``, ``experiment``, ``plant`` (the plant
         object), ``seeds`` (the seeds run; one where nothing depends on the seed), ``seeded``
         (whether the runs depend on the seed: a trained network, or a plant with noise), ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
-        seed), ``runaway`` (``passed`` of ``runs``, ``rate``, the first ``failures``' reasons),
+        seed), ``runaway`` (``passed`` of the ``runs`` that ran -- a run that could not be made
+        is an error, not a runaway --, ``rate`` (None when none ran), the first ``failures``' reasons),
         ``errors`` (runs that could not be made, e.g. a diverged loop), ``warnings``, and
         ``not_applicable`` (why, with no metric and no runaway run) for a compensator of the
         position error on an open-loop experiment
@@ -203,7 +202,7 @@ class ComparisonResult:
                 out.append("| " + " | ".join(cells) + " |")
             out.append("")
         notes = [f"- {r['compensator']} / {r['experiment']} / {r['plant']['name']}: {t}"
-                 for r in self.rows for t in r["runaway"]["failures"] + r["warnings"]]
+                 for r in self.rows for t in r["runaway"]["failures"] + r["errors"] + r["warnings"]]
         na = sorted({(r["compensator"], r["experiment"], r["not_applicable"]) for r in self.rows
                      if "not_applicable" in r})
         notes += [f"- {c} / {e}: not applicable: {t}" for c, e, t in na]
@@ -290,6 +289,21 @@ def compare(*, compensators: Sequence[str] | None = None, experiments: Sequence[
             o["bench"] = bench
     if executor is not None and not hasattr(executor, "submit"):
         raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
+    # a contender whose options its maker checks (the registered compensators) is built once
+    # here: a misspelt or non-physical option is this call's ValueError, not a table of rows
+    # that all say "error"
+    from ..paper.common import designs
+
+    b = _bench(bench)
+    for n in comps:
+        if contender(n).options is None:
+            ex = EXPERIMENTS[exps[0]]
+            try:
+                make_contender(n, _model(bench, ex.linked), designs(b)[ex.design],
+                               b.actuator.sample_time, 0, opts[n])
+            except ValueError as exc:
+                raise ValueError(f"options of {n!r}: {exc}") from None
+
     def seeded(n, p) -> bool:
         return contender(n).seeded or noisy(p)
 
