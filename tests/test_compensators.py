@@ -403,3 +403,12 @@ def test_cli_writes_the_c_source_of_a_dob(tmp_path, capsys):
     assert "double axis_dob_step(axis_dob_state *st" in c.with_suffix(".h").read_text()
     subprocess.run([CC, "-std=c99", "-Wall", "-Wextra", "-Werror", "-c", str(c), "-o",
                     str(tmp_path / "x.o")], check=True, cwd=tmp_path)
+
+
+def test_c_header_states_the_compensation_scale():
+    from fricctl.compensators import make
+    from fricctl.compensators.c_export import c_header
+    from fricctl.params import paper_actuator
+
+    h = c_header(make("dob", paper_actuator(), scale=0.95), name="axis")
+    assert "#define AXIS_SCALE 0.94999999999999996" in h

@@ -12,8 +12,9 @@ Discretisation at the sample time Ts (stated, since the loop's signals are sampl
   driven by the mean of the last two held torques, so the raw disturbance is
   ``d_k = (Tm_{k-1} + Tm_{k-2})/2 - J_n (omega_hat_k - omega_hat_{k-1})/Ts``
   (exact for a rigid joint under a constant disturbance, between encoder counts);
-* ``Q`` is discretised by its pole (matched pole-zero / the exact sampled response to a
-  held input): ``d_hat_k = a d_hat_{k-1} + (1 - a) d_k``, ``a = exp(-g Ts)``.
+* ``Q`` is discretised by its pole (matched pole-zero, unit DC gain, the input at sample k
+  -- not the zero-order-hold equivalent, which would use ``d_{k-1}``):
+  ``d_hat_k = a d_hat_{k-1} + (1 - a) d_k``, ``a = exp(-g Ts)``.
 
 State: ``(d_hat, omega_hat_{k-1}, Tm_{k-1}, Tm_{k-2})``.
 

@@ -105,7 +105,7 @@ class _Problem:
 
     def substeps(self, theta) -> int:
         """RK4 sub-steps per sample the simulation at ``theta`` runs (its cost per sample)."""
-        return record_substeps(self.runs[0], dict(zip(self.names, theta)))
+        return max(record_substeps(run, dict(zip(self.names, theta))) for run in self.runs)
 
     def jacobian(self, theta, r0, step) -> np.ndarray:
         """d(simulated output)/d(theta) by forward differences (``-d r/d theta``)."""

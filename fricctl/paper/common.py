@@ -345,7 +345,7 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
                 for k in (COULOMB_AT_FS, COULOMB_AT_FC)}}
     fr = p.friction_model().scaled(friction_scale)
     c = ctl.pd_control(d.kp, d.kd, reference)
-    # one run each: a batch mixing compensator kinds would fall back to the Python loop
+    # one run each (each its own simulate call: the runs' records stay separate)
     return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr)
                           for k, comp in comps.items()}, design=d, coulomb_levels=levels)
 

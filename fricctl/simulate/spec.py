@@ -178,8 +178,8 @@ class CompensatorSpec(NamedTuple):
         Raises
         ------
         ValueError
-            A compiled compensator's parameters or state contain NaN or inf (an infinite
-            torque limit is the one infinity a parameter vector may hold), or a batch mixes
+            A compiled compensator's parameters or state contain NaN or inf (a compensator
+            stores "no limit" as a finite code, e.g. integral action's 0), or a batch mixes
             a compensator with a state (compiled only) with one that runs in Python.
         """
         compiled = [c.compiled() for c in compensators]
