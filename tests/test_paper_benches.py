@@ -314,6 +314,8 @@ def test_cli_bench_is_passed_and_named(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(fricctl.paper, "reproduce_paper", reproduce_paper)
     monkeypatch.setattr(cli_reproduce, "_write_figures", lambda res, out, ex: [])
+    monkeypatch.setattr(cli_reproduce, "_comparison", lambda *a: types.SimpleNamespace(
+        table=lambda: "comparison\n", to_json=lambda: '{"rows": []}'))
     for argv, name in ((["--bench", "consistent"], "consistent"), ([], DEFAULT_BENCH)):
         out = tmp_path / name
         assert main(["reproduce", "--out", str(out), "--fast", "--workers", "1", "--seeds", "1"] + argv) == 0
