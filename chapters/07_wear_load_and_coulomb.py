@@ -129,7 +129,7 @@ assert all(s * g[("paper", k)] > 1.0 for k in SEEDS)  # no fixed point: the torq
 # compensates Coulomb friction "at the dry friction identified experimentally" -- the
 # breakaway level -- and at a smaller level.  Both are read here off the bench's records,
 # as the paper would have, never from the bench's true parameters
-# ([`CoulombLevels`](#fricctl.paper.common.CoulombLevels)): the breakaway level $\hat F_s$ is
+# (`fricctl.paper.common.CoulombLevels`): the breakaway level $\hat F_s$ is
 # the dead zone of the uncompensated dead-zone experiment (Chapter 5), the smaller one the
 # Coulomb level $\hat F_c$ of a least-squares fit of $F_c\operatorname{sign}(\omega) + b\,\omega$
 # on the pipeline's sliding friction patterns.  Both are scaled by $s$ like the network.
