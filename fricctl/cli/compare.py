@@ -66,8 +66,9 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _list(option: str, text, known) -> tuple | None:
-    """The names of a comma-separated ``text`` (None: all), each one of ``known``."""
+def _list(option: str, text, known, noun: str | None = None) -> tuple | None:
+    """The names of a comma-separated ``text`` (None: all), each one of ``known``; ``noun``
+    names what they are in the messages (``--pipelines``: "pipeline")."""
     if text is None:
         return None
     names = tuple(s.strip() for s in str(text).split(","))
@@ -75,9 +76,9 @@ def _list(option: str, text, known) -> tuple | None:
         raise ValueError(f"{option} must be names separated by commas, got {text!r}")
     unknown = [n for n in names if n not in known]
     if unknown:
-        raise ValueError(f"{option}: unknown name {unknown[0]!r}; choose from {', '.join(known)}")
+        raise ValueError(f"{option}: unknown {noun or 'name'} {unknown[0]!r}; choose from {', '.join(known)}")
     if len(set(names)) != len(names):
-        raise ValueError(f"{option} names one twice: {text!r}")
+        raise ValueError(f"{option} names {'a ' + noun if noun else 'one'} twice: {text!r}")
     return names
 
 

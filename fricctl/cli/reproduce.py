@@ -146,16 +146,9 @@ def _count(name: str, text, low: int, high: int) -> int:
 
 def _pipelines(text: str) -> tuple:
     from ..nn.pipelines import PIPELINES
+    from .compare import _list
 
-    names = tuple(s.strip() for s in str(text).split(","))
-    if not all(names):
-        raise ValueError(f"--pipelines must be names separated by commas, got {text!r}")
-    unknown = [n for n in names if n not in PIPELINES]
-    if unknown:
-        raise ValueError(f"--pipelines: unknown pipeline {unknown[0]!r}; choose from {', '.join(PIPELINES)}")
-    if len(set(names)) != len(names):
-        raise ValueError(f"--pipelines names a pipeline twice: {text!r}")
-    return names
+    return _list("--pipelines", text, tuple(PIPELINES), noun="pipeline")
 
 
 def _prepare_out(out: Path, force: bool) -> None:
