@@ -10,6 +10,7 @@ re-exported here: a diagnosis reads a record exactly as ``fricctl identify`` doe
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -113,6 +114,22 @@ def contact_damping_ratio(e: float) -> float:
     return -le / math.sqrt(math.pi ** 2 + le * le)
 
 
+#: The motor's speed and acceleration along a record (:func:`_motor_motion`), by its signals
+#: (weakly: gone with the record).
+_MOTOR = weakref.WeakKeyDictionary()
+
+
+def _motor_motion(sig: Signals) -> tuple:
+    """Speed and acceleration of the motor side, the gradients of the filtered position
+    ([rad/s], [rad/s^2]): the same for every gap, computed once per record (the backlash
+    scan asks for some 200 gaps)."""
+    hit = _MOTOR.get(sig)
+    if hit is None:
+        wm = np.gradient(sig.qf, sig.ts)
+        hit = _MOTOR[sig] = (wm, np.gradient(wm, sig.ts))
+    return hit
+
+
 def backlash_load(sig: Signals, gap: float, restitution: float = 0.0) -> BacklashLoad:
     """The load behind a dead band of total width ``gap`` [rad] driven by the record's motion.
 
@@ -125,8 +142,7 @@ def backlash_load(sig: Signals, gap: float, restitution: float = 0.0) -> Backlas
     than one encoder count per sample.  The record starts with the load in the middle of
     the gap.
     """
-    wm = np.gradient(sig.qf, sig.ts)
-    am = np.gradient(wm, sig.ts)
+    wm, am = _motor_motion(sig)
     vmin = (sig.resolution if sig.resolution > 0 else 1e-9 * float(np.ptp(sig.qf))) / sig.ts
     ql, wl, side = _backlash_load(np.ascontiguousarray(sig.qf, dtype=float), wm, am,
                                   float(sig.ts), 0.5 * float(gap), float(restitution), vmin)

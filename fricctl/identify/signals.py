@@ -22,13 +22,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy import signal
 
 from .. import _validate as v
 from ..datasets import Run
-from ..estimation import butterworth_central, zero_phase_filter
+from ..estimation import ZeroPhaseFilter, butterworth_central, zero_phase_filter
 from ..plant import JointModel
 
 __all__ = ["Signals", "estimate_signals", "centred", "delayed", "delay_in_samples", "motion_band",
@@ -144,7 +145,12 @@ class Signals:
         before filtering, and ``LP(Tm*S) = I*LP(q'') + sum_j theta_j*LP(f_j*S)`` holds at
         every sample (S = 1 while sliding), with no filter smear across stops.
         """
-        return zero_phase_filter(self.lp[0], self.lp[1], np.asarray(x, dtype=float) * self.slide)
+        return self._lowpass(np.asarray(x, dtype=float) * self.slide)
+
+    @cached_property
+    def _lowpass(self) -> ZeroPhaseFilter:
+        """:attr:`lp` checked once (a diagnosis filters a thousand columns through it)."""
+        return ZeroPhaseFilter(*self.lp)
 
     def torque_target(self, delay: float = 0.0, offset: float = 0.0) -> np.ndarray:
         """LP of the sample-centred torque the joint receives, delayed by ``delay`` samples."""

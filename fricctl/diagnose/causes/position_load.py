@@ -94,11 +94,12 @@ def _best_cycles(base, span) -> dict:
     if hit is not None:
         return hit[1]
     m = sig.moving
+    rows = np.flatnonzero(m)
     folds, r = sig.folds[m], r_all[m]
     nf = sig.n_folds
     fit = []
     for c in CYCLES:
-        x = _variant(base, c, span).extra[m]
+        x = np.take(_variant(base, c, span).extra, rows, axis=0)  # = extra[m], 15x faster
         prods = (x[:, 0] * x[:, 0], x[:, 0] * x[:, 1], x[:, 1] * x[:, 1], x[:, 0] * r, x[:, 1] * r)
         per = np.array([np.bincount(folds, weights=p, minlength=nf)[:nf] for p in prods])
         fit.append(np.column_stack([per.sum(axis=1)[:, None] - per, per.sum(axis=1)]))
