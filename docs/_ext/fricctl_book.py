@@ -40,6 +40,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -517,7 +518,10 @@ def stop_execution(app=None, exception=None) -> None:
     with _PROCS_LOCK:
         for proc in list(_PROCS):
             try:
-                os.killpg(proc.pid, 15)
+                if hasattr(os, "killpg"):
+                    os.killpg(proc.pid, signal.SIGTERM)  # the process and its workers
+                else:  # Windows: no process groups
+                    proc.terminate()
             except OSError:
                 pass
     for pool in _POOL:
