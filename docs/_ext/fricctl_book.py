@@ -37,6 +37,7 @@ from __future__ import annotations
 import ast
 import importlib
 import json
+import math
 import os
 import re
 import shutil
@@ -387,6 +388,10 @@ _PROCS_LOCK = threading.Lock()
 _STOP = threading.Event()
 #: The script that runs a chapter's notebook, or ``fricctl reproduce``, in a process of its own.
 RUNNER = Path(__file__).resolve().with_name("fricctl_execute.py")
+#: A chapter's name -> its wall time [s] in this build; kept in doctreedir (:data:`SECONDS`) to
+#: start the longest chapters first next time (a short one last does not wait alone).
+TIMES: dict[str, float] = {}
+SECONDS = "fricctl-chapter-seconds.json"
 #: Where the pool writes each chapter's notebook before and after execution (under doctreedir).
 EXECUTING = "fricctl-executing"
 
@@ -450,6 +455,7 @@ def _executed(running: tuple[str, Future]):
     name, future = running
     t0 = time.perf_counter()
     nb, wall, cpu = _result(future)
+    TIMES[name] = wall
     logger.info("chapters/%s.py: executed in %s; waited %.0f s for it here", name,
                 _took(wall, cpu), time.perf_counter() - t0)
     return nb
@@ -460,7 +466,8 @@ def start_execution(app) -> None:
     a pool of :func:`book_jobs` threads, each running its own process: reproduce first (its
     networks are the ones Chapters 4-7 and 10 train again, read back from the disk cache,
     :mod:`fricctl.nn.cache`, which makes a process wait while another trains the same one),
-    then the chapters in their order.  Sphinx reads the other pages meanwhile; a chapter's
+    then the chapters, the longest of the previous build first (its times are kept in the
+    doctree folder; a chapter without one first, in file order).  Sphinx reads the other pages meanwhile; a chapter's
     page waits for its notebook (:func:`read_chapter`), the claims' page for reproduce
     (:func:`wait_for_reproduce`).
 
@@ -485,6 +492,11 @@ def start_execution(app) -> None:
             wall, cpu, tail = _reproduce(cmd)
             logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
         return
+    try:
+        last = json.loads((Path(app.doctreedir) / SECONDS).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        last = {}
+    chapters.sort(key=lambda c: -float(last.get(c.stem, math.inf)))  # stable: file order otherwise
     folder = Path(app.doctreedir) / EXECUTING
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
@@ -492,8 +504,9 @@ def start_execution(app) -> None:
     _STOP.clear()
     pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
     _POOL.append(pool)
-    logger.info("executing %d chapters%s, %d at a time", len(chapters),
-                " and running fricctl reproduce" if cmd else "", jobs)
+    logger.info("executing %d chapters%s, %d at a time: %s", len(chapters),
+                " and running fricctl reproduce" if cmd else "", jobs,
+                ", ".join((["reproduce"] if cmd else []) + [c.stem[:2] for c in chapters]))
     if cmd is not None:
         REPRODUCING.append(pool.submit(_reproduce, cmd))
     for c in chapters:
@@ -512,6 +525,15 @@ def hand_over_execution(app) -> None:
 def stop_execution(app=None, exception=None) -> None:
     """``build-finished`` (or a failed chapter): nothing left running -- queued work cancelled,
     running processes (and their process groups) ended."""
+    if exception is None and TIMES and app is not None:  # a complete build: its times
+        path = Path(app.doctreedir) / SECONDS
+        try:
+            last = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            last = {}
+        path.write_text(json.dumps({**last, **{k: round(v, 1) for k, v in TIMES.items()}},
+                                   indent=1, sort_keys=True), encoding="utf-8")
+    TIMES.clear()
     _STOP.set()
     for pool in _POOL:
         pool.shutdown(wait=False, cancel_futures=True)
