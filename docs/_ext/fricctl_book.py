@@ -500,7 +500,7 @@ def start_execution(app) -> None:
     folder = Path(app.doctreedir) / EXECUTING
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
-    cwd = "-" if config.nb_execution_in_temp else str(Path(app.srcdir, "chapters").resolve())
+    cwd = "-" if config.nb_execution_in_temp else str(Path(app.srcdir, "chapters"))  # as myst-nb
     _STOP.clear()
     pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
     _POOL.append(pool)
