@@ -35,14 +35,17 @@ clean:
 # `fricctl reproduce` into $(BOOK)/reproduce; a cell error or a Sphinx warning fails it.
 # BOOK_SEEDS=N: training seeds of the claims (default 10, fast 2); BOOK_ONLY=01,05: execute only
 # those chapters (a quick look); BOOK_REPRODUCE=reuse: keep the claims of the previous build.
+# BOOK_JOBS=N: how many chapters (and the reproduce step) execute at once (default: the CPUs
+# available; 1: reproduce first, then myst-nb executes the chapters one by one).
 BOOK ?= build/book
 BOOK_SEEDS ?=
 BOOK_ONLY ?=
+BOOK_JOBS ?=
 BOOK_REPRODUCE ?= run
 SPHINXOPTS ?=
 BOOK_FLAGS = -E -W --keep-going -T -d $(BOOK)/doctrees -D fricctl_reproduce_dir=$(abspath $(BOOK))/reproduce \
 	-D fricctl_reproduce=$(BOOK_REPRODUCE) $(if $(BOOK_SEEDS),-D fricctl_reproduce_seeds=$(BOOK_SEEDS)) \
-	$(if $(BOOK_ONLY),-D fricctl_book_only=$(BOOK_ONLY))
+	$(if $(BOOK_ONLY),-D fricctl_book_only=$(BOOK_ONLY)) $(if $(BOOK_JOBS),-D fricctl_book_jobs=$(BOOK_JOBS))
 
 .PHONY: book
 

@@ -6,7 +6,8 @@ nothing fetched at build or reading time: MathJax is served from the site itself
 
 * ``chapters/`` (a symbolic link to the repository's ``chapters/``): the jupytext chapters,
   read by ``_ext/fricctl_book.read_chapter`` and executed in a fresh kernel each build
-  (``FRICCTL_FAST=1`` in the environment gives their short version);
+  (``FRICCTL_FAST=1`` in the environment gives their short version), several at a time
+  beside ``fricctl reproduce`` (``fricctl_book_jobs``, ``_ext/fricctl_book.start_execution``);
 * ``reproduction.md``: the README's tables (included from README.md) and the output of
   ``fricctl reproduce``, run into ``fricctl_reproduce_dir`` at the start of the build;
 * ``api/``: the reference, from the numpydoc docstrings.

@@ -367,6 +367,30 @@ def test_every_fricctl_function_a_chapter_uses_links_to_the_api(book):
             assert name in documented[api], f"{chapter.name}: {links[name]}#{name} is no API entry"
 
 
+def test_a_chapter_executed_beside_the_others_runs_as_myst_nb_runs_it(tmp_path):
+    """The book's pool (fricctl_book.start_execution) runs each chapter in a process of its
+    own (docs/_ext/fricctl_execute.py): the outputs come back in their cells, with the CPU
+    time; a cell error fails with the error's name (what the book fixture and CI look for),
+    the failing cell's code and its message -- as myst-nb's own execution fails the build."""
+    pytest.importorskip("ipykernel", reason="the book needs: pip install -e '.[book]'")
+    nbformat = pytest.importorskip("nbformat")
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import fricctl_book
+    from sphinx.errors import ExtensionError
+
+    cells = [nbformat.v4.new_code_cell("x = 6 * 7\nprint(x)"), nbformat.v4.new_markdown_cell("text"),
+             nbformat.v4.new_code_cell("x + 1")]
+    nb, wall, cpu = fricctl_book._execute_chapter("ok", nbformat.v4.new_notebook(cells=cells),
+                                                  tmp_path, 600, "-")
+    assert [c.cell_type for c in nb.cells] == ["code", "markdown", "code"]
+    assert nb.cells[0].outputs[0]["text"] == "42\n"
+    assert nb.cells[2].outputs[0]["data"]["text/plain"] == "43"
+    assert wall > 0 and cpu is not None and cpu > 0  # the runner's own Python at least
+    bad = [nbformat.v4.new_code_cell("y = 1"), nbformat.v4.new_code_cell("assert y == 2, 'y is not 2'")]
+    with pytest.raises(ExtensionError, match="(?s)CellExecutionError.*assert y == 2.*y is not 2"):
+        fricctl_book._execute_chapter("bad", nbformat.v4.new_notebook(cells=bad), tmp_path, 600, "-")
+
+
 def test_claims_details_are_folded_after_the_summary_table(book):
     """The claims page: the at-a-glance table first, then each detail section collapsed in a
     ``<details>`` under its title, none opened, none cutting a section (issue 24 item 3)."""

@@ -135,3 +135,52 @@ def test_cache_reads_back_the_same_network_and_retrains_on_a_new_key(tmp_path, m
     monkeypatch.setenv("FRICCTL_CACHE", "off")               # switched off: always trains
     cached_pipeline_net({"k": 1}, make)
     assert len(calls) == 4
+
+
+def test_cache_makes_a_second_trainer_of_the_same_network_wait_and_read_it(tmp_path, monkeypatch):
+    """Two trainers of one configuration at once (the book runs ``fricctl reproduce`` and the
+    chapters side by side): the second waits for the first's network instead of training it
+    again.  Two threads, each with its own open lock file, conflict under ``flock`` as two
+    processes do."""
+    import threading
+
+    fcntl = pytest.importorskip("fcntl", reason="the lock is flock's (POSIX)")
+    from fricctl.nn.cache import cached_pipeline_net
+
+    monkeypatch.setenv("FRICCTL_CACHE", str(tmp_path))
+    tm, om, f, rest = _patterns(np.random.default_rng(3))
+    training, waiting, release = threading.Event(), threading.Event(), threading.Event()
+    calls = []
+    flock = fcntl.flock
+
+    def noting_flock(fd, op):
+        if threading.current_thread().name == "second":
+            waiting.set()  # about to block on the first one's lock
+        return flock(fd, op)
+
+    monkeypatch.setattr(fcntl, "flock", noting_flock)
+
+    def make():
+        calls.append(threading.current_thread().name)
+        training.set()
+        if threading.current_thread().name == "second":
+            waiting.set()  # nothing made it wait: it trains too (and the test fails)
+        release.wait()  # the second caller asks while this one trains
+        return pipeline("fricctl").train(FrictionPatterns(tm=tm, omega=om, friction=f, at_rest=rest,
+                                                          velocity_quantum=0.0157),
+                                         rng=np.random.default_rng(0), max_patterns=600)
+
+    got = {}
+    first = threading.Thread(target=lambda: got.update(first=cached_pipeline_net({"k": 1}, make)),
+                             name="first")
+    second = threading.Thread(target=lambda: got.update(second=cached_pipeline_net({"k": 1}, make)),
+                              name="second")
+    first.start()
+    training.wait()
+    second.start()
+    waiting.wait()
+    release.set()
+    first.join()
+    second.join()
+    assert calls == ["first"]  # without the lock the second trains too: ["first", "second"]
+    assert got["second"].net.to_json() == got["first"].net.to_json()

@@ -6,11 +6,15 @@
   solution" (+ " to exercise N" when its first line is ``# Exercise N...``; the cell runs,
   input and output collapsed), ``widget`` -> ``remove-cell``
   (the cell runs; the book shows the static fallback that follows it instead).
-* At ``builder-inited``, ``fricctl reproduce`` runs into ``fricctl_reproduce_dir`` (the
+* At ``builder-inited``, ``fricctl reproduce`` starts into ``fricctl_reproduce_dir`` (the
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
   page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
   first, every detail section folded: :func:`fold_details`) and the PNGs of the
   representative seeds at :data:`FIGURES_PLACEHOLDER`.
+* The chapters and ``fricctl reproduce`` run side by side, ``fricctl_book_jobs`` at a time
+  (default: the CPUs available), each chapter in its own kernel started the way myst-nb's
+  ``force`` mode starts it (:mod:`fricctl_execute`); myst-nb then renders the notebooks as
+  executed (:func:`start_execution`).  A cell error still fails the build.
 * ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`);
   ``fricctl_executed_notebooks = <folder>`` (with ``nb_execution_mode = "off"``: the PDF of
   ``make book-pdf``) takes each chapter's notebook as an earlier build executed it
@@ -32,12 +36,17 @@ from __future__ import annotations
 
 import ast
 import importlib
+import json
+import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import threading
 import time
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
@@ -194,6 +203,9 @@ def read_chapter(text: str):
     ``fricctl_executed_notebooks`` (the PDF of ``make book-pdf``), the outputs the HTML build
     computed from this very code, so that no chapter runs twice (a chapter whose code changed
     since is refused)."""
+    running = RUNNING.get(text)
+    if running is not None:  # executed by start_execution's pool: wait for it here
+        return _executed(running)
     nb = _read_chapter(text)
     executed = EXECUTED.get(text)
     if executed is None:
@@ -318,27 +330,227 @@ def reproduce_dir(app) -> Path:
     return Path(folder).resolve() if folder else Path(app.outdir) / "_reproduce"
 
 
-def run_reproduce(app) -> None:
-    """``fricctl reproduce --seeds N --force [--fast]`` (``--fast`` when FRICCTL_FAST=1).
-
-    ``fricctl_reproduce = "reuse"`` keeps what an earlier build wrote (for an author who is
-    rebuilding a chapter, not the claims).
-    """
+def reproduce_command(app) -> list[str] | None:
+    """``fricctl reproduce --seeds N --force [--fast]`` (``--fast`` when FRICCTL_FAST=1), or
+    None when ``fricctl_reproduce = "reuse"`` keeps what an earlier build wrote (for an author
+    who is rebuilding a chapter, not the claims)."""
     out = reproduce_dir(app)
     if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
         logger.info("fricctl reproduce: reusing %s", out)
-        return
+        return None
     seeds = app.config.fricctl_reproduce_seeds or ("2" if _fast() else "10")
-    cmd = [sys.executable, "-m", "fricctl", "reproduce", "--out", str(out), "--seeds", str(seeds),
-           "--force"] + (["--fast"] if _fast() else [])
-    logger.info("running fricctl %s", " ".join(cmd[3:]))
+    return [sys.executable, "-m", "fricctl", "reproduce", "--out", str(out), "--seeds", str(seeds),
+            "--force"] + (["--fast"] if _fast() else [])
+
+
+def _reproduce(cmd: list[str]) -> tuple[float, float | None, str]:
+    """Run ``fricctl reproduce`` (:func:`reproduce_command`) through :mod:`fricctl_execute`:
+    its wall and CPU time [s] and last lines; a failure fails the build."""
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=dict(os.environ, MPLBACKEND="Agg"), capture_output=True, text=True)
+    proc = _run([sys.executable, str(RUNNER), "--run"] + cmd, what="fricctl reproduce",
+                env=dict(os.environ, MPLBACKEND="Agg"))
+    cpu, stdout = _cpu(proc.stdout)
     if proc.returncode != 0:
         raise ExtensionError(f"`fricctl reproduce` exited with {proc.returncode}:\n"
-                             f"{proc.stdout[-3000:]}\n{proc.stderr[-5000:]}")
-    logger.info("fricctl reproduce took %.0f s:\n%s", time.perf_counter() - t0,
-                "\n".join(proc.stdout.strip().splitlines()[-3:]))
+                             f"{stdout[-3000:]}\n{proc.stderr[-5000:]}")
+    return time.perf_counter() - t0, cpu, "\n".join(stdout.strip().splitlines()[-3:])
+
+
+def _cpu(stdout: str) -> tuple[float | None, str]:
+    """The CPU time :mod:`fricctl_execute` reports on its last line [s], and the rest."""
+    head, _, last = stdout.rstrip().rpartition("\n")
+    if last.startswith("fricctl-execute cpu_s="):
+        return float(last.split("=", 1)[1]), head
+    return None, stdout
+
+
+def _took(wall: float, cpu: float | None) -> str:
+    return f"{wall:.0f} s" + ("" if cpu is None else f" ({cpu:.0f} s of CPU)")
+
+
+def wait_for_reproduce() -> None:
+    """The claims are needed now: wait for ``fricctl reproduce`` if it is running in the pool."""
+    while REPRODUCING:
+        wall, cpu, tail = _result(REPRODUCING.pop())
+        logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
+
+
+# -- executing the chapters and the claims side by side ---------------------------------------
+
+#: A chapter's text -> (its name, the Future of (its executed notebook, wall and CPU
+#: seconds)), for the chapters :func:`start_execution` gave to its pool.
+RUNNING: dict[str, tuple[str, Future]] = {}
+#: The Future of ``fricctl reproduce`` while it runs in the pool.
+REPRODUCING: list[Future] = []
+_POOL: list[ThreadPoolExecutor] = []
+_PROCS: set[subprocess.Popen] = set()
+_PROCS_LOCK = threading.Lock()
+_STOP = threading.Event()
+#: The script that runs a chapter's notebook, or ``fricctl reproduce``, in a process of its own.
+RUNNER = Path(__file__).resolve().with_name("fricctl_execute.py")
+#: A chapter's name -> its wall time [s] in this build; kept in doctreedir (:data:`SECONDS`) to
+#: start the longest chapters first next time (a short one last does not wait alone).
+TIMES: dict[str, float] = {}
+SECONDS = "fricctl-chapter-seconds.json"
+#: Where the pool writes each chapter's notebook before and after execution (under doctreedir).
+EXECUTING = "fricctl-executing"
+
+
+def book_jobs(config) -> int:
+    """``fricctl_book_jobs``: how many chapters (and ``fricctl reproduce``) run at once; default
+    the CPUs this process may use."""
+    value = str(config.fricctl_book_jobs).strip()
+    if not value:
+        return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if not value.isdigit() or int(value) < 1:
+        raise ExtensionError(f"fricctl_book_jobs: a whole number of processes >= 1, not {value!r}")
+    return int(value)
+
+
+def _run(cmd: list[str], *, what: str, env=None) -> subprocess.CompletedProcess:
+    """``cmd`` run to its end in a session of its own, so that :func:`stop_execution` can end
+    it with its children (``fricctl reproduce``'s workers) when the build stops early."""
+    with _PROCS_LOCK:
+        if _STOP.is_set():
+            raise ExtensionError(f"{what}: not started, the build is stopping")
+        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True, start_new_session=True)
+        _PROCS.add(proc)
+    try:
+        out, err = proc.communicate()
+    finally:
+        with _PROCS_LOCK:
+            _PROCS.discard(proc)
+    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+
+
+def _execute_chapter(name: str, nb, folder: Path, timeout: int, cwd: str):
+    """``nb`` executed in a kernel of its own (:mod:`fricctl_execute`): (the executed
+    notebook, wall seconds, CPU seconds).  A cell error raises, with the cell and its
+    traceback."""
+    import nbformat
+
+    src, dest = folder / f"{name}.ipynb", folder / f"{name}.executed.ipynb"
+    src.write_text(json.dumps(nb, ensure_ascii=False), encoding="utf-8")  # key order kept
+    t0 = time.perf_counter()
+    proc = _run([sys.executable, str(RUNNER), str(src), str(dest), str(timeout), cwd],
+                what=f"chapters/{name}.py")
+    if proc.returncode != 0:
+        raise ExtensionError(f"chapters/{name}.py: its execution failed (exit {proc.returncode}):\n"
+                             f"{proc.stderr[-8000:]}")
+    executed = nbformat.from_dict(json.loads(dest.read_text(encoding="utf-8")))
+    return executed, time.perf_counter() - t0, _cpu(proc.stdout)[0]
+
+
+def _result(future: Future):
+    """``future``'s result; when it failed, everything else still running is stopped first."""
+    try:
+        return future.result()
+    except BaseException:
+        stop_execution()
+        raise
+
+
+def _executed(running: tuple[str, Future]):
+    name, future = running
+    t0 = time.perf_counter()
+    nb, wall, cpu = _result(future)
+    TIMES[name] = wall
+    logger.info("chapters/%s.py: executed in %s; waited %.0f s for it here", name,
+                _took(wall, cpu), time.perf_counter() - t0)
+    return nb
+
+
+def start_execution(app) -> None:
+    """``builder-inited``: ``fricctl reproduce`` and every chapter this build executes start in
+    a pool of :func:`book_jobs` threads, each running its own process: reproduce first (its
+    networks are the ones Chapters 4-7 and 10 train again, read back from the disk cache,
+    :mod:`fricctl.nn.cache`, which makes a process wait while another trains the same one),
+    then the chapters, the longest of the previous build first (its times are kept in the
+    doctree folder; a chapter without one first, in file order).  Sphinx reads the other pages meanwhile; a chapter's
+    page waits for its notebook (:func:`read_chapter`), the claims' page for reproduce
+    (:func:`wait_for_reproduce`).
+
+    The chapters run as myst-nb's ``force`` mode runs them (:mod:`fricctl_execute`): a fresh
+    kernel each, in a temporary folder (``nb_execution_in_temp``), the cell timeout
+    ``nb_execution_timeout``, a cell error an error of the build.  myst-nb then only renders
+    (:func:`hand_over_execution`).  One job, ``sphinx -j N`` (whose forked readers could not
+    wait for this pool), or another execution mode: reproduce runs first and myst-nb executes
+    the chapters one after the other, as it would without this extension.
+    """
+    cmd = reproduce_command(app)
+    config = app.config
+    jobs = book_jobs(config)
+    chapters = []
+    if (jobs > 1 and app.parallel <= 1 and config.nb_execution_mode == "force" and not EXECUTED
+            and config.nb_execution_raise_on_error and not config.nb_execution_allow_errors):
+        chapters = [c for c in sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
+                    if c.read_text(encoding="utf-8") not in UNEXECUTED]
+    if not chapters:
+        if cmd is not None:
+            logger.info("running fricctl %s", " ".join(cmd[3:]))
+            wall, cpu, tail = _reproduce(cmd)
+            logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
+        return
+    try:
+        last = json.loads((Path(app.doctreedir) / SECONDS).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        last = {}
+    chapters.sort(key=lambda c: -float(last.get(c.stem, math.inf)))  # stable: file order otherwise
+    folder = Path(app.doctreedir) / EXECUTING
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    cwd = "-" if config.nb_execution_in_temp else str(Path(app.srcdir, "chapters"))  # as myst-nb
+    _STOP.clear()
+    pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
+    _POOL.append(pool)
+    logger.info("executing %d chapters%s, %d at a time: %s", len(chapters),
+                " and running fricctl reproduce" if cmd else "", jobs,
+                ", ".join((["reproduce"] if cmd else []) + [c.stem[:2] for c in chapters]))
+    if cmd is not None:
+        REPRODUCING.append(pool.submit(_reproduce, cmd))
+    for c in chapters:
+        text = c.read_text(encoding="utf-8")
+        RUNNING[text] = (c.stem, pool.submit(_execute_chapter, c.stem, _read_chapter(text), folder,
+                                             config.nb_execution_timeout, cwd))
+
+
+def hand_over_execution(app) -> None:
+    """``builder-inited``, after myst-nb made its configuration: the chapters the pool runs
+    are not executed by myst-nb again (its ``execution_mode`` "off" for this build only)."""
+    if RUNNING:
+        app.env.mystnb_config = app.env.mystnb_config.copy(execution_mode="off")
+
+
+def stop_execution(app=None, exception=None) -> None:
+    """``build-finished`` (or a failed chapter): nothing left running -- queued work cancelled,
+    running processes (and their process groups) ended."""
+    if exception is None and TIMES and app is not None:  # a complete build: its times
+        path = Path(app.doctreedir) / SECONDS
+        try:
+            last = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            last = {}
+        path.write_text(json.dumps({**last, **{k: round(v, 1) for k, v in TIMES.items()}},
+                                   indent=1, sort_keys=True), encoding="utf-8")
+    TIMES.clear()
+    _STOP.set()
+    for pool in _POOL:
+        pool.shutdown(wait=False, cancel_futures=True)
+    with _PROCS_LOCK:
+        for proc in list(_PROCS):
+            try:
+                if hasattr(os, "killpg"):
+                    os.killpg(proc.pid, signal.SIGTERM)  # the process and its workers
+                else:  # Windows: no process groups
+                    proc.terminate()
+            except OSError:
+                pass
+    for pool in _POOL:
+        pool.shutdown(wait=True)
+    _POOL.clear()
+    RUNNING.clear()
+    REPRODUCING.clear()
 
 
 def shift_headings(text: str, by: int) -> str:
@@ -444,6 +656,7 @@ def on_source_read(app, docname, source) -> None:
     if COEFFICIENTS_PLACEHOLDER in text:
         text = text.replace(COEFFICIENTS_PLACEHOLDER, coefficients_table())
     if PLACEHOLDER in text:
+        wait_for_reproduce()
         here = Path(app.env.doc2path(docname)).parent
         out = reproduce_dir(app)
         if FIGURES_PLACEHOLDER in text:
@@ -537,8 +750,11 @@ def setup(app):
     app.add_config_value("fricctl_reproduce", "run", "env", types=[str])
     app.add_config_value("fricctl_book_only", "", "env", types=[str])
     app.add_config_value("fricctl_executed_notebooks", "", "env", types=[str])
+    app.add_config_value("fricctl_book_jobs", "", "env", types=[str, int])
     app.connect("config-inited", execute_only, priority=400)  # before myst-nb reads its config
-    app.connect("builder-inited", run_reproduce)
+    app.connect("builder-inited", start_execution, priority=400)  # before myst-nb's config
+    app.connect("builder-inited", hand_over_execution, priority=600)  # after it
+    app.connect("build-finished", stop_execution)
     app.connect("source-read", on_source_read)
     app.connect("autodoc-process-docstring", module_sections_as_rubrics)
     app.connect("html-page-context", notebook_download, priority=500)
