@@ -72,8 +72,9 @@ from ... import _validate as v
 from ...params import ActuatorParams
 from ...plant.model import JointModel
 
-__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "BENCHES", "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT",
-           "BENCH_VERSION", "bench", "load_bench", "as_bench", "bench_file"]
+__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "BENCHES",
+           "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
+           "as_bench", "bench_file"]
 
 BENCH_FORMAT = "fricctl.paper_bench"
 BENCH_VERSION = 1
