@@ -16,7 +16,9 @@ The named alternative of every ratio is the paper pipeline on the same seeds, in
 ``tests/test_paper.py::test_fricctl_pipeline_targets_over_20_seeds`` (slow) asserts the
 fricctl targets that are met.
 
-Usage: ``python benchmarks/bench_claims.py [--seeds 20]``.
+Usage: ``python benchmarks/bench_claims.py [--seeds 20] [--bench NAME] [--fast]``: on the bench
+``NAME`` of :data:`fricctl.paper.benches.BENCHES` (its plant, settings and sensing; default the
+literal one, whose plant is :func:`fricctl.params.paper_actuator`).
 """
 
 from __future__ import annotations
@@ -30,8 +32,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from fricctl import paper
+from fricctl.paper.benches import BENCHES, PARAMS_BENCH, bench
 from fricctl.paper.common import designs
-from fricctl.params import paper_actuator
 
 
 def spread(x) -> str:
@@ -42,12 +44,18 @@ def spread(x) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=20)
+    ap.add_argument("--bench", choices=tuple(BENCHES), default=PARAMS_BENCH)
+    ap.add_argument("--fast", action="store_true", help="short training experiments")
     args = ap.parse_args()
-    p = paper_actuator()
+    b = bench(args.bench)
+    p = b.actuator
+    s = b.sensing
+    print(f"bench {b.name}: encoder jitter {s.encoder_jitter:g} counts, torque noise {s.torque_noise:g} N*m, "
+          f"velocity {s.velocity_estimate}; {'fast' if args.fast else 'full'} mode")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
-        res = paper.reproduce_paper(p, seeds=args.seeds, executor=ex, figures=False)
+        res = paper.reproduce_paper(bench=b, fast=args.fast, seeds=args.seeds, executor=ex, figures=False)
     print(f"{args.seeds} seeds x 2 pipelines in {time.perf_counter() - t0:.0f} s "
           f"(load average after: {os.getloadavg()[0]:.2f})\n")
     stats = {(s.pipeline, s.id): s for s in res.stats}
@@ -85,7 +93,7 @@ def main() -> None:
         print(f"\n{name}: {sum(s.holds for s in paper_claims)} of {len(paper_claims)} paper claims hold "
               f"(>= 90 % of {args.seeds} seeds); not holding: "
               + ", ".join(f"{s.id} {s.n_passed}/{s.n_seeds}" for s in paper_claims if not s.holds))
-    kp = designs(p)["fig13-14"].kp
+    kp = designs(b)["fig13-14"].kp
     g = float(np.median(g_fricctl))
     print(f"\ntrade-off of the fricctl pipeline's g = {g:.3f}: Fig. 14's stuck PD loop (Kp = {kp:.3f} N*m/rad) "
           f"stops within +-Fs(1 - g)/Kp = +-{np.rad2deg(p.static * (1 - g) / kp):.3f} deg; the paper's ~6x "

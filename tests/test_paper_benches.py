@@ -24,8 +24,8 @@ from fricctl.design import DesignWarning, design_p, design_pd, normalized_rise_t
 from fricctl.design.second_order import metrics_from_response, resolve_rise_time_definition
 from fricctl.paper import consistency as cs
 from fricctl.paper import fig11
-from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SETTINGS, SOURCES, Bench, as_bench,
-                                   bench, bench_file, load_bench)
+from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SENSING, SETTINGS, SOURCES, Bench,
+                                   as_bench, bench, bench_file, load_bench)
 from fricctl.paper.common import designs
 from fricctl.params import PAPER_LINK_INERTIA, PAPER_VISCOUS, paper_actuator
 
@@ -74,8 +74,8 @@ def test_as_bench():
 def test_every_value_has_its_provenance():
     for name in BENCHES:
         b = bench(name)
-        assert set(b.settings) == set(SETTINGS)
-        for s in b.settings.values():
+        assert set(b.settings) == set(SETTINGS) and set(b.sensing.entries) == set(SENSING)
+        for s in (*b.settings.values(), *b.sensing.entries.values()):
             assert s.source in SOURCES and s.note.strip()
         for key in ("inertia", "sample_time", "encoder_resolution", "max_torque",
                     "friction.viscous_pos", "friction.coulomb_pos", "friction.stribeck_pos",
@@ -109,6 +109,29 @@ def test_literal_bench_is_todays_parameters_exactly():
     assert b.model.parameters() == ref.parameters()
     for name in ("sample_time", "encoder_resolution", "max_torque"):
         assert getattr(b.model, name) == getattr(ref, name)
+    # today's noise-free sensing: the table is unchanged in method
+    assert b.sensing.noise_free and b.sensing.velocity_estimate == "backward-difference"
+
+
+def test_consistent_bench_senses_what_a_real_bench_does():
+    s, b = bench("consistent").sensing, bench("consistent")
+    # the stated rules of the file's notes: a quarter of a count of edge jitter; 0.1 % of Tmax
+    assert s.encoder_jitter == 0.25 and s.position_noise_std == 0.25 * b.model.encoder_resolution
+    assert s.torque_noise == pytest.approx(0.001 * b.actuator.max_torque, rel=1e-4)
+    assert s.velocity_estimate == "backward-difference"
+    assert all(e.source == "assumption" for n, e in s.entries.items() if n != "velocity_estimate")
+    # a bench with other sensing: every other value kept; an unknown item refused
+    c = b.with_sensing("a test", encoder_jitter=0.0, torque_noise=0.0)
+    assert c.sensing.noise_free and c.settings == b.settings and c.actuator == b.actuator
+    assert c.sensing.entries["encoder_jitter"].note == "a test" and c != b
+    with pytest.raises(ValueError, match="sensing: unknown sensing item\\(s\\) 'ripple'"):
+        b.with_sensing("a test", ripple=0.1)
+    with pytest.raises(ValueError, match="sensing.encoder_jitter.value must be >= 0"):
+        b.with_sensing("a test", encoder_jitter=-0.1)
+    # the options of a run: the jitter in radians, drawn from the rng given
+    rng = np.random.default_rng(0)
+    assert s.options(rng) == {"noise_std": s.torque_noise, "position_noise_std": s.position_noise_std,
+                              "rng": rng}
 
 
 # -- consistent = the proposal of docs/paper_consistency.md -------------------------------------------
@@ -173,6 +196,20 @@ def _mutations():
     add("settings.fig11_reading.value must be one of",
         lambda d: d["settings"]["fig11_reading"].update(value="sometimes"))
     add("model.encoder_resolution", lambda d: d["settings"]["encoder_counts"].update(value=500))
+    add("missing key 'sensing'", lambda d: d.pop("sensing"))
+    add("sensing: must be an object", lambda d: d.update(sensing=[0.25]))
+    add("sensing: unknown sensing item 'ripple'",
+        lambda d: d["sensing"].update(ripple=d["sensing"]["torque_noise"]))
+    add("sensing: missing sensing item", lambda d: d["sensing"].pop("torque_noise"))
+    add("sensing.encoder_jitter: missing key 'note'", lambda d: d["sensing"]["encoder_jitter"].pop("note"))
+    add("sensing.encoder_jitter: unknown key", lambda d: d["sensing"]["encoder_jitter"].update(std=0.1))
+    add("sensing.encoder_jitter.unit: must be 'counts'",
+        lambda d: d["sensing"]["encoder_jitter"].update(unit="rad"))
+    add("sensing.encoder_jitter.value must be >= 0", lambda d: d["sensing"]["encoder_jitter"].update(value=-0.1))
+    add("sensing.torque_noise.value must be finite",
+        lambda d: d["sensing"]["torque_noise"].update(value=float("inf")))
+    add("sensing.velocity_estimate.value must be one of",
+        lambda d: d["sensing"]["velocity_estimate"].update(value="kalman"))
     add("model.inertia must be > 0", lambda d: d["model"].update(inertia=-1e-3))
     add("model: missing key 'friction'", lambda d: d["model"].pop("friction"))
     add("model.sample_time: a bench's plant needs it", lambda d: d["model"].update(sample_time=None))
@@ -369,7 +406,11 @@ def test_coulomb_section_of_the_consistency_page(consistent_net):
         r"overshoot to e_ss −([\d.]+)°, stuck \| ([\d.]+) > ([\d.]+) N·m: breaks loose \|", sec)}
     assert sorted(rows) == ["consistent", "literal"]
     fc_doc = {"literal": 0.143, "consistent": 0.107}
-    nets = {"consistent": consistent_net,
+    # the page's table is of the noise-free benches: the consistent bench with its sensing off
+    # (with it on, tests/test_paper_sensing.py)
+    quiet = bench("consistent").with_sensing("noise-free", encoder_jitter=0.0, torque_noise=0.0)
+    assert "the consistent bench with its sensing off" in sec
+    nets = {"consistent": consistent_net.sensed_on(quiet),
             "literal": train_paper_network(bench="literal", fast=True, seed=0, pipeline="fricctl")}
     for name, m in rows.items():
         r = fig16.run(nets[name])

@@ -90,6 +90,48 @@ def test_noise_is_seeded():
         simulate(P, ctrl, duration=1.0, noise_std=0.01)
 
 
+def test_position_noise_is_added_before_quantisation():
+    # reference: the same draws made by hand -- torque noise first, then the position noise
+    # (issue 22: encoder edge jitter); a joint held at rest (no torque) reads floor(e/res) counts
+    res, sigma, k = P.encoder_resolution, 0.3 * P.encoder_resolution, 500
+    r = simulate(P, open_loop(constant(0.0)), duration=k * P.sample_time, noise_std=0.001,
+                 position_noise_std=sigma, rng=np.random.default_rng(4))
+    rng = np.random.default_rng(4)
+    rng.normal(0.0, 0.001, size=(1, k))
+    e = rng.normal(0.0, sigma, size=(1, k))[0]
+    assert np.all(r.q == 0.0)  # 0.001 N*m of noise never breaks the joint loose: q is exact
+    np.testing.assert_array_equal(r.q_meas, res * np.floor(e / res))
+    np.testing.assert_allclose(r.omega_hat[1:], np.diff(r.q_meas) / P.sample_time, rtol=0, atol=1e-9)
+    assert r.info.position_noise_std == sigma and np.count_nonzero(r.omega_hat) > 100  # it flickers
+
+
+class _PyCoulomb(CoulombCompensator):
+    """The Coulomb compensator evaluated in Python (no compiled form)."""
+
+    def compiled(self):
+        return None
+
+
+def test_position_noise_is_seeded_and_the_same_in_both_loops():
+    kw = dict(duration=2.0, position_noise_std=0.3 * P.encoder_resolution, noise_std=0.002)
+    ctrl, comp = pd_control(1.5, 0.05, step(0.3)), CoulombCompensator.symmetric(0.15)
+    a = simulate(P, ctrl, comp, rng=np.random.default_rng(5), **kw)
+    b = simulate(P, ctrl, _PyCoulomb.symmetric(0.15), rng=np.random.default_rng(5), **kw)
+    c = simulate(P, ctrl, comp, rng=np.random.default_rng(6), **kw)
+    assert a.info.loop == "compiled" and b.info.loop == "python"
+    np.testing.assert_array_equal(a.q_meas, b.q_meas)
+    assert np.any(a.q_meas != c.q_meas)
+    # none (the default) is the exact encoder reading; 0 draws nothing
+    d = simulate(P, ctrl, comp, duration=2.0)
+    e = simulate(P, ctrl, comp, duration=2.0, position_noise_std=0.0)
+    np.testing.assert_array_equal(d.q_meas, e.q_meas)
+    np.testing.assert_array_equal(d.q_meas, P.encoder_resolution * np.floor(d.q / P.encoder_resolution))
+    with pytest.raises(ValueError, match="position_noise_std > 0 needs rng"):
+        simulate(P, ctrl, duration=1.0, position_noise_std=1e-6)
+    with pytest.raises(ValueError, match="position_noise_std"):
+        simulate(P, ctrl, duration=1.0, position_noise_std=-1e-6, rng=np.random.default_rng(0))
+
+
 class _Net:
     """A tiny stand-in with the FrictionNet attributes (compiled path)."""
 

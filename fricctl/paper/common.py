@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import threading
 import warnings
+import zlib
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping
@@ -29,7 +30,7 @@ __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "des
            "stick_intervals_after_motion", "restarts", "sign_changes", "last_window", "deg",
            "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction",
            "OpenLoopChecks", "LinkFigure", "COULOMB_AT_FS", "COULOMB_AT_FC", "CoulombLevels",
-           "uncompensated_dead_zone", "coulomb_levels", "Oscillation", "oscillation"]
+           "uncompensated_dead_zone", "coulomb_levels", "Oscillation", "oscillation", "sensed"]
 
 #: The paper's steady-state accuracy, Fig. 14 ("less than 0.3 deg") [deg].
 ACCURACY_DEG = 0.3
@@ -78,6 +79,24 @@ def _designs(params: ActuatorParams, reading: str, link_inertia: float) -> Mappi
         warnings.simplefilter("ignore", DesignWarning)
         return MappingProxyType(paper_designs(params, rise_time_definition=reading,
                                               link_inertia=link_inertia))
+
+
+def sensed(network: PaperNetwork, label: str) -> dict:
+    """The keyword arguments of :func:`fricctl.simulate.simulate` that give a figure's run of
+    ``network`` its bench's sensing (:meth:`fricctl.paper.benches.Sensing.options`).
+
+    The noise is drawn from a generator seeded by the network's seed
+    (:attr:`~fricctl.paper.PaperNetwork.noise_seed`) and the run's ``label``
+    (its CRC-32), so that a run is reproducible, each run of a figure draws its own noise, and
+    the seeds of ``fricctl reproduce`` are seeds of the sensing too.  On a noise-free bench
+    nothing is drawn: the run is bit for bit the one without these arguments.
+
+    Every run of the bench's loop that a figure makes for its network takes them; the model
+    predictions it compares with (the linear viscous actuator, the ideal estimates) and the
+    experiments that identify (the training records, the dead-zone experiment) stay noise-free.
+    """
+    seed = [int(network.noise_seed), zlib.crc32(v.text("label", label, empty=False).encode())]
+    return network.bench.sensing.options(np.random.default_rng(seed))
 
 
 # --------------------------------------------------------------------------
@@ -237,11 +256,12 @@ def linear_prediction(design: Design, run: SimResult, key: tuple) -> np.ndarray:
 
 
 def step_run(params: ActuatorParams, design: Design, step_rad: float, compensator, duration: float,
-             friction=None) -> StepRun:
-    """A P (``design.kd == 0``) or PD step of ``step_rad`` [rad] with ``compensator``."""
+             friction=None, sensing: dict | None = None) -> StepRun:
+    """A P (``design.kd == 0``) or PD step of ``step_rad`` [rad] with ``compensator``;
+    ``sensing``: the run's sensing (:func:`sensed`; None: noise-free)."""
     c = ctl.pd_control(design.kp, design.kd, ctl.step(step_rad)) if design.kd > 0 else \
         ctl.p_control(design.kp, ctl.step(step_rad))
-    r = simulate(params, c, compensator, duration=duration, friction=friction)
+    r = simulate(params, c, compensator, duration=duration, friction=friction, **(sensing or {}))
     return StepRun(run=r, linear=linear_prediction(design, r, ("step", float(step_rad))))
 
 
@@ -335,7 +355,8 @@ class LinkRuns:
 
 def link_runs(network: PaperNetwork, design_key: str, reference, duration: float,
               friction_scale: float, scale: float) -> LinkRuns:
-    """The actuator with link and friction x ``friction_scale``, compensated x ``scale`` (Figs. 16-17)."""
+    """The actuator with link and friction x ``friction_scale``, compensated x ``scale`` (Figs. 16-17),
+    each run with the bench's sensing (:func:`sensed`)."""
     p = network.bench.linked_actuator
     d = designs(network.bench)[design_key]
     levels = coulomb_levels(network)
@@ -346,7 +367,9 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
     fr = p.friction_model().scaled(friction_scale)
     c = ctl.pd_control(d.kp, d.kd, reference)
     # one run each (each its own simulate call: the runs' records stay separate)
-    return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr)
+    label = f"link {design_key} {reference.description}"
+    return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr,
+                                      **sensed(network, f"{label} {k}"))
                           for k, comp in comps.items()}, design=d, coulomb_levels=levels)
 
 

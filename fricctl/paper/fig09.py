@@ -18,7 +18,7 @@ from ..friction import Viscous
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import EXTRA, Claim, gate
-from .common import STICK_MIN_DURATION, OpenLoopChecks, stick_intervals_after_motion
+from .common import STICK_MIN_DURATION, OpenLoopChecks, sensed, stick_intervals_after_motion
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import LINEAR_TOLERANCE, reversal, wind_up
@@ -62,8 +62,8 @@ def run(network: PaperNetwork, *, amplitude_factor: float = 1.1, frequency: floa
     p = net.params
     amp = amplitude_factor * p.static
     c = ctl.open_loop(ctl.sinusoid(amp, frequency))
-    r0 = simulate(p, c, NoCompensation(), duration=duration)
-    r1 = simulate(p, c, net.compensator(), duration=duration)
+    r0 = simulate(p, c, NoCompensation(), duration=duration, **sensed(net, "fig9 none"))
+    r1 = simulate(p, c, net.compensator(), duration=duration, **sensed(net, "fig9 NN"))
     lin = simulate(p, c, NoCompensation(), duration=duration, friction=Viscous(p.viscous))
     return Fig9Result(without=r0, with_nn=r1, linear=lin, amplitude=amp, frequency=frequency,
                       sticks_without=stick_intervals_after_motion(r0),

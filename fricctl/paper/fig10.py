@@ -18,7 +18,7 @@ from ..compensators import NoCompensation
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import Claim, gate
-from .common import OpenLoopChecks, deg, designs, read_only, uncompensated_dead_zone
+from .common import OpenLoopChecks, deg, designs, read_only, sensed, uncompensated_dead_zone
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import reversal, wind_up
@@ -63,11 +63,13 @@ class Fig10Result(OpenLoopChecks):
 
 
 @functools.lru_cache(maxsize=4)
-def _uncompensated(params, fraction, frequency, duration):
-    """The run and the dead zone without compensation: the same for every network (memoised,
-    read-only)."""
+def _uncompensated(params, fraction, frequency, duration, network=None):
+    """The run and the dead zone without compensation: the same for every network on a
+    noise-free bench (``network`` None; else the run's sensing is drawn from the network's seed
+    by :func:`~fricctl.paper.common.sensed`) (memoised, read-only)."""
     c = ctl.open_loop(ctl.sinusoid(fraction * params.max_torque, frequency))
-    r0 = simulate(params, c, NoCompensation(), duration=duration)
+    r0 = simulate(params, c, NoCompensation(), duration=duration,
+                  **({} if network is None else sensed(network, "fig10 none")))
     read_only(r0)
     return r0, uncompensated_dead_zone(params)
 
@@ -79,8 +81,10 @@ def run(network: PaperNetwork, *, fraction: float = 0.10, frequency: float = 1.0
     p = net.params
     c = ctl.open_loop(ctl.sinusoid(fraction * p.max_torque, frequency))
     nn = net.compensator()
-    r1 = simulate(p, c, nn, duration=duration)
-    r0, dz0 = _uncompensated(p, float(fraction), float(frequency), float(duration))
+    r1 = simulate(p, c, nn, duration=duration, **sensed(net, "fig10 NN"))
+    # the network itself keys the memo when its bench senses noise (its seed draws the noise)
+    r0, dz0 = _uncompensated(p, float(fraction), float(frequency), float(duration),
+                             None if net.bench.sensing.noise_free else net)
     return Fig10Result(without=r0, with_nn=r1, dead_zone_without=dz0,
                        dead_zone_with=dead_zone(p, nn), predicted=predicted_dead_zone(net.net, p.static),
                        gain_at_rest=net.net.gain_at_rest(), frequency=float(frequency), wind_up=wind_up(r1),

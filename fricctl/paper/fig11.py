@@ -20,7 +20,7 @@ from ..compensators import NoCompensation
 from ..design import Design
 from ..simulate import SimResult
 from .claims import Claim
-from .common import SS_WINDOW, deg, designs, stick_intervals_after_motion, step_run
+from .common import SS_WINDOW, deg, designs, sensed, stick_intervals_after_motion, step_run
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 
@@ -51,7 +51,8 @@ def run(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.0)
     """P step without compensation (Fig. 11)."""
     net = check_network(network)
     d = designs(net.bench)["fig11-12"]
-    s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration)
+    s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration,
+                 sensing=sensed(net, "fig11 none"))
     return Fig11Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW),
                        stuck_fraction=float(np.mean(s.run.stuck)))

@@ -27,7 +27,7 @@ from ..params import ActuatorParams
 from ..simulate import SimResult
 from . import coast as coast_test
 from .claims import EXTRA, Claim, gate
-from .common import deg, designs, read_only, step_run
+from .common import deg, designs, read_only, sensed, step_run
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import RunawayCheck, wind_up
@@ -137,11 +137,12 @@ def run(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.0)
     net = check_network(network)
     p = net.params
     d = designs(net.bench)["fig11-12"]
-    paper_run = step_run(p, d, np.deg2rad(step_deg), net.compensator(), duration)
+    paper_run = step_run(p, d, np.deg2rad(step_deg), net.compensator(), duration,
+                         sensing=sensed(net, "fig12 NN"))
     r, lin = paper_run.run, paper_run.linear
     v = step_run(p, d, np.deg2rad(step_deg), NNCompensator(ViscousExcluded(estimate=net.estimate,
                                                                            viscous=p.viscous)),
-                 duration).run
+                 duration, sensing=sensed(net, "fig12 NN without b")).run
     ideal, ideal_nv = _ideal_runs(p, d, float(step_deg), float(duration))
     return Fig12Result(run=r, linear=lin, design=d, max_deviation=float(np.abs(r.q - lin).max()),
                        growth=_growth(r), variant=v, variant_max_deviation=float(np.abs(v.q - lin).max()),

@@ -11,7 +11,7 @@ from ..compensators import NoCompensation
 from ..design import Design
 from ..simulate import SimResult
 from .claims import Claim
-from .common import SS_WINDOW, deg, designs, step_run
+from .common import SS_WINDOW, deg, designs, sensed, step_run
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 
@@ -44,7 +44,8 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0)
     """PD step without compensation; residual motor torque against the NN estimate (Fig. 13)."""
     net = check_network(network)
     d = designs(net.bench)["fig13-14"]
-    s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration)
+    s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration,
+                 sensing=sensed(net, "fig13 none"))
     tm = float(s.run.torque_motor[-1])
     return Fig13Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW), torque_at_rest=tm,

@@ -18,7 +18,7 @@ from ..design import Design
 from ..simulate import SimResult, simulate_batch
 from . import coast as coast_test
 from .claims import EXTRA, Claim, gate
-from .common import ACCURACY_DEG, SS_WINDOW, deg, designs, step_run
+from .common import ACCURACY_DEG, SS_WINDOW, deg, designs, sensed, step_run
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import RunawayCheck, wind_up
@@ -67,11 +67,11 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0)
     p = net.params
     d = designs(net.bench)["fig13-14"]
     comp = net.compensator()
-    s = step_run(p, d, np.deg2rad(step_deg), comp, duration)
+    s = step_run(p, d, np.deg2rad(step_deg), comp, duration, sensing=sensed(net, "fig14 NN"))
     band = predicted_dead_zone(net.net, p.static).largest / d.kp
     steps = np.deg2rad(np.asarray(STEPS_DEG))
     batch = simulate_batch(p, [ctl.pd_control(d.kp, d.kd, ctl.step(float(x))) for x in steps], comp,
-                           duration=duration)
+                           duration=duration, **sensed(net, "fig14 steps"))
     runs = tuple(batch[i] for i in range(len(batch)))
     return Fig14Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW), predicted_band=band,

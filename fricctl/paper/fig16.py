@@ -172,6 +172,27 @@ _SAME_EVERY_SEED = (" The same in every seed: both levels come from the bench's 
                     "involve the network, so the seed changes nothing here.")
 
 
+def _seeds_note(bench) -> str:
+    """What the seed changes in a Coulomb claim: nothing on a noise-free bench; the sensing noise of
+    its runs otherwise (the levels stay those of the clean records)."""
+    from .benches import as_bench
+
+    s = as_bench(bench).sensing
+    if s.noise_free:
+        return _SAME_EVERY_SEED
+    return (f" The levels are the same in every seed (identified on the bench's noise-free records); the "
+            f"runs are not: each seed draws the bench's sensing noise (encoder edge jitter "
+            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).")
+
+
+def _jitter_clause(bench) -> str:
+    from .benches import as_bench
+
+    s = as_bench(bench).sensing
+    return ("encoder edge jitter, which this bench leaves out" if s.encoder_jitter == 0.0 else
+            f"this bench's edge jitter of {s.encoder_jitter:g} counts did not make it flicker enough here")
+
+
 def claim_fig16_coulomb_fs(r: Fig16Result, bench=None) -> Claim:
     k = COULOMB_AT_FS
     lv = r.coulomb_levels
@@ -182,8 +203,8 @@ def claim_fig16_coulomb_fs(r: Fig16Result, bench=None) -> Claim:
     why = ("" if ok else "Fc*sign(omega_hat) is zero while the encoder reads no motion, so once the joint "
            "sticks the compensation vanishes and nothing drives a limit cycle: the joint overshoots (the "
            "compensation pushes along the motion while it slides) and stays stuck at its first turning "
-           "point. A cycle needs a velocity estimate that flickers at rest (encoder edge jitter, which "
-           "this bench leaves out): " + _flicker(r, k, bench) + ".")
+           "point. A cycle needs a velocity estimate that flickers at rest (" + _jitter_clause(bench)
+           + "): " + _flicker(r, k, bench) + ".")
     return gate(Claim(
         id="fig16-coulomb-fs", claim="Coulomb compensation at the dry friction identified experimentally "
         "(the breakaway level of the dead-zone experiment, x s = 0.95) makes the joint oscillate (here: the "
@@ -193,7 +214,7 @@ def claim_fig16_coulomb_fs(r: Fig16Result, bench=None) -> Claim:
         measured=f"level {r.coulomb_level(k):.4f} N*m (s x {lv.breakaway:.4f}, the breakaway read off the "
         f"dead-zone experiment to +-{lv.breakaway_step:.4f} N*m); " + _measured(r, k), passed=ok,
         figure="Fig. 16", value=r.reference_crossings[k], unit="reference crossings",
-        note=why + closer + _SAME_EVERY_SEED), (r.coulomb_wind_up[k],))
+        note=why + closer + _seeds_note(bench)), (r.coulomb_wind_up[k],))
 
 
 def claim_fig16_coulomb_fc(r: Fig16Result, bench=None) -> Claim:
@@ -213,7 +234,7 @@ def claim_fig16_coulomb_fc(r: Fig16Result, bench=None) -> Claim:
         measured=f"level {r.coulomb_level(k):.4f} N*m (s x {lv.coulomb:.4f}, fitted on {lv.patterns} sliding "
         f"patterns, b {lv.viscous:.4f} N*m*s/rad); " + _measured(r, k), passed=ok, figure="Fig. 16",
         value=r.reference_crossings[k], unit="reference crossings",
-        note=(trivial or ("" if ok else "the joint oscillates at the smaller level too.")) + _SAME_EVERY_SEED),
+        note=(trivial or ("" if ok else "the joint oscillates at the smaller level too.")) + _seeds_note(bench)),
         (r.coulomb_wind_up[k],))
 
 

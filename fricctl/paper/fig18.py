@@ -12,7 +12,7 @@ from ..design import Design
 from ..simulate import SimResult, simulate
 from . import coast as coast_test
 from .claims import EXTRA, Claim, gate
-from .common import STICK_MIN_DURATION, designs, linear_prediction, restarts
+from .common import STICK_MIN_DURATION, designs, linear_prediction, restarts, sensed
 from .network import PaperNetwork, check_network
 from .registry import PaperFigure
 from .runaway import RunawayCheck, wind_up
@@ -92,11 +92,11 @@ def run(network: PaperNetwork, *, amplitude: float | None = None, period: float 
     p = net.bench.linked_actuator
     d = designs(net.bench)["fig18"]
     c = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(amplitude, period))
-    r0 = simulate(p, c, NoCompensation(), duration=periods * period)
-    r1 = simulate(p, c, net.compensator(), duration=periods * period)
+    r0 = simulate(p, c, NoCompensation(), duration=periods * period, **sensed(net, "fig18 none"))
+    r1 = simulate(p, c, net.compensator(), duration=periods * period, **sensed(net, "fig18 NN"))
     lin = linear_prediction(d, r1, ("sawtooth", float(amplitude), float(period)))
     ce = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(extra_amplitude, extra_period))
-    rx = simulate(p, ce, NoCompensation(), duration=extra_period)
+    rx = simulate(p, ce, NoCompensation(), duration=extra_period, **sensed(net, "fig18 extra"))
     slow_friction, slow_estimate = _slow_sliding(r1, amplitude / period)
     return Fig18Result(without=r0, with_nn=r1, linear=lin, design=d, amplitude=float(amplitude),
                        period=float(period), restarts_without=restarts(r0),

@@ -10,6 +10,7 @@ the held-out, training and true-friction patterns.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 from typing import Any
@@ -48,6 +49,8 @@ class PaperNetwork:
     seed : seed of the split and of the trainer
     fast : whether the short experiments were used
     pipeline : ``"paper"`` or ``"fricctl"``
+    sensing_seed : seed of the noise of the figures' runs (:func:`fricctl.paper.common.sensed`);
+        None: ``seed`` (:meth:`sensed_on` sets another)
     """
 
     params: ActuatorParams
@@ -63,6 +66,35 @@ class PaperNetwork:
     seed: int
     fast: bool
     pipeline: str
+    sensing_seed: int | None = None
+
+    def sensed_on(self, bench, sensing_seed: int | None = None) -> "PaperNetwork":
+        """The same trained network judged on ``bench`` -- this network's bench with other
+        sensing (:meth:`fricctl.paper.benches.Bench.with_sensing`) -- its figures' noise drawn
+        from ``sensing_seed`` (None: this network's).
+
+        The network, its patterns and its Coulomb levels are those of the clean training
+        records, whatever the sensing: only the figures' runs change.
+
+        Raises
+        ------
+        ValueError
+            ``bench`` differs from this network's bench in more than its sensing.
+        """
+        from .benches import Bench
+
+        b = v.instance("bench", bench, Bench, "a Bench (Bench.with_sensing)")
+        mine = self.bench
+        if (b.model, dict(b.settings)) != (mine.model, dict(mine.settings)):
+            raise ValueError(f"bench: {b.name!r} differs from the network's bench {mine.name!r} in "
+                             "more than its sensing (its plant or settings): train a network on it")
+        seed = None if sensing_seed is None else v.integer("sensing_seed", sensing_seed, low=0)
+        return dataclasses.replace(self, bench=b, sensing_seed=seed)
+
+    @property
+    def noise_seed(self) -> int:
+        """The seed the figures' runs draw their sensing noise from [-]."""
+        return self.seed if self.sensing_seed is None else self.sensing_seed
 
     @property
     def net(self) -> FrictionNet:

@@ -150,13 +150,21 @@ def _delay(delay, nsamp: int, ts: float, what: str = "delay") -> int:
     return d
 
 
-def _noise(noise_std, rng, shape):
-    noise_std = v.real("noise_std", noise_std, nonneg=True, unit="N*m")
+def _noise(noise_std, rng, shape, name="noise_std", unit="N*m"):
+    """(std, per-sample draws) of white noise ``name``: a ``(1, 1)`` zero array when its std is 0
+    (nothing drawn from ``rng``).  Callers draw the torque noise first, then the position noise,
+    so that a run without position noise draws what it always drew."""
+    noise_std = v.real(name, noise_std, nonneg=True, unit=unit)
     if noise_std > 0:
         if not isinstance(rng, np.random.Generator):
-            raise ValueError("noise_std > 0 needs rng=numpy.random.default_rng(seed)")
+            raise ValueError(f"{name} > 0 needs rng=numpy.random.default_rng(seed)")
         return noise_std, rng.normal(0.0, noise_std, size=shape)
     return noise_std, np.zeros((1, 1))
+
+
+def _position_noise(position_noise_std, rng, shape):
+    """(std, draws) of the position noise before quantisation (encoder edge jitter) [rad]."""
+    return _noise(position_noise_std, rng, shape, "position_noise_std", "rad")
 
 
 def _arrays(out, stuck) -> dict:
@@ -227,7 +235,8 @@ def _kernel_args(p: ActuatorParams, kind: int) -> KernelArgs:
 def simulate_batch(params, controller, compensator=None, *, duration: float,
                    friction=None, plant: str = "rigid", substeps: int | None = None,
                    q0=0.0, noise_std: float = 0.0, rng: np.random.Generator | None = None,
-                   delay: int = 0, quantize: bool = True) -> BatchResult:
+                   delay: int = 0, quantize: bool = True,
+                   position_noise_std: float = 0.0) -> BatchResult:
     """Simulate N variants of the closed (or open) loop in one call.
 
     Any of ``params``, ``controller``, ``compensator`` and ``friction`` may be a
@@ -258,6 +267,11 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
         Extra samples by which the joint receives the recorded torque late.
     quantize : bool
         Encoder quantisation on (default) or off.
+    position_noise_std : float
+        Standard deviation of white position noise added to the joint's position before the
+        encoder quantises it (encoder edge jitter) [rad]; needs ``rng``, drawn after the
+        torque noise.  The true position ``q`` is untouched; ``q_meas`` and the velocity
+        estimate see it.
 
     Returns
     -------
@@ -279,6 +293,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     delay = _delay(delay, nsamp, ts)
     quantize = v.flag("quantize", quantize)
     noise_std, noise = _noise(noise_std, rng, (n, nsamp))
+    pos_std, pos_noise = _position_noise(position_noise_std, rng, (n, nsamp))
     q0a = _initial_positions(q0, n)
     if kind == FLEXIBLE and any(p.link_inertia <= 0 for p in plist):
         raise ValueError("plant='flexible' needs link_inertia > 0 (the load-side inertia of Eq. 1)")
@@ -292,14 +307,15 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
     res = np.array([p.encoder_resolution if quantize else 0.0 for p in plist])
     loop = LoopSpec(sample_time=ts, encoder_resolution=res,
                     max_torque=np.array([p.max_torque for p in plist]), q0=q0a, delay=delay,
-                    noise=noise)
+                    noise=noise, position_noise=pos_noise)
     out, stuck, path = _run(PlantSpec.of(joints, frs, substeps), loop, ControlSpec.of(clist, t),
                             comps, t)
     infos = tuple(SimInfo(
         params=plist[i], friction_model=frs[i], controller=clist[i].name, kp=clist[i].kp,
         kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
         plant=plant_label(kind, frs[i]), substeps=int(substeps),
-        delay=int(delay), noise_std=float(noise_std), encoder_resolution=float(res[i]), loop=path)
+        delay=int(delay), noise_std=float(noise_std), encoder_resolution=float(res[i]), loop=path,
+        position_noise_std=float(pos_std))
         for i in range(n))
     return BatchResult(t=t, infos=infos, **_arrays(out, stuck))
 
@@ -308,7 +324,7 @@ def simulate(params: ActuatorParams, controller: Controller, compensator: Compen
              duration: float, friction: FrictionModel | None = None, plant: str = "rigid",
              substeps: int | None = None, q0: float = 0.0, noise_std: float = 0.0,
              rng: np.random.Generator | None = None, delay: int = 0,
-             quantize: bool = True) -> SimResult:
+             quantize: bool = True, position_noise_std: float = 0.0) -> SimResult:
     """Simulate one run of the sampled loop; see :func:`simulate_batch` for the arguments.
 
     Examples
@@ -324,10 +340,10 @@ def simulate(params: ActuatorParams, controller: Controller, compensator: Compen
     v.instance("controller", controller, Controller)
     return simulate_batch(params, controller, compensator, duration=duration, friction=friction,
                           plant=plant, substeps=substeps, q0=q0, noise_std=noise_std, rng=rng,
-                          delay=delay, quantize=quantize)[0]
+                          delay=delay, quantize=quantize, position_noise_std=position_noise_std)[0]
 
 
-def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise) -> LoopSpec:
+def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise, position_noise) -> LoopSpec:
     """The loop around a model's joint: its torque limit (None: none), its delay in whole
     samples, its offset as a constant torque in what the joint receives."""
     ts = model.sample_time
@@ -337,7 +353,7 @@ def _model_loop(model: JointModel, nsamp: int, res: float, q0, noise) -> LoopSpe
     return LoopSpec(sample_time=ts, encoder_resolution=np.array([res]), max_torque=np.array([tmax]),
                     q0=np.array([v.real("q0", q0)]),
                     delay=_delay(model.delay_samples(ts), nsamp, ts, "the model's delay"),
-                    noise=noise)
+                    noise=noise, position_noise=position_noise)
 
 
 def sampling_warnings(controller: Controller, sample_time: float) -> list[str]:
@@ -411,7 +427,7 @@ def simulate_model(model: JointModel, controller: Controller,
                    compensator: Compensator | None = None, *, duration: float,
                    friction: FrictionModel | None = None, substeps: int | None = None,
                    q0: float = 0.0, noise_std: float = 0.0, rng: np.random.Generator | None = None,
-                   quantize: bool = True) -> SimResult:
+                   quantize: bool = True, position_noise_std: float = 0.0) -> SimResult:
     """Simulate the sampled loop on a :class:`~fricctl.plant.JointModel` (your own actuator).
 
     The same compiled loop as :func:`simulate`, with everything taken from the model:
@@ -442,6 +458,9 @@ def simulate_model(model: JointModel, controller: Controller,
     rng : numpy.random.Generator, optional
     quantize : bool
         Encoder quantisation (when the model has a resolution).
+    position_noise_std : float
+        White position noise before quantisation (encoder edge jitter) [rad] or [m]; needs
+        ``rng``, drawn after the torque noise.
 
     Returns
     -------
@@ -479,16 +498,17 @@ def simulate_model(model: JointModel, controller: Controller,
     substeps = _substeps(substeps, a.kind, ts, [a], [fr], 0.0, nsamp * ts, torque=model.max_torque)
     res = model.encoder_resolution if v.flag("quantize", quantize) and model.encoder_resolution else 0.0
     noise_std, noise = _noise(noise_std, rng, (1, nsamp))
+    pos_std, pos_noise = _position_noise(position_noise_std, rng, (1, nsamp))
     _check_drift(fr, 0.0, nsamp * ts)
     t = np.arange(nsamp) * ts
-    loop = _model_loop(model, nsamp, res, q0, noise)
+    loop = _model_loop(model, nsamp, res, q0, noise, pos_noise)
     out, stuck, path = _run(PlantSpec.of([a], [fr], substeps), loop,
                             ControlSpec.of([controller], t), [comp], t)
     return _one_result(t, out, stuck, friction_model=fr, controller=controller.name,
                        kp=controller.kp, kd=controller.kd, compensator=comp.name,
                        compensation_scale=comp.scale, plant=plant_label(a.kind, fr),
                        substeps=int(substeps), delay=int(loop.delay), noise_std=float(noise_std),
-                       encoder_resolution=float(res), loop=path)
+                       encoder_resolution=float(res), loop=path, position_noise_std=float(pos_std))
 
 
 class Schedule:
@@ -571,7 +591,7 @@ def simulate_schedule(joint, schedule: Schedule, *, sample_time: float, max_torq
              else v.array("noise", noise, size=nsamp).reshape(1, nsamp))
     _check_drift(joint.friction, 0.0, nsamp * ts)
     loop = LoopSpec(sample_time=ts, encoder_resolution=np.array([res]), max_torque=np.array([tmax]),
-                    q0=np.zeros(1), delay=delay, noise=noise)
+                    q0=np.zeros(1), delay=delay, noise=noise, position_noise=np.zeros((1, 1)))
     control = ControlSpec(reference=schedule.reference[None, :],
                           feedforward=schedule.feedforward[None, :], kp=schedule.kp[None, :],
                           kd=schedule.kd[None, :], segment_start=schedule.segment_start[None, :])

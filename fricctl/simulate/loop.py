@@ -2,7 +2,8 @@
 
 One sample of the loop is four compiled steps, each written once:
 
-1. :func:`observe` -- encoder reading ``y_k`` and backward-difference velocity;
+1. :func:`observe` -- encoder reading ``y_k`` (of the position plus the sample's position
+   noise, when the loop has one) and backward-difference velocity;
 2. :func:`control_torque` -- ``Tc_k = ff_k + Kp_k*(r_k - y_k) - Kd_k*omega_hat_k``;
 3. :func:`act` -- ``Tm_{k+1} = clip(Tc_k + s*T^at_k)``, what the joint receives
    (delay, noise, saturation) and the records;
@@ -63,8 +64,16 @@ def quantize(q, res):
 
 
 @jit
-def observe(q, y_prev, k, ts, res):
-    """(y_k, omega_hat_k): encoder reading and backward difference (0 at k = 0)."""
+def observe(q, y_prev, k, ts, res, loop, n, nsamp):
+    """(y_k, omega_hat_k): encoder reading and backward difference (0 at k = 0).
+
+    The encoder reads ``q`` plus run n's position noise of sample k (``loop.position_noise``,
+    :class:`LoopSpec`) when the loop has one: edge jitter moves the reading across a count
+    edge that the joint sits near, before quantisation.
+    """
+    pn = loop.position_noise
+    if pn.shape[1] == nsamp:  # else none: q itself, not q + 0.0 (bit for bit, -0.0 included)
+        q = q + pn[min(n, pn.shape[0] - 1), k]
     y = quantize(q, res)
     wh = (y - y_prev) / ts if k > 0 else 0.0
     return y, wh
@@ -149,7 +158,7 @@ def _one_run(n, plant, loop, control, comp, out, stuck):
     kind = comp.kind[n]
     x = comp.state[n].copy()
     for k in range(out.shape[2]):
-        y, wh = observe(st[0], y_prev, k, loop.sample_time, res)
+        y, wh = observe(st[0], y_prev, k, loop.sample_time, res, loop, n, out.shape[2])
         if has_segments and _at(control.segment_start, n, k):
             offset = y
         r, tc = control_torque(n, k, y, wh, offset, has_segments, control)
@@ -205,7 +214,7 @@ def run_python(plant: PlantSpec, loop: LoopSpec, control: ControlSpec, estimator
     shared = len({id(e) for e in estimators}) == 1
     for k in range(nsamp):
         for n in range(n_runs):
-            y[n], wh[n] = observe(states[n, 0], y_prev[n], k, ts, res[n])
+            y[n], wh[n] = observe(states[n, 0], y_prev[n], k, ts, res[n], loop, n, nsamp)
             if has_segments and segs[min(n, segs.shape[0] - 1), k]:
                 offset[n] = y[n]
             r[n], tc[n] = control_torque(n, k, y[n], wh[n], offset[n], has_segments, control)

@@ -44,6 +44,8 @@ class SimInfo:
     """One encoder count [rad]; 0 without quantisation."""
     loop: str
     """``"compiled"`` or ``"python"`` (a compensator only Python can evaluate)."""
+    position_noise_std: float = 0.0
+    """White position noise added before the encoder quantises (edge jitter) [rad]."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

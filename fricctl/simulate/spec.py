@@ -96,6 +96,10 @@ class LoopSpec(NamedTuple):
     noise : ndarray, shape (N or 1, K) or (1, 1)
         Torque added to what the joint receives at each sample [N*m]; a ``(1, 1)`` array
         means none.
+    position_noise : ndarray, shape (N or 1, K) or (1, 1)
+        Position added to the joint's position before the encoder quantises it, at each
+        sample [rad] (encoder edge jitter: the reading flickers between counts at rest); a
+        ``(1, 1)`` array means none (the reading is that of the true position, bit for bit).
     """
 
     sample_time: float
@@ -104,6 +108,7 @@ class LoopSpec(NamedTuple):
     q0: np.ndarray
     delay: int
     noise: np.ndarray
+    position_noise: np.ndarray
 
 
 class ControlSpec(NamedTuple):

@@ -16,7 +16,16 @@ The shipped benches are the JSON files of this package (read with :mod:`importli
 * ``consistent`` -- the proposal of ``docs/paper_consistency.md``: the one reading under which
   every statement of the paper holds (rise time as the time of the first peak, Fig. 18 as
   +-0.1 rad over 2 s, Fc/Fs 0.6, the bench's true b 0.019 that the paper's decay analysis
-  reads as 0.0169).
+  reads as 0.0169), with the sensing a real bench has (encoder edge jitter, current-loop noise).
+
+A bench's ``sensing`` (:data:`SENSING`, :class:`Sensing`) is what its closed loops measure and
+receive besides the plant: the encoder's edge jitter at rest (position noise before
+quantisation), the current loop's torque noise and the velocity estimate the compensator and
+the D term see.  The figures' runs draw it from the network's seed (:meth:`Sensing.options`);
+the training experiments' records and the dead-zone experiment stay noise-free (the network
+and the Coulomb levels are identified on clean records).  Torque ripple is not modelled: a
+ripple periodic in position (commutation, cogging) needs a term in the plant kernels that
+they do not have, and a time-periodic one has no physical source on this drive.
 
 File format (``fricctl.paper_bench``, version 1)::
 
@@ -28,7 +37,8 @@ File format (``fricctl.paper_bench``, version 1)::
                                             # sample_time, encoder_resolution, max_torque and a
                                             # provenance entry for each of its values
      "settings": {"rise_time_reading": {"value": "0-100", "unit": "-",
-                                        "source": "assumption", "note": "why"}, ...}}
+                                        "source": "assumption", "note": "why"}, ...},
+     "sensing": {"encoder_jitter": {"value": 0.25, "unit": "counts", ...}, ...}}
 
 Reading is strict (:func:`load_bench`): an unknown or missing key, a value of the wrong kind or
 unit, a non-physical value, a setting or model value without its provenance raise
@@ -43,6 +53,8 @@ True
 ['consistent', 'literal']
 >>> bench("consistent").rise_time_reading, bench("consistent").fig18_amplitude
 ('peak', 0.2)
+>>> bench("literal").sensing.encoder_jitter, bench("literal").sensing.torque_noise
+(0.0, 0.0)
 """
 
 from __future__ import annotations
@@ -60,8 +72,9 @@ from ... import _validate as v
 from ...params import ActuatorParams
 from ...plant.model import JointModel
 
-__all__ = ["Bench", "Setting", "SETTINGS", "BENCHES", "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT",
-           "BENCH_VERSION", "bench", "load_bench", "as_bench", "bench_file"]
+__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "BENCHES",
+           "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
+           "as_bench", "bench_file"]
 
 BENCH_FORMAT = "fricctl.paper_bench"
 BENCH_VERSION = 1
@@ -76,7 +89,7 @@ PARAMS_BENCH = "literal"
 SOURCES = ("paper", "derived", "assumption")
 #: Deepest nesting of a bench file (bench > model > provenance > entry).
 _MAX_DEPTH = 5
-_TOP_KEYS = ("format", "version", "name", "description", "model", "settings")
+_TOP_KEYS = ("format", "version", "name", "description", "model", "settings", "sensing")
 _SETTING_KEYS = ("value", "unit", "source", "note")
 #: The model values a bench's plant must state, each with its provenance.
 _MODEL_VALUES = ("inertia", "sample_time", "encoder_resolution", "max_torque", "friction.viscous_pos",
@@ -145,6 +158,23 @@ SETTINGS = types.MappingProxyType({s.name: s for s in (
 )})
 
 
+#: The velocity estimates a bench's compensator and D term may see (the loop's own, today one).
+VELOCITY_ESTIMATES = ("backward-difference",)
+
+#: The sensing of a bench, in file order: name -> unit, what it is, its check.
+SENSING = types.MappingProxyType({s.name: s for s in (
+    _Spec(name="encoder_jitter", unit="counts", doc="standard deviation of the white position "
+          "noise added before the encoder quantises (edge jitter: the reading flickers between "
+          "two counts when the joint rests near an edge), in encoder counts of the load-side "
+          "resolution", check=_nonneg("counts")),
+    _Spec(name="torque_noise", unit="N*m", doc="standard deviation of the white torque noise the "
+          "joint receives on top of the command (the current loop's noise)", check=_nonneg("N*m")),
+    _Spec(name="velocity_estimate", unit="-", doc="the velocity estimate the compensator and the "
+          "D term see: the backward difference of the encoder reading over one sample (the "
+          "paper's)", check=_one_of(lambda: VELOCITY_ESTIMATES)),
+)})
+
+
 @dataclass(frozen=True, kw_only=True)
 class Setting:
     """One setting of a bench: its value, unit and provenance.
@@ -186,6 +216,8 @@ class Bench:
     description : what it is, one paragraph
     model : the plant, the bench's *true* values (rigid, rotary, load side)
     settings : name -> :class:`Setting`, every name of :data:`SETTINGS`
+    sensing : the sensing of its closed loops (:class:`Sensing`; given as name ->
+        :class:`Setting`, every name of :data:`SENSING`)
     actuator : the plant as :class:`~fricctl.params.ActuatorParams` (no link): what the
         simulations run
     design_actuator : ``actuator`` with the designs' b: what the designs count on
@@ -200,6 +232,7 @@ class Bench:
     description: str
     model: JointModel
     settings: Mapping = field(hash=False)
+    sensing: Any = field(hash=False)
     actuator: ActuatorParams = field(init=False, compare=False)
     design_actuator: ActuatorParams = field(init=False, compare=False)
 
@@ -207,21 +240,11 @@ class Bench:
         v.text("name", self.name, empty=False)
         v.text("description", self.description, empty=False)
         v.instance("model", self.model, JointModel, "a fricctl.plant.JointModel")
-        v.instance("settings", self.settings, Mapping, "a mapping of setting name -> Setting")
-        unknown = sorted(set(self.settings) - set(SETTINGS))
-        if unknown:
-            raise ValueError(f"settings: unknown setting(s) {', '.join(map(repr, unknown))}")
-        missing = [n for n in SETTINGS if n not in self.settings]
-        if missing:
-            raise ValueError(f"settings: missing setting(s) {', '.join(map(repr, missing))}")
-        checked = {}
-        for name, spec in SETTINGS.items():
-            s = v.instance(f"settings.{name}", self.settings[name], Setting, "a Setting")
-            if s.unit != spec.unit:
-                raise ValueError(f"settings.{name}.unit: must be {spec.unit!r}, got {s.unit!r}")
-            value = spec.check(f"settings.{name}.value", s.value)
-            checked[name] = Setting(value=value, unit=s.unit, source=s.source, note=s.note)
-        object.__setattr__(self, "settings", types.MappingProxyType(checked))
+        checked = _checked("settings", self.settings, SETTINGS)
+        object.__setattr__(self, "settings", checked)
+        given = self.sensing.entries if isinstance(self.sensing, Sensing) else self.sensing
+        object.__setattr__(self, "sensing", Sensing(entries=_checked("sensing", given, SENSING),
+                                                     encoder_resolution=self.model.encoder_resolution))
         object.__setattr__(self, "actuator", _actuator(self.model, checked))
         object.__setattr__(self, "design_actuator",
                            self.actuator.replace(viscous=checked["design_viscous"].value))
@@ -300,14 +323,36 @@ class Bench:
                                           source=p.source("viscous"),
                                           note="the designs count on the plant given: its viscous")
         return Bench(name=self.name, description=self.description + " (plant: an ActuatorParams given)",
-                     model=model, settings={**self.settings, **given})
+                     model=model, settings={**self.settings, **given},
+                     sensing=self.sensing.entries)
+
+    def with_sensing(self, note: str, **values) -> "Bench":
+        """This bench with some sensing items set to ``values`` (names of :data:`SENSING`, each in
+        its unit), each an assumption whose provenance is ``note`` (e.g. "a sensitivity study").
+
+        Examples
+        --------
+        >>> bench("literal").with_sensing("a sensitivity study", encoder_jitter=0.3).sensing.encoder_jitter
+        0.3
+        """
+        v.text("note", note, empty=False)
+        unknown = sorted(set(values) - set(SENSING))
+        if unknown:
+            raise ValueError(f"sensing: unknown sensing item(s) {', '.join(map(repr, unknown))} "
+                             f"(one of {', '.join(SENSING)})")
+        entries = {**self.sensing.entries, **{
+            n: Setting(value=x, unit=SENSING[n].unit, source="assumption", note=note)
+            for n, x in values.items()}}
+        return Bench(name=self.name, description=self.description, model=self.model,
+                     settings=self.settings, sensing=entries)
 
     # -- the file -------------------------------------------------------------------
     def as_dict(self) -> dict:
         """The file's content (format ``fricctl.paper_bench``, version 1)."""
         return {"format": BENCH_FORMAT, "version": BENCH_VERSION, "name": self.name,
                 "description": self.description, "model": self.model.as_dict(),
-                "settings": {n: s.as_dict() for n, s in self.settings.items()}}
+                "settings": {n: s.as_dict() for n, s in self.settings.items()},
+                "sensing": {n: s.as_dict() for n, s in self.sensing.entries.items()}}
 
     @classmethod
     def from_dict(cls, d) -> "Bench":
@@ -333,27 +378,9 @@ class Bench:
             raise ValueError(f"model.{exc}" if str(exc).split(" ", 1)[0].split(":")[0] in
                              _model_keys() else f"model: {exc}") from None
         _check_model(model, d["model"])
-        settings = d["settings"]
-        if not isinstance(settings, dict):
-            raise ValueError("settings: must be an object {name: {value, unit, source, note}}")
-        parsed = {}
-        for name, entry in settings.items():
-            if name not in SETTINGS:
-                raise ValueError(f"settings: unknown setting {name!r} (one of {', '.join(SETTINGS)})")
-            if not isinstance(entry, dict):
-                raise ValueError(f"settings.{name}: must be an object {{value, unit, source, note}}")
-            extra = sorted(set(entry) - set(_SETTING_KEYS))
-            if extra:
-                raise ValueError(f"settings.{name}: unknown key(s) {', '.join(map(repr, extra))}")
-            for key in _SETTING_KEYS:
-                if key not in entry:
-                    raise ValueError(f"settings.{name}: missing key {key!r} (every value states "
-                                     "its provenance)")
-            try:
-                parsed[name] = Setting(**entry)
-            except ValueError as exc:
-                raise ValueError(f"settings.{name}.{exc}") from None
-        return cls(name=d["name"], description=d["description"], model=model, settings=parsed)
+        return cls(name=d["name"], description=d["description"], model=model,
+                   settings=_entries("settings", d["settings"], SETTINGS),
+                   sensing=_entries("sensing", d["sensing"], SENSING))
 
     @classmethod
     def from_json(cls, text: str) -> "Bench":
@@ -375,10 +402,121 @@ class Bench:
             x = flat[group][sub] if sub else flat[group]
             p = self.model.provenance[key]
             lines.append(f"  {key:28s} {x:<12.6g} {p.source}: {p.note}")
-        lines.append("settings:")
-        for name, s in self.settings.items():
-            lines.append(f"  {name:28s} {s.value!s:<12s} [{s.unit}] {s.source}: {s.note}")
+        for section, entries in (("settings", self.settings), ("sensing", self.sensing.entries)):
+            lines.append(f"{section}:")
+            for name, s in entries.items():
+                lines.append(f"  {name:28s} {s.value!s:<12s} [{s.unit}] {s.source}: {s.note}")
         return "\n".join(lines)
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Sensing:
+    """What a bench's closed loops measure and receive besides the plant (:data:`SENSING`).
+
+    Attributes
+    ----------
+    entries : name -> :class:`Setting`, every name of :data:`SENSING` (checked)
+    encoder_resolution : one encoder count of the bench's plant [rad]
+
+    Examples
+    --------
+    >>> s = bench("consistent").sensing
+    >>> s.position_noise_std == s.encoder_jitter * bench("consistent").model.encoder_resolution
+    True
+    >>> sorted(bench("literal").sensing.options(None))
+    ['noise_std', 'position_noise_std', 'rng']
+    """
+
+    entries: Mapping
+    encoder_resolution: float
+
+    def __eq__(self, other):
+        return isinstance(other, Sensing) and dict(self.entries) == dict(other.entries) and \
+            self.encoder_resolution == other.encoder_resolution
+
+    __hash__ = None
+
+    @property
+    def encoder_jitter(self) -> float:
+        """Edge jitter: std of the position noise before quantisation [counts]."""
+        return self.entries["encoder_jitter"].value
+
+    @property
+    def torque_noise(self) -> float:
+        """Std of the white torque noise the joint receives [N*m]."""
+        return self.entries["torque_noise"].value
+
+    @property
+    def velocity_estimate(self) -> str:
+        """The velocity estimate the compensator sees (:data:`VELOCITY_ESTIMATES`)."""
+        return self.entries["velocity_estimate"].value
+
+    @property
+    def position_noise_std(self) -> float:
+        """The edge jitter in radians: ``encoder_jitter`` counts of the load-side resolution [rad]."""
+        return self.encoder_jitter * self.encoder_resolution
+
+    @property
+    def noise_free(self) -> bool:
+        """True when the loops see the exact encoder reading and receive the exact command."""
+        return self.encoder_jitter == 0.0 and self.torque_noise == 0.0
+
+    def options(self, rng) -> dict:
+        """The keyword arguments of :func:`fricctl.simulate.simulate` that give a run this
+        sensing, its noise drawn from ``rng`` (a :class:`numpy.random.Generator`; None is
+        accepted only when the sensing is noise-free)."""
+        return {"noise_std": self.torque_noise, "position_noise_std": self.position_noise_std,
+                "rng": rng}
+
+
+def _entries(section: str, raw, specs: Mapping) -> dict:
+    """The :class:`Setting` of each entry of a file's section (``settings`` or ``sensing``),
+    read strictly: unknown or missing keys name the section and the entry."""
+    if not isinstance(raw, dict):
+        raise ValueError(f"{section}: must be an object {{name: {{value, unit, source, note}}}}")
+    parsed = {}
+    for name, entry in raw.items():
+        if name not in specs:
+            raise ValueError(f"{section}: unknown {_NOUN[section]} {name!r} (one of {', '.join(specs)})")
+        if not isinstance(entry, dict):
+            raise ValueError(f"{section}.{name}: must be an object {{value, unit, source, note}}")
+        extra = sorted(set(entry) - set(_SETTING_KEYS))
+        if extra:
+            raise ValueError(f"{section}.{name}: unknown key(s) {', '.join(map(repr, extra))}")
+        for key in _SETTING_KEYS:
+            if key not in entry:
+                raise ValueError(f"{section}.{name}: missing key {key!r} (every value states "
+                                 "its provenance)")
+        try:
+            parsed[name] = Setting(**entry)
+        except ValueError as exc:
+            raise ValueError(f"{section}.{name}.{exc}") from None
+    return parsed
+
+
+#: How an entry of each section is called in messages.
+_NOUN = {"settings": "setting", "sensing": "sensing item"}
+
+
+def _checked(section: str, entries, specs: Mapping) -> Mapping:
+    """``entries`` (name -> :class:`Setting`) checked against ``specs``: every name, no other,
+    each in its unit and valid; a read-only mapping in ``specs``' order."""
+    noun = _NOUN[section]
+    v.instance(section, entries, Mapping, f"a mapping of {noun} name -> Setting")
+    unknown = sorted(set(entries) - set(specs))
+    if unknown:
+        raise ValueError(f"{section}: unknown {noun}(s) {', '.join(map(repr, unknown))}")
+    missing = [n for n in specs if n not in entries]
+    if missing:
+        raise ValueError(f"{section}: missing {noun}(s) {', '.join(map(repr, missing))}")
+    checked = {}
+    for name, spec in specs.items():
+        s = v.instance(f"{section}.{name}", entries[name], Setting, "a Setting")
+        if s.unit != spec.unit:
+            raise ValueError(f"{section}.{name}.unit: must be {spec.unit!r}, got {s.unit!r}")
+        value = spec.check(f"{section}.{name}.value", s.value)
+        checked[name] = Setting(value=value, unit=s.unit, source=s.source, note=s.note)
+    return types.MappingProxyType(checked)
 
 
 def _model_keys() -> tuple:

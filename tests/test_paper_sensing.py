@@ -1,0 +1,91 @@
+"""The sensing of a bench (issue 22, item 2): which claims each item changes, and where.
+
+A bench's sensing (:class:`fricctl.paper.benches.Sensing`) is data: encoder edge jitter (position
+noise before quantisation), current-loop torque noise, the velocity estimate.  The references
+here are the claims' own criteria and the noise-free bench as the control: with its sensing off,
+a figure's runs are today's bit for bit.  The Coulomb runs of Fig. 16 do not involve the
+network's weights, so their seeds are seeds of the sensing noise (one trained network,
+:meth:`~fricctl.paper.PaperNetwork.sensed_on`), each verdict a count over those seeds.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import fricctl.controllers as ctl
+from fricctl.compensators import CoulombCompensator
+from fricctl.paper import fig16, train_paper_network
+from fricctl.paper.benches import bench
+from fricctl.paper.common import COULOMB_AT_FC, COULOMB_AT_FS, designs
+from fricctl.simulate import simulate
+
+#: Seeds of the sensing noise each verdict is counted over [-].
+SEEDS = range(5)
+
+
+@pytest.fixture(scope="module")
+def nets():
+    return {name: train_paper_network(bench=name, fast=True, seed=0, pipeline="fricctl")
+            for name in ("literal", "consistent")}
+
+
+def _pair(net, b) -> tuple[int, int]:
+    """(seeds where fig16-coulomb-fs holds, seeds where fig16-coulomb-fc holds) on bench ``b``."""
+    fs = fc = 0
+    for k in SEEDS:
+        r = fig16.run(net.sensed_on(b, k))
+        fs += fig16.claim_fig16_coulomb_fs(r, b).passed
+        fc += fig16.claim_fig16_coulomb_fc(r, b).passed
+    return fs, fc
+
+
+def test_sensing_off_is_the_noise_free_run_bit_for_bit(nets):
+    net = nets["consistent"]
+    off = bench("consistent").with_sensing("off", encoder_jitter=0.0, torque_noise=0.0)
+    r = fig16.run(net.sensed_on(off, 3))
+    p, d = off.linked_actuator, designs(off)["fig16-17"]
+    level = r.coulomb_level(COULOMB_AT_FS)
+    ref = simulate(p, ctl.pd_control(d.kp, d.kd, ctl.step(np.deg2rad(30.0))),
+                   CoulombCompensator.symmetric(level / r.scale, scale=r.scale), duration=3.0,
+                   friction=p.friction_model().scaled(r.friction_scale))
+    np.testing.assert_array_equal(r.runs[COULOMB_AT_FS].q_meas, ref.q_meas)
+    np.testing.assert_array_equal(r.runs[COULOMB_AT_FS].torque_motor, ref.torque_motor)
+    with pytest.raises(ValueError, match="differs from the network's bench 'consistent' in more than"):
+        net.sensed_on(bench("literal"))
+
+
+@pytest.mark.parametrize("name", ["literal", "consistent"])
+def test_encoder_jitter_alone_makes_the_breakaway_level_chatter(nets, name):
+    # the paper (Fig. 16): Coulomb compensation at the breakaway level oscillates, at a smaller
+    # level the oscillation disappears.  Noise-free, nothing flickers: neither level oscillates
+    # (fs fails, fc has nothing to disappear); torque noise alone (0.1 % of Tmax) moves no encoder
+    # edge either; the edge jitter alone reproduces the pair in every seed, on both benches
+    net, sensing = nets[name], bench("consistent").sensing
+    base = bench(name)
+    off = base.with_sensing("off", encoder_jitter=0.0, torque_noise=0.0)
+    torque = base.with_sensing("torque noise alone", encoder_jitter=0.0, torque_noise=sensing.torque_noise)
+    jitter = base.with_sensing("edge jitter alone", encoder_jitter=sensing.encoder_jitter, torque_noise=0.0)
+    assert _pair(net, off) == (0, 0)
+    assert _pair(net, torque) == (0, 0)
+    assert _pair(net, jitter) == (len(SEEDS), len(SEEDS))
+
+
+def test_the_consistent_bench_reproduces_the_coulomb_pair(nets):
+    b = bench("consistent")
+    assert _pair(nets["consistent"], b) == (len(SEEDS), len(SEEDS))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, low, high", [("consistent", 0.15, 0.5), ("literal", 0.2, 0.4)])
+def test_the_coulomb_pair_is_not_a_knife_edge_of_the_jitter(nets, name, low, high):
+    # measured (benchmarks/README.md, the bench's torque noise on): the pair holds in every seed
+    # from ``low`` to ``high`` counts, and not at 0.05 count on either bench; at half a count on
+    # the literal bench the claims' criterion (> 3 counts peak to peak: motion) reads the
+    # jitter itself as motion at the smaller level in some seeds
+    noise = bench("consistent").sensing.torque_noise
+    for sigma in sorted({low, 0.25, 0.3, high}):
+        b = bench(name).with_sensing("sensitivity", encoder_jitter=sigma, torque_noise=noise)
+        assert _pair(nets[name], b) == (len(SEEDS), len(SEEDS)), sigma
+    b = bench(name).with_sensing("sensitivity", encoder_jitter=0.05, torque_noise=noise)
+    assert _pair(nets[name], b)[0] < len(SEEDS)
