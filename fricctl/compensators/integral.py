@@ -131,6 +131,11 @@ class IntegralAction(Compensator):
         """True: it integrates the position error ``r - y``."""
         return True
 
+    @property
+    def estimates_friction(self) -> bool:
+        """False: ``Ki I`` is an integral of the position error, not a friction estimate."""
+        return False
+
     def __post_init__(self):
         v.real("ki", self.ki, positive=True, unit="N*m/(rad*s)")
         mt = v.real("max_torque", self.max_torque, positive=True, finite=False, unit="N*m")
