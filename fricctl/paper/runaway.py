@@ -46,13 +46,14 @@ __all__ = ["RunawayCheck", "wind_up", "divergence", "torque_check", "reversal", 
 #: and is still 10 ms, far shorter than any wind-up the paper pipeline shows (hundreds
 #: of samples).
 WIND_UP_SAMPLES = 5
-#: Share of a run, at its end, in which the torque beyond the friction bound must have ended
-#: for a compensator that is not a friction estimate (:func:`divergence`) [-].  Every
-#: experiment this check judges asks its joint to settle (a step held to its end) or repeats
-#: its excitation at least twice (a sawtooth's two periods, a sinusoid's three): a transient
-#: started by the excitation has the rest of the run to end, and the last quarter is after
-#: the last change of the reference in each of them.  A runaway (a loop made unstable, an
-#: integral or an estimate that saturates the drive) is still beyond the bound there.
+#: Share of a run, at its end, in which the torque beyond the friction bound must have died
+#: out for a compensator that is not a friction estimate (:func:`divergence`) [-].  The
+#: experiments of :mod:`fricctl.compare` ask their joint to settle (a step from t = 0, held
+#: to the end) or track a reference whose last corner is at half the run (the sawtooth's two
+#: periods): a transient they start has at least a quarter of the run to die out before the
+#: last quarter begins.  (Under the open-loop sinusoid the excitation goes on in the last
+#: quarter: see :func:`divergence`'s Notes.)  A runaway (a loop made unstable, an integral or
+#: an estimate that holds the drive at saturation) is still beyond the bound there.
 SETTLE_SHARE = 0.25
 #: Ratio of the excess beyond the friction bound in that last share to the largest excess
 #: before it, from which the excess counts as not decayed (:func:`divergence`) [-].  The loops
