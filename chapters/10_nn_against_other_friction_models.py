@@ -215,7 +215,7 @@ assert math.isclose(lg.sigma1, math.sqrt(lg.sigma0 * p.total_inertia))
 # disturbance: friction, an inertia error, a load) and integral action (an integral of the
 # position error) may exceed that bound in a transient without the joint running away.  Their
 # runs are held instead to the *divergence* check
-# ([`divergence`](#fricctl.paper.runaway.divergence)): the torque beyond the bound must die
+# ([`divergence`](#fricctl.paper.divergence)): the torque beyond the bound must die
 # out by the last quarter of the run -- no excursion that lasts to the end, none that is still
 # as large there (at least half) as before.  A compensator says which it is
 # (`estimates_friction`), and each row of the table names the check it used.
