@@ -11,7 +11,11 @@ import pytest
 from fricctl.cli import main
 from fricctl.nn import load_net
 from fricctl.nn.pipelines import PIPELINES
+from fricctl.cli import reproduce as _cli_reproduce
 from fricctl.paper import EXTRA, paper_figures
+
+#: The command's own comparison step (the stub of _fake_reproduce replaces it).
+_REAL_COMPARISON = _cli_reproduce._comparison
 
 #: One PNG per registered figure, and the coast test and the robustness sweep.
 FIGS = sorted([f"fig{n:02d}.png" for n in paper_figures()] + ["sweep.png", "coast.png"])
@@ -97,6 +101,11 @@ def test_reproduce_writes_everything(reproduced):
     for r in rows:
         assert len(r["seeds"]) == (2 if r["compensator"] in ("nn", "nn_paper") else 1)
     assert "# Compensator comparison" in (out / "comparison.md").read_text()
+    # issue 23 item 5: the comparison ran the nets the run wrote, and says which (their SHA-256)
+    manifest = json.loads((out / "fricctl-manifest.json").read_text())["files"]
+    digests = json.loads((out / "comparison.json").read_text())["nets"]
+    assert digests == {k: v for k, v in manifest.items() if k.startswith("nets/")}
+    assert len(digests) == 2 * len(PIPELINES)
 
 
 def test_reproduce_writes_every_net_reloadable(reproduced):
@@ -209,6 +218,38 @@ def _fake_reproduce(monkeypatch, seeds_written, *, interrupt=False):
     monkeypatch.setattr(cli_reproduce, "_write_figures", write_figures)
     monkeypatch.setattr(cli_reproduce, "_comparison", lambda *a: types.SimpleNamespace(
         table=lambda: "comparison\n", to_json=lambda: '{"rows": []}'))
+
+
+def test_reproduce_compares_the_nets_it_wrote(tmp_path, monkeypatch):
+    # issue 23 item 5: the comparison is given the text of the nets/ files the run wrote (seed k's
+    # at index k), and comparison.json lists their SHA-256; nothing is trained or read from a cache
+    import fricctl.compare
+    from fricctl.cli import reproduce as cli_reproduce
+
+    _fake_reproduce(monkeypatch, (0, 1))
+    seen = {}
+
+    class Result:
+        def table(self):
+            return "comparison\n"
+
+        def to_json(self):
+            return '{"rows": []}'
+
+    def compare(**kwargs):
+        seen.update(kwargs)
+        return Result()
+
+    monkeypatch.setattr(cli_reproduce, "_comparison", _REAL_COMPARISON)
+    monkeypatch.setattr(fricctl.compare, "compare", compare)
+    out = tmp_path / "out"
+    assert main(["reproduce", "--out", str(out), "--fast", "--pipelines", "fricctl", "--workers", "1",
+                 "--seeds", "2"]) == 0
+    files = [(out / "nets" / f"fricctl-seed{s}.json") for s in (0, 1)]
+    assert seen["options"]["nn"]["networks"] == [f.read_text() for f in files]
+    assert "nn_paper" not in seen["compensators"] and seen["seeds"] == 2
+    digests = json.loads((out / "comparison.json").read_text())["nets"]
+    assert digests == {f"nets/{f.name}": hashlib.sha256(f.read_bytes()).hexdigest() for f in files}
 
 
 def _tree(folder):

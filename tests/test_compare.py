@@ -195,7 +195,6 @@ def test_physics_of_the_small_table(small):
     # definition Tmax = Fs/0.127, within one step of the 200-level grid (0.0995 % of Tmax)
     dz = r.row("none", "dead_zone", "nominal")["metrics"]
     assert dz["dead_zone"]["median"] == pytest.approx(12.7, abs=0.1)
-    assert dz["dead_zone_factor"]["median"] == 1.0  # the same runs, with and without
     # friction only slows a coasting joint: without compensation no excess over the viscous decay
     assert r.row("none", "coast", "nominal")["metrics"]["coast_excess"]["median"] <= 1e-9
     # Coulomb at the breakaway level Fs over-compensates the sliding friction (Fc < Fs): while
@@ -270,6 +269,148 @@ def test_plot_comparison(small):
         plot_comparison(small, experiment="coast", metric="tracking_rms")
 
 
+# ------------------------------------------------------------------ issue 23: factor and runaway criteria
+def _linear_net(gain: float) -> str:
+    """A network whose estimate is ``gain * Tm`` (to 1e-6 relative over |Tm| <= Tmax): tanh of
+    a 1e-3-scaled input, scaled back; its gain at rest is ``gain``."""
+    from fricctl.nn import FrictionNet
+
+    net = FrictionNet(w1=[[1e-3, 0.0]], b1=[0.0], w2=[gain * 1e3], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=1.0,
+                      envelope_low=[-10, -100], envelope_high=[10, 100])
+    assert net.gain_at_rest() == pytest.approx(gain, rel=1e-12)
+    return net.to_json()
+
+
+def test_dead_zone_factor_of_a_gain_at_rest_is_its_closed_form():
+    # at rest (omega_hat = 0) a compensator T^at = g*Tm makes Tm(k+1) = Tc(k) + g*Tm(k): Tm settles
+    # at Tc/(1 - g), so the open-loop joint breaks away at Tc = (1 - g)*Fs: the dead zone shrinks
+    # by 1/(1 - g) (FrictionNet.gain_at_rest's closed form); Coulomb at Fs gives nothing at rest
+    # (sign(0) = 0): factor 1.  Tolerance: the dead zone is read on a grid of 0.0995 % of Tmax
+    r = compare(compensators=("nn", "coulomb_breakaway"), experiments=("dead_zone",), plants=("nominal",),
+                seeds=1, options={"nn": {"network": _linear_net(0.5)}})
+    nn = r.row("nn", "dead_zone", "nominal")["metrics"]
+    none_dz = 12.7  # % of Tmax: Fs = 0.127 Tmax (the bench's definition; test_physics_of_the_small_table)
+    assert nn["dead_zone"]["median"] == pytest.approx(0.5 * none_dz, abs=0.1)
+    assert nn["dead_zone_factor"]["median"] == pytest.approx(2.0, abs=2 * (0.1 / 6.35 + 0.1 / 12.7))
+    assert r.row("coulomb_breakaway", "dead_zone", "nominal")["metrics"]["dead_zone_factor"]["median"] == 1.0
+
+
+def test_a_friction_estimate_with_gain_at_rest_above_one_fails_the_wind_up_check():
+    # under the sinusoid at 10 % of Tmax (below Fs): with g = 1.5 Tm(k+1) = Tc(k) + 1.5 Tm(k) grows
+    # until the drive saturates; with g = 0.5 Tm = 2 Tc stays within |Tc| + Fs (2 Tc < Tc + Fs)
+    def runaway(gain):
+        r = compare(compensators=("nn",), experiments=("dead_zone",), plants=("nominal",), seeds=1,
+                    options={"nn": {"network": _linear_net(gain)}})
+        return r.row("nn", "dead_zone", "nominal")["runaway"]
+
+    bad, ok = runaway(1.5), runaway(0.5)
+    assert bad["criterion"] == ok["criterion"] == "wind-up"
+    assert bad["passed"] == 0 and bad["runs"] == 1 and "wind-up" in bad["failures"][0]
+    assert ok["passed"] == 1
+
+
+def _step30(plant, comp):
+    from fricctl import controllers as ctl
+    from fricctl.simulate import simulate
+
+    c = ctl.pd_control(D.kp, D.kd, ctl.step(float(np.deg2rad(30.0))))
+    return simulate(plant, c, comp, duration=3.0)
+
+
+def test_divergence_passes_bounded_transients_and_fails_real_runaways():
+    import control
+
+    from fricctl.compensators import DisturbanceObserver, IntegralAction
+    from fricctl.paper import divergence, wind_up
+
+    p = B.actuator
+    # integral action: the continuous PID loop I s^3 + (b + Kd) s^2 + Kp s + Ki is stable iff
+    # Ki < (b + Kd) Kp / I (Routh); python-control's poles say the same
+    ki_max = (D.viscous + D.kd) * D.kp / D.inertia
+
+    def stable(ki):
+        return bool(np.all(np.real(control.poles(control.tf([ki], [D.inertia, D.viscous + D.kd, D.kp, ki])))
+                           < 0))
+
+    assert stable(0.5 * ki_max) and not stable(1.5 * ki_max)
+    half = _step30(p, IntegralAction(ki=0.5 * ki_max, max_torque=p.max_torque))
+    assert not wind_up(half).passed  # beyond the friction bound: the integral's transient ...
+    assert divergence(half).passed  # ... dies out
+    unstable = _step30(p, IntegralAction(ki=1.5 * ki_max, max_torque=p.max_torque))
+    d = divergence(unstable)
+    assert not d.passed and d.value > 90  # a sustained oscillation: the excess has not decayed
+    # a DOB told 4x the joint's inertia: with the default Q bandwidth 1/(10 Ts) the loop settles,
+    # with 1/(2 Ts) it oscillates at the drive's saturation to the run's end
+    big = 4 * p.total_inertia
+    calm = _step30(p, DisturbanceObserver(inertia=big, bandwidth=1 / (10 * p.sample_time)))
+    assert divergence(calm).passed
+    wild = _step30(p, DisturbanceObserver(inertia=big, bandwidth=1 / (2 * p.sample_time)))
+    assert not divergence(wild).passed
+    assert np.max(np.abs(wild.torque_motor[-250:])) == p.max_torque
+    # the DOB of the actuator alone on the link plant: it supplies the link's inertia torque at the
+    # start of the step (beyond the friction bound), and the transient dies out
+    linked = _step30(B.linked_actuator, DisturbanceObserver.from_model(
+        B.model, bandwidth=1 / (10 * p.sample_time)))
+    assert not wind_up(linked).passed and divergence(linked).passed
+
+
+def test_the_integral_clamp_uses_the_loops_saturation_on_every_bench_and_plant():
+    # issue 23 item 6: IntegralAction's clamp compares the held Tm (clipped by the loop at the
+    # simulated plant's max_torque) with its own max_torque: the two must be the same number
+    from fricctl.compare.protocol import _model
+    from fricctl.paper.benches import BENCHES
+
+    for name in BENCHES:
+        b = bench(name)
+        for en, ex in EXPERIMENTS.items():
+            if not ex.closed_loop:
+                continue
+            comp = make_contender("integral", _model(name, ex.linked), designs(b)[ex.design],
+                                  b.actuator.sample_time)
+            for pl in PLANTS:
+                base = b.linked_actuator if ex.linked else b.actuator
+                assert comp.max_torque == realise(pl, base).params.max_torque, (name, en, pl)
+
+
+def test_the_table_says_which_torque_check_each_row_used():
+    r = compare(compensators=("none", "dob", "integral"), experiments=("pd_steps", "coast"),
+                plants=("nominal",), seeds=1)
+    assert r.row("none", "pd_steps", "nominal")["runaway"]["criterion"] == "wind-up"
+    assert r.row("dob", "pd_steps", "nominal")["runaway"]["criterion"] == "divergence"
+    assert r.row("integral", "pd_steps", "nominal")["runaway"]["criterion"] == "divergence"
+    assert r.row("integral", "coast", "nominal")["runaway"]["criterion"] is None  # not applicable
+    md = r.table()
+    assert "| runaway | torque check |" in md
+    assert "| 1/1 | divergence |" in md and "| 1/1 | wind-up |" in md
+    assert "- `divergence`: not a friction estimate" in md
+
+
+def test_given_networks_are_run_per_seed_and_nothing_is_trained(monkeypatch):
+    # issue 23 item 5: `networks` (seed k's at index k) and `network` (every seed) are the nets run;
+    # the training (and the disk cache it reads) is never reached
+    import fricctl.compare.contenders as contenders
+
+    def refuse(*a):
+        raise AssertionError("a network was trained although one was given")
+
+    monkeypatch.setattr(contenders, "_trained", refuse)
+    nets = [_linear_net(0.5), _linear_net(0.25)]
+    r = compare(compensators=("nn",), experiments=("dead_zone",), plants=("nominal",), seeds=2,
+                options={"nn": {"networks": nets}})
+    dz = r.row("nn", "dead_zone", "nominal")["metrics"]["dead_zone"]["values"]
+    # seed 0 ran g = 0.5, seed 1 g = 0.25: dead zones (1 - g) * 12.7 % of Tmax, within a grid step
+    assert dz == pytest.approx([0.5 * 12.7, 0.75 * 12.7], abs=0.1)
+    same = compare(compensators=("nn",), experiments=("dead_zone",), plants=("nominal",), seeds=2,
+                   options={"nn": {"network": nets[1]}})
+    assert same.row("nn", "dead_zone", "nominal")["metrics"]["dead_zone"]["values"] == [dz[1], dz[1]]
+    for bad, match in (({"networks": nets[:1]}, "none for seed 1"), ({"networks": nets[0]}, "list of JSON"),
+                       ({"networks": [nets[0], 3]}, "networks\\[1\\] must be a string")):
+        with pytest.raises(ValueError, match=match):
+            compare(compensators=("nn",), experiments=("dead_zone",), plants=("nominal",), seeds=2,
+                    options={"nn": bad})
+
+
 # ------------------------------------------------------------------ slow: networks, processes, Dask
 @pytest.mark.slow
 def test_networks_over_seeds():
@@ -293,6 +434,27 @@ def test_dask_local_cluster_gives_the_serial_rows_bit_for_bit(small):
         r = compare(**FAST, executor=client.get_executor())
     assert r.to_json() == small.to_json()
     assert r.rows == small.rows
+
+
+@pytest.mark.slow
+def test_dask_local_cluster_gives_the_serial_rows_with_a_network_state_and_noise():
+    # issue 23 item 4: a trained network (fast training, once, here), the stateful compensators
+    # (the LuGre observer and the DOB carry a state through the compiled loop), a plant with
+    # torque noise drawn per seed: the Dask rows are the serial ones bit for bit
+    distributed = pytest.importorskip("distributed")
+    from fricctl.paper import train_paper_network
+
+    net = train_paper_network(bench="literal", seed=0, pipeline="fricctl", fast=True).net.to_json()
+    run = dict(compensators=("nn", "lugre_observer", "dob"), experiments=("pd_steps", "dead_zone"),
+               plants=("nominal", "noise"), seeds=2, bench="literal", options={"nn": {"network": net}})
+    serial = compare(**run)
+    noisy = serial.row("dob", "pd_steps", "noise")
+    assert noisy["seeded"] and len(set(noisy["metrics"]["effort_rms"]["values"])) == 2  # noise per seed
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        r = compare(**run, executor=client.get_executor())
+    assert r.to_json() == serial.to_json()
+    assert r.rows == serial.rows
 
 
 def test_a_compensator_of_the_position_error_is_not_applicable_open_loop():

@@ -585,6 +585,63 @@ def test_wind_up_against_hand_made_runs():
     assert paper.wind_up(_sim(np.zeros(100), tm=np.full(100, fs - 1e-6))).value == 0
 
 
+def test_divergence_against_hand_made_runs():
+    # issue 23: the torque check of a compensator that is not a friction estimate.  100 samples,
+    # 99 judged pairs (k, k+1); the last quarter (SETTLE_SHARE) from k = 75 (t = 0.150 s)
+    fs = P.static
+    assert paper.runaway.SETTLE_SHARE == 0.25 and paper.runaway.DECAY == 0.5
+    tm = np.zeros(100)
+    tm[10:40] = fs + 0.04  # a transient beyond the bound, 30 samples, 0.04 N*m, that ends
+    d = paper.divergence(_sim(np.zeros(100), tm=tm))
+    assert d.passed and d.value == 0 and "ended before the run's last 25 % (from t = 0.150 s)" in d.reason
+    assert not paper.wind_up(_sim(np.zeros(100), tm=tm)).passed  # the friction bound fails it
+    # a late episode (8 samples) that has decayed to a quarter of it: passes; to 5/8: fails
+    tm[80:88] = fs + 0.01
+    d = paper.divergence(_sim(np.zeros(100), tm=tm))
+    assert d.passed and d.value == pytest.approx(25.0) and d.limit == 50.0
+    tm[80:88] = fs + 0.025
+    d = paper.divergence(_sim(np.zeros(100), tm=tm))
+    assert not d.passed and d.value == pytest.approx(62.5) and "not decayed" in d.reason
+    # 5 samples are the loop's lateness, as for wind_up: not an episode
+    tm[85:88] = 0.0
+    assert paper.divergence(_sim(np.zeros(100), tm=tm)).passed
+    # a late episode with none before: a torque that grew
+    tm[:] = 0.0
+    tm[80:88] = fs + 0.001
+    d = paper.divergence(_sim(np.zeros(100), tm=tm))
+    assert not d.passed and d.value == math.inf and "none before" in d.reason
+    # held beyond the bound from before the last quarter to the end (a saturated drive)
+    tm[:] = 0.0
+    tm[10:40] = fs + 0.5
+    tm[60:] = fs + 0.01
+    d = paper.divergence(_sim(np.zeros(100), tm=tm))
+    assert not d.passed and d.value == math.inf and "has not ended" in d.reason
+    # a growing oscillation of the torque fails, a decaying one passes
+    t = np.arange(100) * P.sample_time
+    wave = fs * np.sin(2 * np.pi * t / 0.04)
+    assert not paper.divergence(_sim(np.zeros(100), tm=2 * wave * np.exp(t / 0.1))).passed
+    assert not paper.divergence(_sim(np.zeros(100), tm=2 * wave)).passed  # sustained
+    assert paper.divergence(_sim(np.zeros(100), tm=4 * wave * np.exp(-t / 0.02))).passed
+    for bad, match in (({"settle_share": 1.0}, "settle_share"), ({"settle_share": 0.0}, "settle_share"),
+                       ({"settle_share": 0.05}, "max_samples"), ({"decay": 0.0}, "decay")):
+        with pytest.raises(ValueError, match=match):
+            paper.divergence(_sim(np.zeros(100)), **bad)
+
+
+def test_torque_check_follows_the_compensators_flag():
+    from fricctl.compensators import (CoulombCompensator, DisturbanceObserver, IntegralAction,
+                                      NoCompensation)
+
+    run = _sim(np.zeros(100))
+    assert paper.runaway.torque_check(run, CoulombCompensator.symmetric(0.1)).name == "wind-up"
+    assert paper.runaway.torque_check(run, NoCompensation()).name == "wind-up"
+    assert paper.runaway.torque_check(run, DisturbanceObserver(inertia=1e-3, bandwidth=50.0)).name \
+        == "divergence"
+    assert paper.runaway.torque_check(run, IntegralAction(ki=1.0)).name == "divergence"
+    with pytest.raises(ValueError, match="compensator must be"):
+        paper.runaway.torque_check(run, object())
+
+
 def test_reversal_against_hand_made_sinusoids():
     t = np.arange(1500) * P.sample_time  # 3 s, period 1 s: periods 2 and 3 are judged
     follows = _sim(np.sin(2 * np.pi * t))

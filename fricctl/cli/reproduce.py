@@ -24,7 +24,8 @@ DIR:
                every compensator of fricctl.compare (none, Coulomb at Fc and at the breakaway
                level, the networks of these pipelines and seeds, the static-model feedforward,
                the LuGre observer, the disturbance observer, integral action) on the paper's
-               experiments (`fricctl compare` runs the perturbed plants too).
+               experiments (`fricctl compare` runs the perturbed plants too); the networks
+               are the files of nets/, whose SHA-256 comparison.json lists under "nets".
 
   fricctl-manifest.json   the files this run wrote, with their SHA-256.
 
@@ -350,16 +351,27 @@ def _write_figures(res, out: Path, executor) -> list:
 _PIPELINE_CONTENDER = {"fricctl": "nn", "paper": "nn_paper"}
 
 
-def _comparison(bench: str, fast: bool, seeds: int, pipelines: tuple, executor):
-    """Every contender on the bench's nominal plant, the networks of ``pipelines`` only (the
-    runs' networks, read back from the cache of trained networks)."""
+def _comparison(bench: str, fast: bool, seeds: int, pipelines: tuple, executor, nets: dict):
+    """Every contender on the bench's nominal plant, the networks of ``pipelines`` only: the
+    very networks the run wrote, ``nets[pipeline][seed]`` (their files' text; seeds 0 ..
+    ``seeds`` - 1), not trained again nor read back from the cache of trained networks."""
     from ..compare import CONTENDERS, compare
 
-    nets = {_PIPELINE_CONTENDER[p] for p in pipelines}
-    comps = [n for n in CONTENDERS if n not in _PIPELINE_CONTENDER.values() or n in nets]
+    names = {_PIPELINE_CONTENDER[p]: p for p in pipelines}
+    comps = [n for n in CONTENDERS if n not in _PIPELINE_CONTENDER.values() or n in names]
     options = {n: {"fast": True} for n in comps if fast and "fast" in (CONTENDERS[n].options or ())}
+    for n, p in names.items():
+        options[n] = {**options.get(n, {}), "networks": [nets[p][s] for s in range(seeds)]}
     return compare(compensators=comps, plants=["nominal"], seeds=seeds, bench=bench,
                    options=options, executor=executor)
+
+
+def _comparison_json(cmp, digests: dict) -> str:
+    """comparison.json: the comparison's rows and, under ``"nets"``, the SHA-256 of each network
+    file (``nets/<pipeline>-seed<K>.json``) its network rows ran."""
+    d = json.loads(cmp.to_json())
+    d["nets"] = digests
+    return json.dumps(d, indent=1, allow_nan=False)
 
 
 def run(args) -> int:
@@ -400,14 +412,17 @@ def run(args) -> int:
         print(f"figures of the representative seeds drawn in {time.perf_counter() - t0:.1f} s",
               file=sys.stderr)
         (new / "nets").mkdir()
+        nets, digests = {p: {} for p in pipelines}, {}
         for (name, seed), r in res.runs.items():
-            save_net(r.net, new / "nets" / f"{name}-seed{seed}.json")
+            path = save_net(r.net, new / "nets" / f"{name}-seed{seed}.json")
+            nets[name][seed] = path.read_text(encoding="utf-8")  # the comparison runs these files
+            digests[f"nets/{path.name}"] = _digest(path)
         write_text(new / "claims.md", res.markdown())
         write_text(new / "claims.json", res.json() + "\n")
         t0 = time.perf_counter()
-        cmp = _comparison(bench, args.fast, seeds, pipelines, ex)
+        cmp = _comparison(bench, args.fast, seeds, pipelines, ex, nets)
         write_text(new / "comparison.md", cmp.table())
-        write_text(new / "comparison.json", cmp.to_json() + "\n")
+        write_text(new / "comparison.json", _comparison_json(cmp, digests) + "\n")
         print(f"the compensators compared on the nominal plant in {time.perf_counter() - t0:.1f} s",
               file=sys.stderr)
         _write_manifest(new)

@@ -126,14 +126,37 @@ def _net_options(options: Mapping) -> tuple:
     return bench, fast
 
 
+def _given(options: Mapping, seed: int) -> str | None:
+    """Seed ``seed``'s network from the option ``networks`` (one JSON text per seed, seed k at
+    index k: networks trained elsewhere, e.g. the ones ``fricctl reproduce`` wrote), or None."""
+    if "networks" not in options:
+        return None
+    nets = options["networks"]
+    if isinstance(nets, (str, bytes)) or not isinstance(nets, (list, tuple)):
+        raise ValueError(f"option networks must be a list of JSON texts (one per seed), got "
+                         f"{type(nets).__name__}")
+    if seed >= len(nets):
+        raise ValueError(f"option networks holds {len(nets)} network(s) (seeds 0 .. {len(nets) - 1}): "
+                         f"none for seed {seed}")
+    return v.text(f"networks[{seed}]", nets[seed], empty=False)
+
+
 def _network(pipeline: str, name: str):
     """Factory and prepare step of the network of ``pipeline``, trained per seed on the bench
     (:func:`fricctl.paper.train_paper_network`: the bench's training experiments, the seeded
-    split and trainer; not retrained for a perturbed plant, as a deployed net is not)."""
+    split and trainer; not retrained for a perturbed plant, as a deployed net is not).
+
+    Options: ``bench``, ``fast`` (the training's), ``network`` (one JSON text: this network for
+    every seed) or ``networks`` (a list of JSON texts, seed k's at index k: no training).
+    """
 
     def prepare(seed, options):
         bench, fast = _net_options(options)
-        return {**options, "network": _trained(pipeline, bench, v.integer("seed", seed, low=0), fast)}
+        seed = v.integer("seed", seed, low=0)
+        # a network given (one for every seed, or seed k's) is the one run: nothing is trained
+        given = options["network"] if "network" in options else _given(options, seed)
+        rest = {k: x for k, x in options.items() if k != "networks"}
+        return {**rest, "network": given if given is not None else _trained(pipeline, bench, seed, fast)}
 
     def factory(model, design, sample_time, seed, options):
         from ..nn import FrictionNet
@@ -144,8 +167,10 @@ def _network(pipeline: str, name: str):
         if abs(v.real("sample_time", sample_time, positive=True, unit="s") - ts) > 1e-12 * ts:
             raise ValueError(f"contender {name!r}: the network is trained at the bench's Ts = {ts:g} s, "
                              f"not at sample_time = {sample_time:g} s")
-        text = options["network"] if "network" in options else \
-            _trained(pipeline, bench, v.integer("seed", seed, low=0), fast)
+        seed = v.integer("seed", seed, low=0)
+        text = options["network"] if "network" in options else _given(options, seed)
+        if text is None:
+            text = _trained(pipeline, bench, seed, fast)
         return NNCompensator(FrictionNet.from_json(text), name=name)
 
     return factory, prepare
@@ -200,10 +225,10 @@ _TABLE = (
               "level (the paper's 'dry friction identified experimentally')", factory=_coulomb_breakaway),
     Contender(name="nn", description="2-4-1 network, fricctl pipeline (nonlinear part, certified gain "
               "at rest), trained per seed on the bench", factory=_nn, seeded=True, prepare=_nn_prepare,
-              options=("bench", "fast", "network")),
+              options=("bench", "fast", "network", "networks")),
     Contender(name="nn_paper", description="2-4-1 network, the paper's literal recipe (full friction, "
               "least squares), trained per seed on the bench", factory=_nn_paper, seeded=True,
-              prepare=_nn_paper_prepare, options=("bench", "fast", "network")),
+              prepare=_nn_paper_prepare, options=("bench", "fast", "network", "networks")),
 )
 
 #: The stateful compensators of :mod:`fricctl.compensators` (issue 23 item 1), one line each:

@@ -4,7 +4,9 @@ Each experiment is the paper's figure experiment with its settings (its controll
 :func:`fricctl.paper.common.designs`, its steps, sinusoid, sawtooth and durations from the
 figure modules and the bench), made to take the compensator and the plant as arguments; each
 returns an :class:`Outcome`: metrics with units (:data:`METRICS`) and the runaway checks of
-:mod:`fricctl.paper.runaway` on its compensated runs.
+:mod:`fricctl.paper.runaway` on its compensated runs (the torque's:
+:func:`~fricctl.paper.runaway.torque_check`, the wind-up bound for a friction estimate, the
+divergence criterion for a DOB or integral action).
 
 ==============  ===================================================================  ===========
 name            what                                                                 from
@@ -41,7 +43,7 @@ from ..compensators import Compensator, NoCompensation
 from ..paper import coast as coast_test
 from ..paper.common import SS_WINDOW, designs, restarts
 from ..paper.fig14 import STEPS_DEG
-from ..paper.runaway import coast_decay, reversal, wind_up
+from ..paper.runaway import coast_decay, reversal, torque_check
 from ..simulate import simulate, simulate_batch
 
 __all__ = ["Experiment", "Outcome", "EXPERIMENTS", "METRICS", "HF_CUTOFF", "HF_TAIL", "LC_WINDOW",
@@ -222,7 +224,7 @@ def _dead_zone(bench, pl, comp, design, rng) -> Outcome:
     factor = dz0.dead_zone / dz1.dead_zone if dz1.dead_zone > 0 else math.inf
     return Outcome(metrics={"dead_zone": 100 * dz1.fraction, "dead_zone_factor": factor,
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(wind_up(r), reversal(r, 1.0)))
+                   checks=(torque_check(r, comp), reversal(r, 1.0)))
 
 
 def _steps(bench, pl, comp, design, rng, steps, duration) -> Outcome:
@@ -232,7 +234,7 @@ def _steps(bench, pl, comp, design, rng, steps, duration) -> Outcome:
     e = np.abs(np.asarray(b.steady_state_error(SS_WINDOW)))
     return Outcome(metrics={"steady_state_error": float(np.rad2deg(e.max())),
                             **_effort(b.torque_motor, p.sample_time)},
-                   checks=tuple(wind_up(b[i]) for i in range(len(b))))
+                   checks=tuple(torque_check(b[i], comp) for i in range(len(b))))
 
 
 def _pd_steps(bench, pl, comp, design, rng) -> Outcome:
@@ -251,7 +253,7 @@ def _sawtooth(bench, pl, comp, design, rng) -> Outcome:
     return Outcome(metrics={"tracking_rms": float(np.rad2deg(np.sqrt(np.mean(r.error ** 2)))),
                             "stick_slip_cycles": float(restarts(r)),
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(wind_up(r),))
+                   checks=(torque_check(r, comp),))
 
 
 def _coast(bench, pl, comp, design, rng) -> Outcome:
@@ -265,7 +267,7 @@ def _coast(bench, pl, comp, design, rng) -> Outcome:
     k_end = int(off[0]) + 1 + pl.delay
     decay = coast_decay(r, float(r.t[k_end]))
     return Outcome(metrics={"coast_excess": decay.value, **_effort(r.torque_motor, p.sample_time)},
-                   checks=(decay, wind_up(r)))
+                   checks=(decay, torque_check(r, comp)))
 
 
 def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
@@ -275,7 +277,7 @@ def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
     amp, freq = limit_cycle(r.t, r.q, p.encoder_resolution)
     return Outcome(metrics={"limit_cycle_amplitude": float(np.rad2deg(amp)), "limit_cycle_frequency": freq,
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(wind_up(r),))
+                   checks=(torque_check(r, comp),))
 
 
 _EFFORT = ("effort_rms", "effort_hf_share")

@@ -99,6 +99,20 @@ def _stats(values: list) -> dict:
             "values": [None if x is None or not math.isfinite(x) else x for x in values]}
 
 
+#: The torque checks of :mod:`fricctl.paper.runaway` a row may have used, and what they hold.
+CRITERIA = {"wind-up": "friction estimate: |Tm| within |Tc| + Fs + b|omega| (wind_up)",
+            "divergence": "not a friction estimate (DOB, integral action): beyond that bound only in "
+                          "transients that die out by the run's last quarter (divergence)"}
+
+
+def _criterion(outs: list) -> str | None:
+    """The torque check the runs of a row used (one per compensator), None if none ran."""
+    names = {c["name"] for o in outs if "checks" in o for c in o["checks"] if c["name"] in CRITERIA}
+    if len(names) > 1:  # pragma: no cover - a compensator's estimates_friction does not change
+        raise ValueError(f"the runs of one row used two torque checks: {sorted(names)}")
+    return names.pop() if names else None
+
+
 def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool) -> dict:
     ex = EXPERIMENTS[en]
     warnings = []
@@ -114,7 +128,7 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
     if na:  # open loop for a compensator of the position error: nothing measured, nothing failed
         return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
                 "seeded": seeded, "metrics": metrics, "not_applicable": na[0],
-                "runaway": {"passed": 0, "runs": 0, "rate": None, "failures": []},
+                "runaway": {"passed": 0, "runs": 0, "rate": None, "criterion": None, "failures": []},
                 "errors": [], "warnings": []}
     passed, reasons = 0, []
     ran = [(s, o) for s, o in zip(seeds, outs) if "error" not in o]  # an error is not a runaway
@@ -127,7 +141,7 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
     return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
             "seeded": seeded, "metrics": metrics,
             "runaway": {"passed": passed, "runs": len(ran), "rate": passed / len(ran) if ran else None,
-                        "failures": reasons[:3]},
+                        "criterion": _criterion(outs), "failures": reasons[:3]},
             "errors": [f"seed {s}: {o['error']}" for s, o in zip(seeds, outs) if "error" in o],
             "warnings": warnings}
 
@@ -142,7 +156,10 @@ class ComparisonResult:
         object), ``seeds`` (the seeds run; one where nothing depends on the seed), ``seeded``
         (whether the runs depend on the seed: a trained network, or a plant with noise), ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
         seed), ``runaway`` (``passed`` of the ``runs`` that ran -- a run that could not be made
-        is an error, not a runaway --, ``rate`` (None when none ran), the first ``failures``' reasons),
+        is an error, not a runaway --, ``rate`` (None when none ran), ``criterion``: the torque
+        check its runs used, ``"wind-up"`` for a friction estimate or ``"divergence"`` for a
+        DOB or integral action (:func:`fricctl.paper.runaway.torque_check`; None when none
+        ran), the first ``failures``' reasons),
         ``errors`` (runs that could not be made, e.g. a diverged loop), ``warnings``, and
         ``not_applicable`` (why, with no metric and no runaway run) for a compensator of the
         position error on an open-loop experiment
@@ -182,11 +199,13 @@ class ComparisonResult:
         out = [f"# Compensator comparison (bench {self.bench})", "",
                f"Trained networks, and every compensator on a plant with noise, ran {self.seeds} seed(s) "
                "each; a run that does not depend on the seed ran once. Cells: median [min, max] over the seeds. Runaway: runs "
-               "whose runaway checks (fricctl.paper.runaway) all passed.", ""]
+               "whose runaway checks (fricctl.paper.runaway) all passed; torque check: the criterion the "
+               "motor torque was held to:", ""] + [f"- `{k}`: {d}" for k, d in CRITERIA.items()] + [""]
         for en in self.experiments:
             ex = EXPERIMENTS[en]
             out += [f"## {en}: {ex.description}", ""]
-            head = ["compensator", "plant"] + [f"{m} [{METRICS[m][0]}]" for m in ex.metrics] + ["runaway"]
+            head = ["compensator", "plant"] + [f"{m} [{METRICS[m][0]}]" for m in ex.metrics] + ["runaway",
+                                                                                        "torque check"]
             out += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
             for r in self.rows:
                 if r["experiment"] != en:
@@ -199,6 +218,7 @@ class ComparisonResult:
                     cells.append("not applicable (open loop)")
                 else:
                     cells.append(f"{rw['passed']}/{rw['runs']}" + (" (errors)" if r["errors"] else ""))
+                cells.append(rw["criterion"] or "-")
                 out.append("| " + " | ".join(cells) + " |")
             out.append("")
         notes = [f"- {r['compensator']} / {r['experiment']} / {r['plant']['name']}: {t}"

@@ -75,6 +75,15 @@ class Compensator:
         reference to track."""
         return False
 
+    @property
+    def estimates_friction(self) -> bool:
+        """Whether ``T^at`` is an estimate of the joint's friction (bounded by the largest
+        friction the joint can have: the runaway check :func:`fricctl.paper.runaway.wind_up`
+        holds it to that); False for a compensator whose output also carries other torques --
+        a disturbance observer (inertia error, load), integral action (its integrated error)
+        -- which :func:`fricctl.paper.runaway.divergence` judges instead."""
+        return True
+
     def __call__(self, tm, omega_hat):
         if self.stateful:
             raise ValueError(f"the {self.name} compensator has a state: it is not a function of "

@@ -79,6 +79,11 @@ class DisturbanceObserver(Compensator):
     """Label in results and plots."""
     stateful = True  # its state: d_hat and the last velocity and torques
 
+    @property
+    def estimates_friction(self) -> bool:
+        """False: ``d_hat`` is the whole disturbance (friction, inertia error, load)."""
+        return False
+
     def __post_init__(self):
         v.real("inertia", self.inertia, positive=True, unit="kg*m^2")
         v.real("bandwidth", self.bandwidth, positive=True, unit="rad/s")

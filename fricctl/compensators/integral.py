@@ -114,6 +114,18 @@ class IntegralAction(Compensator):
     With static friction above the Coulomb level, integral action trades the PD's dead
     zone for hunting (a slow stick-slip limit cycle around the target): the integral
     grows until the joint breaks away, overshoots and sticks on the other side.
+
+    The clamp sees the loop's saturation only through the torque held, ``Tm_k``, which the
+    loop has clipped to *its* limit (:attr:`fricctl.simulate.LoopSpec.max_torque`, the
+    simulated model's ``max_torque``); the step is not given that limit.  It holds the
+    integrator when ``|Tm_k| >= max_torque``, so ``max_torque`` must be the loop's: with a
+    larger one the held torque never reaches it and the integrator winds up to
+    ``max_torque/Ki`` while the drive saturates; with a smaller one it holds before the
+    drive does.  :func:`make` and the comparison (:mod:`fricctl.compare`) take it from the
+    model the loop runs (the design model shares the bench's torque limit; a test checks
+    this for every bench and plant).  It is not a friction estimate
+    (``estimates_friction`` is False): its runs are judged by
+    :func:`fricctl.paper.runaway.divergence`, not by the friction bound.
     """
 
     ki: float
@@ -130,6 +142,11 @@ class IntegralAction(Compensator):
     def needs_reference(self) -> bool:
         """True: it integrates the position error ``r - y``."""
         return True
+
+    @property
+    def estimates_friction(self) -> bool:
+        """False: ``Ki I`` is an integral of the position error, not a friction estimate."""
+        return False
 
     def __post_init__(self):
         v.real("ki", self.ki, positive=True, unit="N*m/(rad*s)")

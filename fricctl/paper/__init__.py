@@ -57,7 +57,7 @@ Modules
   (the entries of every ``figNN`` module, found by name);
 * :mod:`~fricctl.paper.claims` -- :class:`Claim`, :func:`gate`, :func:`paper_claims`;
 * :mod:`~fricctl.paper.runaway` -- :class:`RunawayCheck`, :func:`wind_up`,
-  :func:`reversal`, :func:`coast_decay`;
+  :func:`divergence`, :func:`reversal`, :func:`coast_decay`;
 * :mod:`~fricctl.paper.coast` -- the coast test, one per network (not a paper figure);
 * :mod:`~fricctl.paper.table` -- :class:`ClaimStats` over seeds, ``claims.md``/``claims.json``;
 * :mod:`~fricctl.paper.sweep` -- :func:`robustness_sweep`;
@@ -87,7 +87,7 @@ from .common import (ACCURACY_DEG, AGED_SCALE, STICK_MIN_DURATION, restarts, sig
 from .network import PaperNetwork, train_paper_network
 from .registry import PaperFigure, paper_figures
 from .reproduce import PaperResults, SeedRun, reproduce_paper, seed_run
-from .runaway import RunawayCheck, coast_decay, reversal, wind_up
+from .runaway import RunawayCheck, coast_decay, divergence, reversal, wind_up
 from .sweep import SweepResult, robustness_sweep
 from .table import HOLD_RATE, ClaimStats, aggregate_claims, claims_json, claims_markdown, representative_seed
 
@@ -95,7 +95,7 @@ __all__ = [
     "PaperNetwork", "train_paper_network",
     "FIGURES", "PaperFigure", "paper_figures", "SweepResult", "robustness_sweep",
     "Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA",
-    "RunawayCheck", "wind_up", "reversal", "coast_decay", "coast", "benches",
+    "RunawayCheck", "wind_up", "divergence", "reversal", "coast_decay", "coast", "benches",
     "ClaimStats", "aggregate_claims", "representative_seed", "claims_markdown", "claims_json", "HOLD_RATE",
     "PaperResults", "SeedRun", "seed_run", "reproduce_paper",
     "stick_intervals_after_motion", "restarts", "sign_changes",

@@ -8,7 +8,13 @@ measurement involves the network's compensation also requires these checks (see
 one of them fails, with the check's reason in its note.
 
 * :func:`wind_up` -- the motor torque may exceed the control torque only by the
-  largest friction the joint can have at its speed;
+  largest friction the joint can have at its speed (for a compensator that estimates
+  friction);
+* :func:`divergence` -- for a compensator that is *not* a friction estimate (a disturbance
+  observer, integral action), which may exceed that bound in a bounded transient: the torque
+  beyond the bound must die out by the last part of the run (no episode that does not end,
+  no envelope that is sustained or grows);
+* :func:`torque_check` -- the one of the two a compensator's ``estimates_friction`` asks for;
 * :func:`reversal` -- under a sinusoidal control torque, a joint that moves must
   reverse in every full period after the first;
 * :func:`coast_decay` -- after a torque pulse, with ``Tc = 0``, the compensated
@@ -29,8 +35,8 @@ import numpy as np
 from .. import _validate as v
 from ..simulate import SimResult
 
-__all__ = ["RunawayCheck", "wind_up", "reversal", "coast_decay", "WIND_UP_SAMPLES",
-           "MOTION_COUNTS", "LINEAR_TOLERANCE"]
+__all__ = ["RunawayCheck", "wind_up", "divergence", "torque_check", "reversal", "coast_decay",
+           "WIND_UP_SAMPLES", "SETTLE_SHARE", "DECAY", "MOTION_COUNTS", "LINEAR_TOLERANCE"]
 
 #: Longest run of samples over which the motor torque may exceed the control torque by
 #: more than the joint's largest friction [samples].  The compensator sees a change of
@@ -40,6 +46,22 @@ __all__ = ["RunawayCheck", "wind_up", "reversal", "coast_decay", "WIND_UP_SAMPLE
 #: and is still 10 ms, far shorter than any wind-up the paper pipeline shows (hundreds
 #: of samples).
 WIND_UP_SAMPLES = 5
+#: Share of a run, at its end, in which the torque beyond the friction bound must have died
+#: out for a compensator that is not a friction estimate (:func:`divergence`) [-].  The
+#: experiments of :mod:`fricctl.compare` ask their joint to settle (a step from t = 0, held
+#: to the end) or track a reference whose last corner is at half the run (the sawtooth's two
+#: periods): a transient they start has at least a quarter of the run to die out before the
+#: last quarter begins.  (Under the open-loop sinusoid the excitation goes on in the last
+#: quarter: see :func:`divergence`'s Notes.)  A runaway (a loop made unstable, an integral or
+#: an estimate that holds the drive at saturation) is still beyond the bound there.
+SETTLE_SHARE = 0.25
+#: Ratio of the excess beyond the friction bound in that last share to the largest excess
+#: before it, from which the excess counts as not decayed (:func:`divergence`) [-].  The loops
+#: judged are damped (the paper's PD designs: damping ratio 0.85-0.9) and the last share
+#: starts after three quarters of the run: a transient that dies out has shrunk there far
+#: below half of its peak; a sustained oscillation or a saturated drive keeps it (ratio ~1),
+#: a growing one exceeds it.  Half sits between the two.
+DECAY = 0.5
 #: A joint that moved this many encoder counts or fewer (peak to peak) has not moved:
 #: nothing can run away [counts].  The same "few counts" as the dead-zone measurement.
 MOTION_COUNTS = 3
@@ -54,7 +76,7 @@ class RunawayCheck:
 
     Attributes
     ----------
-    name : ``"wind-up"``, ``"reversal"`` or ``"coast"``
+    name : ``"wind-up"``, ``"divergence"``, ``"reversal"`` or ``"coast"``
     value : the number measured (``inf`` where the criterion has no finite measure)
     unit : its unit
     limit : the largest value that passes
@@ -98,6 +120,26 @@ def _longest_true_run(mask: np.ndarray) -> tuple[int, int]:
     return int(ends[i] - starts[i]), int(starts[i])
 
 
+def _excess(r: SimResult) -> tuple[np.ndarray, np.ndarray]:
+    """``(t_k, |Tm(k+1)| - (|Tc(k)| + Fs + b*|omega(k)| + ripple))`` of a run (see :func:`wind_up`)."""
+    if r.t.size < 2:
+        raise ValueError("run must hold at least 2 samples")
+    fm = r.info.friction_model
+    tm_next = r.torque_motor[1:]
+    t = r.t[:-1]
+    breakaway = np.maximum(fm.breakaway(1, tm=tm_next, t=t), fm.breakaway(-1, tm=tm_next, t=t))
+    b = max(fm.viscous_pos, fm.viscous_neg) * fm.scale_at(t)
+    bound = np.abs(r.torque_cmd[:-1]) + breakaway + b * np.abs(r.omega[:-1]) + fm.ripple_amplitude
+    return t, np.abs(tm_next) - bound
+
+
+def _true_runs(mask: np.ndarray, longer_than: int) -> list:
+    """``(start, length)`` of every run of consecutive True values longer than ``longer_than``."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(int(a), int(e - a)) for a, e in zip(starts, ends) if e - a > longer_than]
+
+
 def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayCheck:
     """Does the motor torque exceed the control torque by more than any friction could explain?
 
@@ -124,19 +166,14 @@ def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayChe
     Notes
     -----
     The bound holds for the stick-slip laws of :mod:`fricctl.friction`; LuGre's bristle
-    damping can add a short transient above it, which this check would count.
+    damping can add a short transient above it, which this check would count.  It is written
+    for a compensator whose ``T^at`` estimates friction; a disturbance observer (friction plus
+    inertia error plus load) or integral action (an integral of the position error) exceed it
+    in bounded transients: :func:`divergence` judges those.
     """
     r = _run(run)
     max_samples = v.integer("max_samples", max_samples, low=0)
-    if r.t.size < 2:
-        raise ValueError("run must hold at least 2 samples")
-    fm = r.info.friction_model
-    tm_next = r.torque_motor[1:]
-    t = r.t[:-1]
-    breakaway = np.maximum(fm.breakaway(1, tm=tm_next, t=t), fm.breakaway(-1, tm=tm_next, t=t))
-    b = max(fm.viscous_pos, fm.viscous_neg) * fm.scale_at(t)
-    bound = np.abs(r.torque_cmd[:-1]) + breakaway + b * np.abs(r.omega[:-1]) + fm.ripple_amplitude
-    excess = np.abs(tm_next) - bound
+    t, excess = _excess(r)
     n, start = _longest_true_run(excess > 1e-12)
     ok = n <= max_samples
     if n == 0:
@@ -148,6 +185,111 @@ def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayChe
                   f"{float(excess[seg].max()):.3f} N*m; allowed {max_samples})")
     return RunawayCheck(name="wind-up", value=float(n), unit="samples", limit=float(max_samples),
                         passed=ok, reason=reason)
+
+
+def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: float = DECAY,
+               max_samples: int = WIND_UP_SAMPLES) -> RunawayCheck:
+    """Does a torque beyond the friction bound die out?  The check of a compensator whose
+    output is not a friction estimate.
+
+    A disturbance observer supplies the torque of an inertia or a load it was not told about,
+    integral action the torque of its integrated error: both may exceed the bound of
+    :func:`wind_up` (``|Tc(k)| + Fs + b*|omega(k)|``) while the joint follows its reference, in a
+    transient that dies out.  A runaway does not: a loop the compensator made unstable (a
+    growing or a sustained oscillation, the drive at its saturation), an estimate that keeps
+    the joint going.  An *episode* is a run of more than ``max_samples`` consecutive samples
+    beyond the bound (shorter ones are the sample delays :func:`wind_up` allows too).  The
+    run fails if an episode reaches into its last ``settle_share`` and either
+
+    * has not ended: it began before that last share and lasts to the run's end; or
+    * has not decayed: its largest excess is at least ``decay`` times the largest excess of
+      the run before that last share (a sustained or growing envelope; any excess there if
+      the run had none before).
+
+    Parameters
+    ----------
+    run : SimResult
+        The compensated run (an experiment that asks its joint to settle, or that repeats its
+        excitation, by the last ``settle_share`` of the run).
+    settle_share : float
+        Share of the run, at its end, in which a transient must have died out (0 < share < 1;
+        see :data:`SETTLE_SHARE`) [-].
+    decay : float
+        Least ratio of the late excess to the earlier one that counts as not decayed (> 0;
+        see :data:`DECAY`) [-].
+    max_samples : int
+        Longest run of samples beyond the bound that is not an episode [samples].
+
+    Returns
+    -------
+    RunawayCheck
+        ``value``: the largest excess beyond the bound in an episode of the last
+        ``settle_share``, in % of the largest excess before it (0 without such an episode;
+        ``inf`` for an episode that has not ended, or with no excess before) [%]; limit
+        ``100*decay``.
+
+    Notes
+    -----
+    A compensator that holds the joint at its breakaway level (a DOB hunting at rest, whose
+    estimate integrates the held torque) exceeds the bound by a hair at each breakaway; those
+    late, small episodes pass.  An open-loop run under a torque that keeps accelerating the
+    joint (a DOB with a wrong inertia, under a sinusoid) can show late episodes as large as
+    the earlier ones; :func:`reversal` judges such a run too.
+    """
+    r = _run(run)
+    settle_share = v.real("settle_share", settle_share, positive=True)
+    if settle_share >= 1.0:
+        raise ValueError(f"settle_share must be < 1, got {settle_share:g}")
+    decay = v.real("decay", decay, positive=True)
+    max_samples = v.integer("max_samples", max_samples, low=0)
+    t, excess = _excess(r)
+    first = int(math.ceil((1.0 - settle_share) * t.size))
+    if t.size - first <= max_samples:
+        raise ValueError(f"run of {t.size + 1} samples: its last {settle_share:g} holds {t.size - first} "
+                         f"samples, not more than max_samples = {max_samples}")
+    episodes = _true_runs(excess > 1e-12, max_samples)
+    late = [(a, n) for a, n in episodes if a + n > first]
+    t_settle = float(t[first])
+    limit = 100.0 * decay
+    where = f"the run's last {100 * settle_share:g} % (from t = {t_settle:.3f} s)"
+    if not late:
+        if not episodes:
+            reason = (f"no divergence: |Tm(k+1)| never exceeds |Tc(k)| + Fs + b*|omega(k)| for more "
+                      f"than {max_samples} samples")
+        else:
+            a, n = max(episodes, key=lambda e: e[1])
+            reason = (f"no divergence: {len(episodes)} transient(s) beyond |Tc(k)| + Fs + b*|omega(k)| "
+                      f"(longest {n} samples from t = {t[a]:.3f} s, by up to "
+                      f"{float(excess[a:a + n].max()):.3f} N*m) ended before {where}")
+        return RunawayCheck(name="divergence", value=0.0, unit="%", limit=limit, passed=True,
+                            reason=reason)
+    peak_late = max(float(excess[max(a, first):a + n].max()) for a, n in late)
+    peak_before = float(excess[:first].max())
+    a, n = late[-1]
+    if a < first and a + n == t.size:
+        return RunawayCheck(
+            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
+            reason=(f"divergence: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| from t = {t[a]:.3f} s "
+                    f"to the run's end ({n} samples, by up to {float(excess[a:].max()):.3f} N*m): "
+                    f"it has not ended in {where}"))
+    value = 100.0 * peak_late / peak_before if peak_before > 0 else math.inf
+    ok = value <= limit
+    n_late = sum(a + n - max(a, first) for a, n in late)
+    reason = (f"{'no ' if ok else ''}divergence: in {where} |Tm(k+1)| exceeds |Tc(k)| + Fs + "
+              f"b*|omega(k)| for {n_late} samples by up to {peak_late:.4f} N*m, "
+              + (f"{value:.0f} % of the largest excess before ({peak_before:.4f} N*m; "
+                 f"{'decayed: below' if ok else 'not decayed: allowed'} {limit:g} %)"
+                 if peak_before > 0 else "with none before (a torque that grew)"))
+    return RunawayCheck(name="divergence", value=value, unit="%", limit=limit, passed=ok, reason=reason)
+
+
+def torque_check(run: SimResult, compensator) -> RunawayCheck:
+    """:func:`wind_up` for a compensator that estimates friction (its ``estimates_friction``),
+    :func:`divergence` for one that does not (a disturbance observer, integral action)."""
+    from ..compensators import Compensator
+
+    c = v.instance("compensator", compensator, Compensator, "a fricctl.compensators.Compensator")
+    return wind_up(run) if c.estimates_friction else divergence(run)
 
 
 def reversal(run: SimResult, period: float, *, motion_counts: int = MOTION_COUNTS) -> RunawayCheck:
