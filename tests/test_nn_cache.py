@@ -109,3 +109,7 @@ def test_the_key_holds_the_patterns_bit_for_bit():
     assert cache.cache_key(key) != a                                       # no patterns: the whole package
     with pytest.raises(ValueError, match="patterns"):
         cache.patterns_digest(tm)
+    objects = _patterns(tm)
+    object.__setattr__(objects, "tm", np.array([object()] * tm.size))     # addresses, not numbers
+    with pytest.raises(ValueError, match="patterns.tm holds Python objects"):
+        cache.patterns_digest(objects)

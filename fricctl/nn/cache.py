@@ -92,6 +92,8 @@ def patterns_digest(patterns) -> str:
         h.update(f.name.encode() + b"\0")
         if isinstance(value, np.ndarray):
             a = np.ascontiguousarray(value)
+            if a.dtype.hasobject:  # its bytes would be addresses, different in every process
+                raise ValueError(f"patterns.{f.name} holds Python objects; a key needs numbers")
             h.update(f"{a.dtype.str}{a.shape}".encode() + b"\0")
             h.update(a.tobytes())
         else:
