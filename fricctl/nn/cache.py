@@ -42,6 +42,7 @@ from .pipelines import PipelineNet
 __all__ = ["cache_dir", "code_digest", "trainer_sources", "trainer_digest", "patterns_digest",
            "cache_key", "cached_pipeline_net"]
 
+
 @functools.lru_cache(maxsize=1)
 def code_digest() -> str:
     """SHA-256 of every Python source file of the installed fricctl package."""
