@@ -10,8 +10,18 @@ time goes: the jobs (training + figures + claims per network) and the serial res
 The machine's load average is printed before and after: other work on the same cores
 slows every number down.
 
+``--fresh`` measures what a new user meets (issues 22, 25): ``make reproduce``'s command
+(``--seeds 10 --force``, all CPUs) on a fresh copy of the package -- no compiled kernels
+beside the sources, an empty cache of trained networks --, then again on the same copy and
+cache (warm), ``--repeat`` times, each copy new; ``--source DIR`` copies ``DIR/fricctl``
+instead of the installed package (another checkout, e.g. ``git archive main``), so that two
+versions can be alternated for a ratio.  Wall and CPU time (the command and its worker
+processes) and the load average are printed per run: on a shared machine the CPU time is the
+steadier number.
+
 Usage: ``python benchmarks/bench_reproduce.py [--seeds 10] [--quick]`` (``--quick``: the
-``--fast`` command only).
+``--fast`` command only); ``python benchmarks/bench_reproduce.py --fresh [--seeds 10]
+[--repeat 3] [--source DIR ...]``.
 """
 
 from __future__ import annotations
@@ -19,6 +29,8 @@ from __future__ import annotations
 import argparse
 import multiprocessing
 import os
+import resource
+import shutil
 import statistics
 import subprocess
 import sys
@@ -45,6 +57,40 @@ def command(args: list[str], cache: Path) -> float:
     return time.perf_counter() - t0
 
 
+def fresh_command(seeds: int, package: Path, cache: Path, out: Path) -> tuple:
+    """``make reproduce``'s command on the package copy ``package`` (its parent on PYTHONPATH):
+    (wall [s], CPU of the command and its workers [s], load average before, after)."""
+    env = dict(os.environ, PYTHONPATH=str(package.parent), FRICCTL_CACHE=str(cache), MPLBACKEND="Agg",
+               PYTHONDONTWRITEBYTECODE="1")
+    env.pop("NUMBA_CACHE_DIR", None)  # compiled code beside the copy's sources, as in a fresh clone
+    before = load()
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "fricctl", "reproduce", "--seeds", str(seeds), "--out", str(out),
+                    "--force"], check=True, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                   cwd=package.parent)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return wall, cpu, before, load()
+
+
+def fresh(seeds: int, repeat: int, sources: list) -> None:
+    """Cold then warm on a fresh copy of each source, ``repeat`` rounds, sources alternated."""
+    print(f"| source | round | run | wall [s] | CPU [s] | load average before (1, 5, 15 min) | after |")
+    print("|---|---|---|---|---|---|---|")
+    for k in range(repeat):
+        for src in sources:
+            with tempfile.TemporaryDirectory() as tmp:
+                tmp = Path(tmp)
+                package = tmp / "clone" / "fricctl"
+                shutil.copytree(src, package, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+                for label in ("cold", "warm"):
+                    wall, cpu, before, after = fresh_command(seeds, package, tmp / "cache", tmp / "out")
+                    print(f"| {src} | {k + 1} | {label} | {wall:.1f} | {cpu:.1f} | {before} | {after} |",
+                          flush=True)
+
+
 def breakdown(seeds: int, cache: Path) -> None:
     """Where the time of the library run goes (cold cache), through a 2-worker spawn pool."""
     os.environ["FRICCTL_CACHE"] = str(cache)
@@ -69,8 +115,19 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--fresh", action="store_true", help="cold and warm on a fresh copy of the package")
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--source", type=Path, action="append", default=None,
+                    help="a folder holding fricctl/ (repeatable; default the installed package)")
     args, _ = ap.parse_known_args()  # run_all.py passes its own filter arguments
     print(f"load average before: {load()} (1, 5, 15 min); {os.cpu_count()} CPUs")
+    if args.fresh:
+        import fricctl
+
+        sources = ([s.resolve() / "fricctl" for s in args.source] if args.source
+                   else [Path(fricctl.__file__).resolve().parent])
+        fresh(args.seeds, args.repeat, sources)
+        return
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)

@@ -16,10 +16,12 @@ source a kernel compiles from:
 
 so that an edit of any of them recompiles every kernel on its next use.
 
-Where the entries live: beside the source (``__pycache__``, numba's default) when that folder
-is writable; else in ``<cache>/numba`` (:func:`fricctl._cache.cache_dir`); else nowhere (a
-read-only install with a read-only home compiles in memory in each process, instead of failing
-with numba's "no locator available").  ``FRICCTL_CACHE=off`` keeps compiled code in memory too.
+Where the entries live: in ``$NUMBA_CACHE_DIR`` when that variable is set (numba's own rule:
+a user-provided folder comes first); else beside the source (``__pycache__``, numba's default)
+when that folder is writable; else in ``<cache>/numba`` (:func:`fricctl._cache.cache_dir`);
+else nowhere (a read-only install with a read-only home compiles in memory in each process,
+instead of failing with numba's "no locator available").  ``FRICCTL_CACHE=off`` keeps compiled
+code in memory too.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ import sys
 from pathlib import Path
 
 from numba import njit
+from numba.core import config as numba_config
 from numba.core.caching import CompileResultCacheImpl, FunctionCache, _CacheLocator
 
 from ._cache import PACKAGE_ROOT, cache_dir, source_digest
@@ -103,6 +106,9 @@ class _DigestLocator(_CacheLocator):
     def from_function(cls, py_func, py_file):
         places = []
         root = cache_dir()
+        if numba_config.CACHE_DIR:  # NUMBA_CACHE_DIR, as numba's _UserProvidedCacheLocator reads it
+            places.append(os.path.join(numba_config.CACHE_DIR, cls.get_suitable_cache_subpath(py_file)
+                                       if os.path.exists(py_file) else "generated"))
         if os.path.exists(py_file):
             places.append(os.path.join(os.path.dirname(py_file), "__pycache__"))
             if root is not None:

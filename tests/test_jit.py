@@ -106,3 +106,16 @@ def test_cache_off_compiles_in_memory(tmp_path):
                          check=True, cwd=tmp_path)
     assert float(out.stdout) == pytest.approx(0.02, rel=1e-15)
     assert not list((root / "fricctl").rglob("*.nbi"))
+
+
+def test_numba_cache_dir_holds_the_compiled_code_when_set(tmp_path):
+    # numba's own rule (NUMBA_CACHE_DIR first): a fresh clone's cold start can be measured from a
+    # worktree whose __pycache__ already holds compiled code, by pointing this at an empty folder
+    root = _copy_package(tmp_path)
+    env = dict(os.environ, PYTHONPATH=str(root), FRICCTL_CACHE=str(tmp_path / "cache"),
+               NUMBA_CACHE_DIR=str(tmp_path / "numba"), PYTHONDONTWRITEBYTECODE="1")
+    out = subprocess.run([sys.executable, "-c", _LIGHT], env=env, capture_output=True, text=True,
+                         check=True, cwd=tmp_path)
+    assert float(out.stdout) == pytest.approx(0.02, rel=1e-15)
+    assert list((tmp_path / "numba").rglob("*.nbi"))
+    assert not list((root / "fricctl").rglob("*.nbi")) and not (tmp_path / "cache" / "numba").exists()

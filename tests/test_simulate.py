@@ -180,6 +180,32 @@ def test_batch_equals_single_runs():
     np.testing.assert_allclose(batch.steady_state_error(), [batch[i].steady_state_error() for i in range(3)])
 
 
+def test_one_numba_thread_runs_the_serial_kernel_with_the_same_records(monkeypatch):
+    # fricctl reproduce's workers run one numba thread each: the batch must not need the parallel
+    # kernel (never compiled there) and must give the records of the parallel one, bit for bit
+    import numba
+
+    from fricctl.simulate import loop
+
+    ps = [P, P.replace(inertia=2 * P.inertia), P.with_link()]
+    ctrl = pd_control(1.23, 0.0906, step(0.3))
+    par = simulate_batch(ps, ctrl, duration=1.0)
+    threads = numba.get_num_threads()
+
+    def refuse(*args):
+        raise AssertionError("the parallel kernel ran with one thread")
+
+    monkeypatch.setattr(loop, "_runs_parallel", refuse)
+    numba.set_num_threads(1)
+    try:
+        one = simulate_batch(ps, ctrl, duration=1.0)
+    finally:
+        numba.set_num_threads(threads)
+    for i in range(len(ps)):
+        for name in ("q", "q_load", "omega", "omega_hat", "torque_motor", "friction", "stuck"):
+            np.testing.assert_array_equal(getattr(one[i], name), getattr(par[i], name))
+
+
 def test_flexible_plant_runs_and_rings():
     # twist q - q_load after a torque step rings at the free-free resonance sqrt(K (1/Jm + 1/Jl))
     p = P.with_link().replace(joint_damping=0.0)

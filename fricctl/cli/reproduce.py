@@ -233,12 +233,17 @@ def _earlier_run(folder: Path):
     return keep
 
 
-def _worker_init(parent: int) -> None:
+def _worker_init(parent: int, threads: int) -> None:
     """In each worker: leave Ctrl-C to the parent (a terminal sends SIGINT to the whole
-    process group; the parent stops the workers), and exit when the parent is gone (even
-    after ``kill -9`` of it, which would leave a worker blocked on its queue forever)."""
+    process group; the parent stops the workers), exit when the parent is gone (even
+    after ``kill -9`` of it, which would leave a worker blocked on its queue forever), and
+    use ``threads`` numba threads (the CPUs shared among the workers: with one, the batch
+    simulations run the serial kernel, and the parallel one is never compiled)."""
     import threading
 
+    import numba
+
+    numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):  # started with SIGINT held (_Workers.submit)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
@@ -258,7 +263,7 @@ class _Workers(ProcessPoolExecutor):
     def __init__(self, workers: int):
         # 'spawn': forking a process whose numba/OpenMP threads have started aborts the workers
         super().__init__(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                         initializer=_worker_init, initargs=(os.getpid(),))
+                         initializer=_worker_init, initargs=(os.getpid(), _cpus() // workers))
 
     def submit(self, *args, **kwargs):
         # a worker is started inside submit: it inherits SIGINT held, so a Ctrl-C while it

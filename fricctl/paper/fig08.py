@@ -69,7 +69,7 @@ def _exact_net(net: PaperNetwork, train: BenchPatterns, *, split_fraction: float
            "fast": net.fast,
            "seed": net.seed, "split_fraction": float(split_fraction), "patterns": len(train)}
     return cached_pipeline_net(key, lambda: PIPELINES["paper"].train(
-        train, rng=np.random.default_rng(net.seed))).net
+        train, rng=np.random.default_rng(net.seed)), patterns=train).net
 
 
 def run(network: PaperNetwork) -> Fig8Result:

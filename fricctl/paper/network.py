@@ -182,7 +182,7 @@ def train_paper_network(params: ActuatorParams | None = None, *, bench=None, fas
            "estimator": estimator, "estimator_options": estimator_options,
            "train_fraction": float(train_fraction), **meta}
     trained = cached_pipeline_net(key, lambda: recipe.train(
-        train, rng=np.random.default_rng(seed), metadata=meta))
+        train, rng=np.random.default_rng(seed), metadata=meta), patterns=train)
 
     def fit(target, pats_):
         return fit_report(target, trained.estimate(pats_.tm, pats_.omega))

@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import prange
+from numba import get_num_threads, prange
 
 from .._jit import jit
 from ..compensators.compiled import step as _compensator_step
@@ -184,11 +184,16 @@ def _runs_parallel(plant, loop, control, comp, out, stuck):
 
 def run_compiled(plant: PlantSpec, loop: LoopSpec, control: ControlSpec, comp: CompensatorSpec,
                  out, stuck) -> None:
-    """Run every run of the batch through the compiled loop (runs in parallel when N > 1).
+    """Run every run of the batch through the compiled loop (runs in parallel when N > 1 and
+    numba may use more than one thread).
 
-    ``out`` (11, N, K) and ``stuck`` (N, K) receive the records (rows :data:`OUTPUTS`).
+    ``out`` (11, N, K) and ``stuck`` (N, K) receive the records (rows :data:`OUTPUTS`).  Each
+    run is the same compiled :func:`_one_run` either way (no sums across runs): the records are
+    the same bit for bit.  With one thread (``numba.set_num_threads(1)``, as the worker
+    processes of ``fricctl reproduce`` set it when they fill the CPUs) the parallel kernel is
+    never compiled: it costs the longest compilation of all and would gain nothing.
     """
-    runs = _runs_parallel if out.shape[1] > 1 else _runs_serial
+    runs = _runs_parallel if out.shape[1] > 1 and get_num_threads() > 1 else _runs_serial
     runs(plant, loop, control, comp, out, stuck)
 
 
