@@ -411,10 +411,10 @@ def book_jobs(config) -> int:
 #: (unless the environment sets them).  The pool already runs as many processes as there are
 #: CPUs; a BLAS pool on top only oversubscribes them, and fricctl's matrices are small (the
 #: Levenberg-Marquardt trainer's ``J J'`` is 17 x ~4000): OpenBLAS's second thread doubled that
-#: trainer's CPU for no gain on an idle 2-core machine, and on a loaded one its waiting threads
+#: trainer's CPU for no gain at load ~5 on 2 cores, and at higher load its waiting threads
 #: spun for whole time slices (Chapter 4's fast run 151-256 s of CPU instead of 29, reproduce's
-#: 249 s in the book instead of ~70; ``benchmarks/README.md``, "The book").  The results are the
-#: same bit for bit (every network of Chapter 4 compared).
+#: 249-270 s instead of 67; ``benchmarks/README.md``, "The book").  The results are the
+#: same bit for bit (every network of Chapter 4 and of the fast reproduce compared).
 ONE_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
