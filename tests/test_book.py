@@ -391,6 +391,23 @@ def test_a_chapter_executed_beside_the_others_runs_as_myst_nb_runs_it(tmp_path):
         fricctl_book._execute_chapter("bad", nbformat.v4.new_notebook(cells=bad), tmp_path, 600, "-")
 
 
+def test_the_pool_runs_its_processes_with_one_blas_thread_unless_told(monkeypatch):
+    """Each process of the book's pool (chapters, reproduce) gets OPENBLAS/OMP/MKL_NUM_THREADS=1,
+    so BLAS's own threads do not oversubscribe the CPUs the pool already fills; a value the
+    environment sets is kept."""
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import fricctl_book
+
+    show = [sys.executable, "-c", "import os; print([os.environ.get(k) for k in "
+            "('OPENBLAS_NUM_THREADS', 'OMP_NUM_THREADS', 'MKL_NUM_THREADS')])"]
+    monkeypatch.delenv("OPENBLAS_NUM_THREADS", raising=False)
+    assert fricctl_book._run(show, what="test").stdout.strip() == "['1', '1', '1']"
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")
+    assert fricctl_book._run(show, what="test").stdout.strip().startswith("['2', ")
+    assert fricctl_book._run(show, what="test", env={"PATH": os.environ.get("PATH", "")}
+                             ).stdout.strip() == "['1', '1', '1']"
+
+
 def test_claims_details_are_folded_after_the_summary_table(book):
     """The claims page: the at-a-glance table first, then each detail section collapsed in a
     ``<details>`` under its title, none opened, none cutting a section (issue 24 item 3)."""

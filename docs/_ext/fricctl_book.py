@@ -407,9 +407,22 @@ def book_jobs(config) -> int:
     return int(value)
 
 
+#: The thread pools of the BLAS and OpenMP libraries each process of the pool may start: one
+#: (unless the environment sets them).  The pool already runs as many processes as there are
+#: CPUs; a BLAS pool on top only oversubscribes them, and fricctl's matrices are small (the
+#: Levenberg-Marquardt trainer's ``J J'`` is 17 x ~4000): OpenBLAS's second thread doubled that
+#: trainer's CPU for no gain at load ~5 on 2 cores, and at higher load its waiting threads
+#: spun for whole time slices (Chapter 4's fast run 151-256 s of CPU instead of 29, reproduce's
+#: 249-270 s instead of 67; ``benchmarks/README.md``, "The book").  The results are the
+#: same bit for bit (every network of Chapter 4 and of the fast reproduce compared).
+ONE_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def _run(cmd: list[str], *, what: str, env=None) -> subprocess.CompletedProcess:
     """``cmd`` run to its end in a session of its own, so that :func:`stop_execution` can end
-    it with its children (``fricctl reproduce``'s workers) when the build stops early."""
+    it with its children (``fricctl reproduce``'s workers) when the build stops early; BLAS and
+    OpenMP in one thread each unless ``env`` says otherwise (:data:`ONE_THREAD`)."""
+    env = {**ONE_THREAD, **(os.environ if env is None else env)}
     with _PROCS_LOCK:
         if _STOP.is_set():
             raise ExtensionError(f"{what}: not started, the build is stopping")
