@@ -71,7 +71,7 @@ DECAY = 0.5
 #: over half of the last share is, over this record, not told from a sustained one and fails
 #: (a longer run tells them apart).  Without it, :data:`DECAY` alone passes a limit cycle that
 #: follows a large first transient: a 30 s PID run at 1.1 x its Routh limit rings at a steady
-#: 4 % of its first excess (issue: the divergence check's steadiness).
+#: 4 % of its first excess (tests/test_paper.py, the review of this check).
 STEADY = 0.9
 #: A joint that moved this many encoder counts or fewer (peak to peak) has not moved:
 #: nothing can run away [counts].  The same "few counts" as the dead-zone measurement.
