@@ -628,6 +628,86 @@ def test_divergence_against_hand_made_runs():
             paper.divergence(_sim(np.zeros(100)), **bad)
 
 
+def _held(n, *, tm, q, controller="PD"):
+    """A hand-made closed-loop run of ``n`` samples whose reference (zero) is held throughout."""
+    r = _sim(np.zeros(n), tm=tm, q=q)
+    return replace(r, info=replace(r.info, controller=controller))
+
+
+def test_divergence_fails_a_sustained_envelope_after_a_large_transient():
+    # the steadiness test (STEADY): 400 samples, 399 judged pairs; the last quarter from k = 300,
+    # its halves k = 300..348 and 349..398.  A large first transient (0.5 N*m beyond the bound),
+    # then a square wave beyond it by 0.05 N*m (8 of every 20 samples: episodes of 8 > 5
+    # samples) to the end: 10 % of the first excess, which DECAY alone passes
+    assert paper.runaway.STEADY == 0.9
+    fs, n = P.static, 400
+    k = np.arange(n)
+    on = (k % 20) < 8
+    swing = 10 * RES * np.sin(2 * np.pi * k / 20)  # the joint swings 20 counts peak to peak
+
+    def wave(first_half, second_half):
+        tm = np.zeros(n)
+        tm[10:40] = fs + 0.5
+        amp = np.where(k < 349, first_half, second_half)
+        tm[60:] = np.where(on[60:], fs + amp[60:], 0.0)
+        return tm
+
+    d = paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing))
+    assert not d.passed and d.value == math.inf and "sustained envelope" in d.reason
+    assert "0.0500 and 0.0500 N*m" in d.reason and "swings 20 encoder counts" in d.reason
+    # the old rule alone (decay) passes it: 10 % of the first excess, below 50 %
+    assert paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing), steady=1e9).value == pytest.approx(10.0)
+    # the envelope's ratio between the halves decides: 95 % is sustained, 85 % decays
+    assert not paper.divergence(_held(n, tm=wave(0.05, 0.0475), q=swing)).passed
+    d = paper.divergence(_held(n, tm=wave(0.05, 0.0425), q=swing))
+    assert d.passed and d.value == pytest.approx(10.0)
+    # a decaying wave passes: the excess shrinks by exp(-0.1 s / 0.1 s) between the halves
+    tm = wave(0.05, 0.05)
+    tm[60:] = np.where(on[60:], fs + 0.05 * np.exp(-(k[60:] - 60) * P.sample_time / 0.1), 0.0)
+    assert paper.divergence(_held(n, tm=tm, q=swing)).passed
+    # the same steady excess with the joint still (a hair beyond the breakaway level at rest,
+    # 3 counts or fewer): no oscillation of the joint, passes
+    assert paper.divergence(_held(n, tm=wave(0.05, 0.05), q=np.zeros(n))).passed
+    assert paper.divergence(_held(n, tm=wave(0.05, 0.05), q=1.5 * RES * np.sin(2 * np.pi * k / 20))).passed
+    # the excitation goes on (open loop, or a reference that moves in the last quarter): a repeated
+    # excess may be the excitation's; decay alone judges
+    assert paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing, controller="open loop")).passed
+    r = _held(n, tm=wave(0.05, 0.05), q=swing)
+    assert paper.divergence(replace(r, reference=0.01 * k * P.sample_time)).passed
+    # an episode in one half only is not an envelope in both
+    tm = wave(0.05, 0.05)
+    tm[349:] = 0.0
+    assert paper.divergence(_held(n, tm=tm, q=swing)).passed
+    for bad, match in (({"steady": 0.0}, "steady"), ({"motion_counts": -1}, "motion_counts")):
+        with pytest.raises(ValueError, match=match):
+            paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing), **bad)
+
+
+def test_divergence_fails_the_integral_limit_cycle_above_the_routh_limit():
+    # the review's case: literal bench, design fig13-14, 30 deg step, IntegralAction at 1.1 x the
+    # Routh limit Ki < (b + Kd) Kp / I, 30 s.  After a large first transient the error rings at a
+    # steady amplitude (a limit cycle); the check must say so
+    from fricctl.compensators import IntegralAction
+    from fricctl.paper.benches import bench
+    from fricctl.paper.common import designs
+
+    b = bench("literal")
+    d = designs(b)["fig13-14"]
+    p = b.actuator
+    ki_max = (d.viscous + d.kd) * d.kp / d.inertia
+    run = simulate(p, ctl.pd_control(d.kp, d.kd, ctl.step(float(np.deg2rad(30.0)))),
+                   IntegralAction(ki=1.1 * ki_max, max_torque=p.max_torque), duration=30.0)
+    # the record itself: the error's peak to peak per tenth of the run; the last four tenths the
+    # same within 5 % (a steady oscillation), each under a fifth of the first tenth's
+    e = run.reference - run.q
+    ptp = np.array([np.ptp(x) for x in np.array_split(e, 10)])
+    assert np.ptp(ptp[-4:]) < 0.05 * ptp[-1] and ptp[-1] < 0.2 * ptp[0]
+    c = paper.divergence(run)
+    assert not c.passed and c.value == math.inf and "sustained envelope" in c.reason
+    # the decay test alone passed it (its late excess is a few % of the first transient's)
+    assert paper.divergence(run, steady=1e9).passed
+
+
 def test_torque_check_follows_the_compensators_flag():
     from fricctl.compensators import (CoulombCompensator, DisturbanceObserver, IntegralAction,
                                       NoCompensation)
