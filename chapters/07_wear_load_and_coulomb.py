@@ -278,15 +278,17 @@ print(f"the pair holds in every seed for sigma in [{min(held)}, {max(held)}] cou
       f"({np.rad2deg(max(creep) * p.encoder_resolution):.3f} deg at most)")
 assert pair[0.0] == (0, 0)  # noise-free: neither level oscillates, nothing to disappear
 assert pair[0.1][0] < len(NOISE_SEEDS)  # a tenth of a count: too rare a flicker on this bench
-assert held == [sig for sig in JITTERS if 0.2 <= sig <= 0.4]
+assert 0.25 in held and 0.0 not in held and 0.1 not in held  # the consistent bench's jitter holds the pair
+assert FAST or {0.2, 0.25, 0.3} <= set(held)  # the full grid: more than one sigma, not a knife edge
 assert pair[0.5][0] == len(NOISE_SEEDS) and pair[0.5][1] < len(NOISE_SEEDS)  # the criterion reads jitter
 assert all(10 <= c < 100 for c in creep)  # tens of counts: hundredths of a degree
 
 # %% [markdown]
-# Noise-free, neither level oscillates.  With an edge jitter from 0.2 to 0.4 count the joint
-# at the breakaway level $s\hat F_s$ never comes to rest in any seed while at the smaller
-# level $s\hat F_c$ it stays within the jitter's count or two: the paper's pair, over a range
-# of $\sigma$, not on a knife edge.  The
+# Noise-free, neither level oscillates.  With the consistent bench's edge jitter, 0.25 count,
+# the joint at the breakaway level $s\hat F_s$ never comes to rest in any seed while at the
+# smaller level $s\hat F_c$ it stays within the jitter's count or two: the paper's pair.  The
+# range printed above is where it holds in every seed of the noise; the full run's finer grid
+# finds it at 0.2, 0.25 and 0.3 count at least (asserted): not a knife edge.  The
 # flicker does what the sums above said: at the breakaway level a flicker toward the
 # reference adds the compensation to the loop's pull and breaks the joint loose, at the
 # Coulomb level it does not.  On this bench the motion is a chatter of tens of counts
@@ -475,8 +477,9 @@ plt.show()
 #   flickers at rest.  The scaled NN ends closer to the reference than no compensation in
 #   every fricctl seed.
 # * Encoder edge jitter -- position noise before quantisation, the sensing a real bench has --
-#   supplies that flicker: from 0.2 to 0.4 count the breakaway level never rests and the smaller
-#   level does, in every seed of the noise; a tenth of a count is too little, and at half a count
+#   supplies that flicker: at 0.25 count (and, in the full run, at 0.2 and 0.3) the breakaway
+#   level never rests and the smaller level does, in every seed of the noise; a tenth of a
+#   count is too little, and at half a count
 #   the claims' criterion starts to read the jitter itself as motion.
 # * The describing function of an over-compensating relay predicts, on the paper's PD, a
 #   cycle whose pull is far below the breakaway level -- an overshoot and a stop; on a stiff

@@ -475,3 +475,13 @@ def test_a_misspelt_option_of_a_registered_compensator_is_a_value_error():
     with pytest.raises(ValueError, match="options of 'dob'.*bandwith"):
         compare(compensators=["dob"], experiments=["pd_steps"], plants=["nominal"], seeds=1,
                 bench="literal", options={"dob": {"bandwith": 5.0}})
+
+
+def test_the_table_says_when_the_bench_sensing_is_not_applied():
+    # the claims of a bench run with its sensing; this table does not: on a bench with sensing it
+    # says so (a reader of one reproduce folder must not take the two for one sensing)
+    for name, sensed in (("literal", False), ("consistent", True)):
+        r = compare(compensators=("none",), experiments=("coast",), plants=("nominal",), seeds=1,
+                    bench=name)
+        assert ("**not applied**" in r.table()) == sensed
+        assert r.as_dict()["bench_sensing_applied"] is False

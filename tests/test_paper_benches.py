@@ -171,7 +171,7 @@ def _mutations():
     for k in ("format", "version", "name", "description", "model", "settings"):
         add(f"missing key '{k}'", lambda d, k=k: d.pop(k))
     add("format: must be", lambda d: d.update(format="fricctl.joint_model"))
-    add("version: unsupported", lambda d: d.update(version=2))
+    add("version: unsupported", lambda d: d.update(version=3))
     add("version: unsupported", lambda d: d.update(version=True))
     add("name must not be empty", lambda d: d.update(name=" "))
     add("settings: unknown setting 'sawtooth'", lambda d: d["settings"].update(sawtooth=d["settings"]["gear_ratio"]))
@@ -230,6 +230,23 @@ def test_a_bad_bench_file_is_refused_naming_what(mutate, match):
     mutate(d)
     with pytest.raises(ValueError, match=match.replace("(", r"\(").replace(".", r"\.")):
         Bench.from_dict(d)
+
+
+def test_a_version_1_file_reads_as_noise_free_and_only_without_sensing():
+    # version 1 (before a bench held its sensing): no 'sensing' section, read as no noise and
+    # the loop's backward difference -- what a run of that version did
+    for name in ("literal", "consistent"):
+        d = copy.deepcopy(bench(name).as_dict())
+        d["version"] = 1
+        with pytest.raises(ValueError, match="unknown key.*'sensing'.*make it version 2"):
+            Bench.from_dict(d)
+        d.pop("sensing")
+        old = Bench.from_dict(d)
+        assert old.sensing.noise_free and old.sensing.encoder_jitter == old.sensing.torque_noise == 0.0
+        assert old.sensing.velocity_estimate == "backward-difference"
+        assert old.settings == bench(name).settings and old.model == bench(name).model
+        assert "version-1" in old.sensing.entries["encoder_jitter"].note
+    assert bench("consistent").sensing.encoder_jitter > 0  # so the consistent case above can fail
 
 
 def test_bench_file_text_and_path(tmp_path):
@@ -428,3 +445,15 @@ def test_coulomb_section_of_the_consistency_page(consistent_net):
         assert lv.coulomb == pytest.approx(fc_doc[name], abs=0.0015)
         e_fc = r.steady_state_error[COULOMB_AT_FC]
         assert r.coulomb_level(COULOMB_AT_FC) + r.design.kp * abs(e_fc) < aged_fs
+
+
+def test_the_reproduction_page_states_the_consistent_sensing_as_shipped():
+    import re
+    from pathlib import Path
+    text = " ".join((Path(__file__).resolve().parents[1] / "docs" / "reproduction.md").read_text().split())
+    m = re.search(r"\(([\d.]+) count of encoder edge jitter, current-loop noise of ([\d.]+) % of the "
+                  r"maximum torque\)", text)
+    assert m, "docs/reproduction.md's sensing sentence changed: update this test with it"
+    s, model = bench("consistent").sensing, bench("consistent").model
+    assert float(m[1]) == s.encoder_jitter
+    assert float(m[2]) == pytest.approx(100 * s.torque_noise / model.max_torque, rel=1e-3)

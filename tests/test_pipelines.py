@@ -154,6 +154,40 @@ def test_cache_reads_back_the_same_network_and_retrains_on_a_new_key(tmp_path, m
     assert len(calls) == 4
 
 
+def test_cache_lock_released_when_a_trainer_fails_and_on_a_file_system_without_locks(tmp_path, monkeypatch):
+    """A trainer that raises leaves no lock held (the next caller trains); a file system whose
+    ``flock`` fails (some NFS mounts) trains without a lock instead of failing."""
+    fcntl = pytest.importorskip("fcntl", reason="the lock is flock's (POSIX)")
+    from fricctl.nn.cache import cached_pipeline_net
+
+    monkeypatch.setenv("FRICCTL_CACHE", str(tmp_path))
+    tm, om, f, rest = _patterns(np.random.default_rng(3))
+
+    def net():
+        return pipeline("fricctl").train(FrictionPatterns(tm=tm, omega=om, friction=f, at_rest=rest,
+                                                          velocity_quantum=0.0157),
+                                         rng=np.random.default_rng(0), max_patterns=600)
+
+    def fail():
+        raise RuntimeError("the trainer failed")
+
+    with pytest.raises(RuntimeError, match="the trainer failed"):
+        cached_pipeline_net({"k": 2}, fail)
+    lock = next((tmp_path / "nets").glob("*.lock"))
+    with open(lock, "a") as fh:  # free: a held flock would make this non-blocking attempt fail
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        fcntl.flock(fh, fcntl.LOCK_UN)
+    assert cached_pipeline_net({"k": 2}, net).net is not None  # the next caller trains
+
+    def no_locks(fd, op):
+        raise OSError(37, "No locks available")
+
+    monkeypatch.setattr(fcntl, "flock", no_locks)
+    calls = []
+    got = cached_pipeline_net({"k": 3}, lambda: calls.append(1) or net())
+    assert calls == [1] and got.net is not None
+
+
 def test_cache_makes_a_second_trainer_of_the_same_network_wait_and_read_it(tmp_path, monkeypatch):
     """Two trainers of one configuration at once (the book runs ``fricctl reproduce`` and the
     chapters side by side): the second waits for the first's network instead of training it

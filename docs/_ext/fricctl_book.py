@@ -537,15 +537,19 @@ def hand_over_execution(app) -> None:
 
 def stop_execution(app=None, exception=None) -> None:
     """``build-finished`` (or a failed chapter): nothing left running -- queued work cancelled,
-    running processes (and their process groups) ended."""
+    running processes (and their process groups) sent SIGTERM.  A chapter's Jupyter kernel runs
+    in a session of its own (jupyter_client starts it so) and is not in that group: it ends
+    when it sees its parent gone (ipykernel's parent poller, about a second later)."""
     if exception is None and TIMES and app is not None:  # a complete build: its times
         path = Path(app.doctreedir) / SECONDS
         try:
             last = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             last = {}
-        path.write_text(json.dumps({**last, **{k: round(v, 1) for k, v in TIMES.items()}},
-                                   indent=1, sort_keys=True), encoding="utf-8")
+        from fricctl._atomic import write_text  # a build stopped mid-write leaves the old record
+
+        write_text(path, json.dumps({**last, **{k: round(v, 1) for k, v in TIMES.items()}},
+                                    indent=1, sort_keys=True))
     TIMES.clear()
     _STOP.set()
     for pool in _POOL:

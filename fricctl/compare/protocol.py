@@ -185,7 +185,8 @@ class ComparisonResult:
 
     def as_dict(self) -> dict:
         """``{"rows": [...]}`` and what was compared (JSON-ready)."""
-        return {"rows": list(self.rows), "bench": self.bench, "compensators": list(self.compensators),
+        return {"rows": list(self.rows), "bench": self.bench, "bench_sensing_applied": False,
+                "compensators": list(self.compensators),
                 "experiments": list(self.experiments), "plants": list(self.plants), "seeds": self.seeds,
                 "metrics": {k: {"unit": u, "description": d} for k, (u, d) in METRICS.items()}}
 
@@ -201,6 +202,12 @@ class ComparisonResult:
                "each; a run that does not depend on the seed ran once. Cells: median [min, max] over the seeds. Runaway: runs "
                "whose runaway checks (fricctl.paper.runaway) all passed; torque check: the criterion the "
                "motor torque was held to:", ""] + [f"- `{k}`: {d}" for k, d in CRITERIA.items()] + [""]
+        sensing = _bench(self.bench).sensing
+        if not sensing.noise_free:
+            out += [f"The bench's own sensing ({sensing.encoder_jitter:g} count of encoder jitter, "
+                    f"{sensing.torque_noise:g} N*m of torque noise) is **not applied** in this table: "
+                    "its runs see the encoder's exact count, and torque noise only on the "
+                    "`torque_noise` plant. The claims of the same bench (claims.md) run with it.", ""]
         for en in self.experiments:
             ex = EXPERIMENTS[en]
             out += [f"## {en}: {ex.description}", ""]

@@ -80,11 +80,13 @@ def trainer_sources(package: Path = PACKAGE_ROOT) -> list[Path]:
 
 @functools.lru_cache(maxsize=1)
 def trainer_digest() -> str:
-    """SHA-256 of :func:`trainer_sources` and of the versions of Python, NumPy and CasADi."""
+    """SHA-256 of :func:`trainer_sources` and of the versions of Python, NumPy, CasADi and numba
+    (the back-propagation kernels are numba-compiled)."""
     import casadi
+    import numba
 
     return (f"{source_digest(trainer_sources())}-py{sys.version_info[0]}.{sys.version_info[1]}"
-            f"-numpy{np.__version__}-casadi{casadi.__version__}")
+            f"-numpy{np.__version__}-casadi{casadi.__version__}-numba{numba.__version__}")
 
 
 def patterns_digest(patterns) -> str:
@@ -171,5 +173,8 @@ def _training(path: Path) -> Iterator[None]:
         yield
         return
     with lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        except OSError:  # a file system without locks (some NFS mounts): train without one
+            pass
         yield  # closing the file releases the lock
