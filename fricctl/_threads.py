@@ -21,11 +21,13 @@ them) are left alone: fricctl's compiled kernels run serially.
 
 Notes
 -----
-The limit is process-wide while the block runs (BLAS has one setting per library, not
-per thread): another thread of the same process doing its own large products at that
-moment also gets one BLAS thread.  Nested blocks restore in reverse order; two threads
-entering and leaving blocks interleaved can restore each other's settings out of order
-(fricctl's parallel runs are processes, each with its own setting).
+The limit is process-wide while a block runs (BLAS has one setting per library, not per
+thread): another thread of the same process doing its own large products at that moment
+also gets one BLAS thread.  Blocks entered by several threads at once (trainers in a
+thread pool) or nested share one limit: the first to enter sets it, the last to leave
+restores the setting found by the first (a counter under a lock); plain
+``threadpool_limits`` blocks left in another order than entered would restore each other's
+settings and could leave the process at one thread for good.
 
 Examples
 --------
@@ -37,18 +39,36 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
+import threading
+
 from threadpoolctl import threadpool_limits
 
 __all__ = ["one_blas_thread"]
 
+_LOCK = threading.Lock()
+_inside = 0  # blocks running now, in any thread
+_limiter = None  # the threadpool_limits of the first of them: holds the settings to restore
 
-def one_blas_thread() -> threadpool_limits:
-    """A context manager under which the loaded BLAS libraries use one thread each.
 
-    Returns
-    -------
-    threadpoolctl.threadpool_limits
-        Use it as ``with one_blas_thread(): ...``; on exit every BLAS library gets back
-        the number of threads it had on entry.
+@contextlib.contextmanager
+def one_blas_thread():
+    """A context under which the loaded BLAS libraries use one thread each.
+
+    ``with one_blas_thread(): ...``; when the last block running in the process leaves,
+    every BLAS library gets back the number of threads it had when the first entered
+    (also when the block raises).
     """
-    return threadpool_limits(limits=1, user_api="blas")
+    global _inside, _limiter
+    with _LOCK:
+        if _inside == 0:
+            _limiter = threadpool_limits(limits=1, user_api="blas")
+        _inside += 1
+    try:
+        yield
+    finally:
+        with _LOCK:
+            _inside -= 1
+            if _inside == 0:
+                _limiter.restore_original_limits()
+                _limiter = None

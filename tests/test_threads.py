@@ -41,6 +41,14 @@ def test_one_blas_thread_restores_after_an_exception(two_blas_threads):
     assert blas_threads() == two_blas_threads
 
 
+def test_nested_blocks_restore_on_the_outer_exit(two_blas_threads):
+    with one_blas_thread():
+        with one_blas_thread():
+            pass
+        assert set(blas_threads().values()) == {1}
+    assert blas_threads() == two_blas_threads
+
+
 def test_a_trainers_loop_runs_with_one_blas_thread(two_blas_threads):
     # the seam every registered trainer goes through (Trainer.train) sets the limit: a
     # loop that records the BLAS threads it runs with stands in for a trainer's
