@@ -6,9 +6,8 @@ splits such a product over every core it sees; on two cores the second thread do
 CPU of a training at load ~5 and, on a loaded machine, its waiting thread spins (one
 training took 1.1 s in one run and 68.8 s in the next; benchmarks/README.md, "Chapter 4 and
 reproduce: one BLAS thread per process").  One thread gave the same networks and claims
-bit for bit there (OpenBLAS's threaded ``dgemm`` splits the rows and columns of the
-product between threads, not the sums); a BLAS that splits the sums (MKL may) could
-differ in the last bits.
+bit for bit there and in the measurements of this change (same section); a BLAS whose
+threads split an entry's sum could differ in the last bits, which was not seen here.
 
 :func:`one_blas_thread` limits the BLAS libraries loaded in the process (NumPy's and
 SciPy's OpenBLAS, MKL, BLIS) to one thread for the duration of a ``with`` block and
@@ -16,8 +15,9 @@ restores each library's previous setting on exit, with threadpoolctl (scikit-lea
 library for this; it acts after NumPy is imported, where ``OPENBLAS_NUM_THREADS`` must be
 set before).  A library does not change its user's thread settings for good: the limit
 lives only around fricctl's own work (:meth:`fricctl.nn.train.core.Trainer.train`), and a
-user's BLAS outside it keeps its threads.  OpenMP pools (numba's threading layer among
-them) are left alone: fricctl's compiled kernels run serially.
+user's BLAS outside it keeps its threads.  OpenMP pools are left alone (``user_api="blas"``):
+numba's parallel simulation loop (``fricctl/simulate/loop.py``, one run per thread) keeps
+its threads.
 
 Notes
 -----
