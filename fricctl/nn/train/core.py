@@ -11,7 +11,9 @@ them (:meth:`Trainer.train`):
    the scaled problem;
 3. initial weights (:func:`initial_theta`, drawn from ``rng`` whenever the loop
    asks: :meth:`TrainingProblem.initial_theta`);
-4. start the clock (after the trainer's ``prepare``, e.g. compiling kernels);
+4. start the clock (after the trainer's ``prepare``, e.g. compiling kernels) and run
+   the loop with one BLAS thread (:func:`fricctl._threads.one_blas_thread`, restored
+   after it);
 5. after the loop: the history in physical units (:class:`TrainingHistory`),
    the net with its scaling and metadata, the fit on the training patterns,
    and the :class:`TrainingResult`.
@@ -37,6 +39,7 @@ from typing import Callable
 import numpy as np
 
 from ... import _validate as v
+from ..._threads import one_blas_thread
 from ..layout import pack, unpack
 from ..metrics import fit_report
 from ..net import FrictionNet
@@ -435,7 +438,10 @@ class Trainer:
             self.prepare()
         problem = TrainingProblem(hidden=hidden, xn=xn, tn=tn, rng=rng,
                                   start=time.perf_counter(), scaling=scaling, progress=progress)
-        out = self.loop(problem, **options)
+        # one BLAS thread for the loop's small products (17 x N normal matrices): a
+        # second OpenBLAS thread doubled their CPU, or spun at load (fricctl/_threads.py)
+        with one_blas_thread():
+            out = self.loop(problem, **options)
         mse = 2.0 * out.loss * scaling.output_scale ** 2  # scaled 0.5*e^2 -> physical e^2
         history = TrainingHistory(trainer=self.name, step=self.step, loss=mse,
                                   elapsed=np.asarray(out.elapsed))
