@@ -251,7 +251,7 @@ assert cyc_p.sustained and abs(amp_p / cyc_p.amplitude - 1) < 0.03
 # resting joint exactly: near a count's edge the reading flickers between two counts (the
 # edge's position is uncertain by a fraction of a count: the quadrature state-width tolerance
 # of an optical encoder, the rotor's vibration under the current loop).  A bench states its
-# sensing as data ([`fricctl.paper.benches`](#fricctl.paper.benches): `sensing`): this
+# sensing as data (`fricctl.paper.benches`, its `sensing`): this
 # chapter's bench is noise-free; the consistent bench has an edge jitter of
 # $\sigma = 0.25$ count (white position noise added before quantisation) and a current-loop
 # noise of 0.1 % of $T_{max}$.  Switch the jitter alone on here, over $\sigma$, on the first
