@@ -121,14 +121,10 @@ def _run(run) -> SimResult:
 
 
 def _longest_true_run(mask: np.ndarray) -> tuple[int, int]:
-    """(length, start index) of the longest run of consecutive True values (0, -1 if none)."""
-    if not mask.any():
-        return 0, -1
-    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    starts = np.flatnonzero(edges == 1)
-    ends = np.flatnonzero(edges == -1)
-    i = int(np.argmax(ends - starts))
-    return int(ends[i] - starts[i]), int(starts[i])
+    """(length, start index) of the longest run of consecutive True values (0, -1 if none;
+    the first of equally long ones)."""
+    start, length = max(_true_runs(mask, 0), key=lambda run: run[1], default=(-1, 0))
+    return length, start
 
 
 def _excess(r: SimResult) -> tuple[np.ndarray, np.ndarray]:
