@@ -135,13 +135,16 @@ def cached_pipeline_net(key: dict, make: Callable[[], PipelineNet], *, patterns=
     net = _read(path)
     if net is not None:
         return net
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError:  # a read-only home: train, lock nothing, keep nothing
+        pass
     with _training(path):
         net = _read(path)  # trained by the process that held the lock while this one waited
         if net is not None:
             return net
         net = make()
         try:
-            path.parent.mkdir(parents=True, exist_ok=True)
             write_text(path, json.dumps(net.as_dict(), allow_nan=False))  # no temporary file left
         except OSError:  # a read-only home or a full disk: the cache is an optimisation, never a need
             pass
@@ -167,7 +170,6 @@ def _training(path: Path) -> Iterator[None]:
         yield
         return
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
         lock = open(path.with_suffix(".lock"), "a")
     except OSError:
         yield
