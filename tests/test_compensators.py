@@ -26,9 +26,11 @@ LOOP = LinearLoop(kp=KP, kd=KD, inertia=P.total_inertia, viscous=P.viscous,
                   sample_time=P.sample_time)
 #: Options a compensator needs beyond the paper's actuator and its PD (no LuGre law there).
 OPTIONS = {"lugre_observer": {"sigma0": 1000.0, "sigma1": 1.0}}
+#: The compensators that run a trained network (they need the option ``net``).
+NETS = ("nn", "nn_confirmed")
 #: Every registered compensator that declares a state (read from the registry: a new one is
 #: tested here without an edit); each must run in the compiled loop.
-NEW = tuple(n for n in available() if n != "nn"
+NEW = tuple(n for n in available() if n not in NETS
             and make(n, P, LOOP, **OPTIONS.get(n, {})).compiled().state.size > 0)
 CC = shutil.which("gcc") or shutil.which("cc")
 
@@ -50,7 +52,7 @@ def test_registry_lists_every_module_once_with_its_kind():
     assert (C.COMP_NONE, C.COMP_COULOMB, C.COMP_NN) == (0, 1, 2)
 
 
-@pytest.mark.parametrize("name", [n for n in C.REGISTRY if n != "nn"])
+@pytest.mark.parametrize("name", [n for n in C.REGISTRY if n not in NETS])
 def test_make_builds_each_compensator_of_its_kind(name):
     comp = make(name, P, LOOP, **OPTIONS.get(name, {}))
     assert isinstance(comp, C.get(name).cls)
@@ -357,7 +359,7 @@ def test_cli_simulate_takes_every_registered_name_and_builds_it_from_the_model(c
     assert compensations() == available()
     common = ["simulate", "--controller", "pd", "--kp", str(KP), "--kd", str(KD), "--reference",
               "step:0.2", "--duration", "3", "--json"]
-    names = [n for n in available() if n not in ("nn", "lugre_observer")]
+    names = [n for n in available() if n not in (*NETS, "lugre_observer")]
     assert main([*common, "--compensation", ",".join(names)]) == 0
     runs = {r["compensator"]: r for r in json.loads(capsys.readouterr().out)["runs"]}
     assert set(runs) == {make(n, P, LOOP).name for n in names}

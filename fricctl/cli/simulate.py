@@ -49,6 +49,8 @@ import numpy as np
 
 #: Each signal's arguments after the amplitude, and what they are (for their units).
 _SIGNALS = {"step": (), "constant": (), "sawtooth": ("time",), "sinusoid": ("frequency",)}
+#: The compensations that run a trained network (``--net``).
+_NETS = ("nn", "nn_confirmed")
 
 
 def parse_signal(spec: str, quantity: str = "position", kind: str = "rotary"):
@@ -136,7 +138,7 @@ def register(sub):
                         "and reference: one figure overlays them, the summary has one entry "
                         "per compensation (--json: runs[...]), --csv is refused.  A "
                         "compensated run is checked for wind-up (warning)")
-    p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
+    p.add_argument("--net", help="FrictionNet JSON (for --compensation nn or nn_confirmed)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--clip", action="store_true",
                    help="clip the network's inputs to its training envelope")
@@ -181,15 +183,16 @@ def _check_combination(args) -> None:
         else:
             refuse(("kd",), "without --kp (the design gives Kd)")
     given_comp = ",".join(args.compensation)
-    if "nn" not in args.compensation:
+    nets = [n for n in args.compensation if n in _NETS]
+    if not nets:
         refuse(("net",), f"with --compensation {given_comp}")
     elif args.net is None:
-        raise ValueError("--compensation nn needs --net NET.json (see `fricctl train`)")
+        raise ValueError(f"--compensation {nets[0]} needs --net NET.json (see `fricctl train`)")
     if args.compensation == ("none",):
         refuse(("scale",), "with --compensation none")
-    if "nn" not in args.compensation and args.clip:
-        raise ValueError("--clip applies to --compensation nn")
-    if args.c_source and "nn" not in args.compensation:
+    if not nets and args.clip:
+        raise ValueError("--clip applies to --compensation nn or nn_confirmed")
+    if args.c_source and not nets:
         from ..compensators.c_export import exportable
 
         have = [n for n in args.compensation if n in exportable()]
@@ -232,9 +235,10 @@ def _controller(args, plant, kind: str = "rotary"):
 def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=None):
     """The compensator ``name`` (one of :func:`compensations`); ``plant`` (the model or the
     paper's actuator) and ``ctrl`` (the controller: its gains) build the registry's others."""
-    from ..compensators import CoulombCompensator, NNCompensator, NoCompensation, make
+    from ..compensators import (ConfirmedNNCompensator, CoulombCompensator, NNCompensator,
+                                NoCompensation, make)
 
-    if name not in ("none", "coulomb", "nn"):
+    if name not in ("none", "coulomb", *_NETS):
         from ..design import LinearLoop
 
         loop = None
@@ -256,7 +260,14 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=N
         return CoulombCompensator(coulomb_pos=coulomb_pos, coulomb_neg=coulomb_neg, scale=scale)
     from ..nn import load_net
 
-    return NNCompensator(load_net(args.net), scale=scale, clip=args.clip)
+    net = load_net(args.net)
+    if name == "nn_confirmed":
+        count = getattr(plant, "encoder_resolution", None)
+        if count is None or not count > 0:
+            raise ValueError("--compensation nn_confirmed: the model has no encoder_resolution "
+                             "(one count) to confirm a direction with")
+        return ConfirmedNNCompensator(net, count=float(count), scale=scale, clip=args.clip)
+    return NNCompensator(net, scale=scale, clip=args.clip)
 
 
 def _outputs(args) -> dict:
@@ -386,12 +397,12 @@ def run(args) -> int:
             units=units or "rotary").to_csv(args.csv, overwrite=args.force)
     if args.figure:
         _figure(results, args.figure, units, overwrite=args.force)
-    if args.c_source and "nn" in args.compensation:
+    if args.c_source and any(n in _NETS for n in args.compensation):
         from .._atomic import write_text
         from ..nn.c_export import c_header, c_source
 
-        c = Path(args.c_source)
-        net = comps[args.compensation.index("nn")].estimator
+        c = Path(args.c_source)  # the network's C (its header says how to confirm the velocity)
+        net = next(x for n, x in zip(args.compensation, comps) if n in _NETS).estimator
         write_text(c, c_source(net, name=c.stem, units=units or "rotary"), overwrite=args.force)
         write_text(c.with_suffix(".h"), c_header(net, name=c.stem, units=units or "rotary"),
                    overwrite=args.force)

@@ -33,7 +33,8 @@ from types import MappingProxyType
 from typing import Callable, Mapping
 
 from .. import _validate as v
-from ..compensators import Compensator, CoulombCompensator, NNCompensator, NoCompensation
+from ..compensators import (Compensator, ConfirmedNNCompensator, CoulombCompensator, NNCompensator,
+                           NoCompensation)
 
 __all__ = ["Contender", "CONTENDERS", "REGISTERED", "contender", "contender_names", "make_contender"]
 
@@ -171,7 +172,10 @@ def _network(pipeline: str, name: str):
         text = options["network"] if "network" in options else _given(options, seed)
         if text is None:
             text = _trained(pipeline, bench, seed, fast)
-        return NNCompensator(FrictionNet.from_json(text), name=name)
+        net = FrictionNet.from_json(text)
+        if pipeline == "fricctl":  # the pipeline's velocity (fricctl.paper.PaperNetwork.compensator)
+            return ConfirmedNNCompensator(net, count=model.encoder_resolution, name=name)
+        return NNCompensator(net, name=name)
 
     return factory, prepare
 
@@ -224,7 +228,7 @@ _TABLE = (
     Contender(name="coulomb_breakaway", description="Fs*sign(omega_hat), Fs the model's breakaway "
               "level (the paper's 'dry friction identified experimentally')", factory=_coulomb_breakaway),
     Contender(name="nn", description="2-4-1 network, fricctl pipeline (nonlinear part, certified gain "
-              "at rest), trained per seed on the bench", factory=_nn, seeded=True, prepare=_nn_prepare,
+              "at rest, direction-confirmed velocity), trained per seed on the bench", factory=_nn, seeded=True, prepare=_nn_prepare,
               options=("bench", "fast", "network", "networks")),
     Contender(name="nn_paper", description="2-4-1 network, the paper's literal recipe (full friction, "
               "least squares), trained per seed on the bench", factory=_nn_paper, seeded=True,

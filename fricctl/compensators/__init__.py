@@ -20,6 +20,8 @@ memoryless ones (none, Coulomb, the network) have an empty state and also a vect
 ``lugre_observer``    :class:`LuGreObserver`, Canudas de Wit et al. (1995)
 ``dob``               :class:`DisturbanceObserver`, Ohnishi's DOB
 ``integral``          :class:`IntegralAction`, PID with clamping anti-windup
+``nn_confirmed``      :class:`ConfirmedNNCompensator`, the network on the direction-confirmed
+                      velocity (the fricctl pipeline's: encoder flicker read as rest)
 ====================  =======================================================================
 
 Adding a compensator
@@ -52,10 +54,12 @@ from .feedforward import StaticFeedforward
 from .integral import IntegralAction, design_ki
 from .lugre_observer import LuGreObserver
 from .network import NNCompensator
+from .nn_confirmed import ConfirmedNNCompensator
 from .none import NoCompensation
 
 __all__ = ["Compensator", "NoCompensation", "CoulombCompensator", "NNCompensator",
-           "StaticFeedforward", "LuGreObserver", "DisturbanceObserver", "IntegralAction",
+           "ConfirmedNNCompensator", "StaticFeedforward", "LuGreObserver", "DisturbanceObserver",
+           "IntegralAction",
            "CompiledCompensator", "Entry", "CCode", "REGISTRY", "available", "get", "make",
            "design_ki", "COMP_NONE", "COMP_COULOMB", "COMP_NN"]
 

@@ -82,6 +82,14 @@ double {name}(double tm, double omega, int clip);
  * Command Tm(k+1) = Tc(k) + NAME_compensation(Tm(k), omega_hat(k), s, 1), then saturate. */
 double {name}_compensation(double tm, double omega_hat, double s, int clip);
 
+/* The direction-confirmed velocity of the fricctl pipeline (fricctl.compensators.nn_confirmed)
+ * [{u.velocity}]: omega_hat when the encoder's last two differences agree in direction or the
+ * last moved two counts or more, else 0 (a count that flickers against the last is rest).
+ * dy_prev: the controller's state, 0 at start; ts the sample time [s]; count one encoder count
+ * [{u.position}]. Its compensation: NAME_compensation(tm, NAME_confirmed_velocity(&dy_prev,
+ * omega_hat, ts, count), s, clip). */
+double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, double count);
+
 /* out[i] = {name}(tm[i], omega[i], clip) for i < n. */
 void {name}_batch(const double *tm, const double *omega, double *out, long n, int clip);
 
@@ -93,7 +101,7 @@ int {name}_outside(double tm, double omega);
 #endif
 
 #endif /* {guard} */
-""".replace("NAME_compensation", f"{name}_compensation")
+""".replace("NAME_compensation", f"{name}_compensation").replace("NAME_confirmed", f"{name}_confirmed")
 
 
 def c_source(net: FrictionNet, *, name: str = "fricctl_friction_net", units: str = "rotary") -> str:
@@ -103,6 +111,8 @@ def c_source(net: FrictionNet, *, name: str = "fricctl_friction_net", units: str
 
         double NAME(double tm, double omega, int clip);
         double NAME_compensation(double tm, double omega_hat, double s, int clip);
+        double NAME_confirmed_velocity(double *dy_prev, double omega_hat, double ts,
+                                       double count);
         void NAME_batch(const double *tm, const double *omega, double *out,
                         long n, int clip);
         int NAME_outside(double tm, double omega);
@@ -180,6 +190,14 @@ double {name}(double tm, double omega, int clip)
 double {name}_compensation(double tm, double omega_hat, double s, int clip)
 {{
     return s * {name}(tm, omega_hat, clip);
+}}
+
+double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, double count)
+{{
+    const double dy = omega_hat * ts;
+    const double prev = *dy_prev;
+    *dy_prev = dy;
+    return (fabs(dy) >= 1.5 * count || dy * prev > 0.0) ? omega_hat : 0.0;
 }}
 
 void {name}_batch(const double *tm, const double *omega, double *out, long n, int clip)

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..bench.experiments import BenchPatterns, Experiment, friction_patterns, training_experiments
-from ..compensators import NNCompensator
+from ..compensators import ConfirmedNNCompensator, NNCompensator
 from ..design import DesignWarning
 from ..nn import FitReport, FrictionNet, fit_report
 from ..nn.cache import cached_pipeline_net
@@ -27,7 +27,7 @@ from ..nn.pipelines import PipelineNet
 from ..nn.pipelines import pipeline as _pipeline
 from ..params import ActuatorParams
 
-__all__ = ["PaperNetwork", "train_paper_network", "check_network"]
+__all__ = ["PaperNetwork", "train_paper_network", "check_network", "pipeline_velocity"]
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -105,8 +105,25 @@ class PaperNetwork:
         """The full friction estimate [N*m] (the net plus the viscous term it leaves out)."""
         return self.trained.estimate(tm, omega)
 
-    def compensator(self, scale: float = 1.0) -> NNCompensator:
-        """The pipeline's compensation ``s*net(Tm, omega_hat)`` (fricctl: the nonlinear part)."""
+    @property
+    def velocity(self) -> str:
+        """The velocity the pipeline's compensator feeds its network
+        (:data:`fricctl.compensators.nn_confirmed.VELOCITIES`): ``"confirmed"`` for the fricctl
+        pipeline, ``"backward-difference"`` (the paper's) for the paper's."""
+        return pipeline_velocity(self.pipeline)
+
+    def compensator(self, scale: float = 1.0) -> NNCompensator | ConfirmedNNCompensator:
+        """The pipeline's compensation ``s*net(Tm, omega)``.
+
+        The paper's pipeline feeds the network the backward-difference velocity, as the paper's
+        controller computes it. The fricctl pipeline compensates the nonlinear part and feeds
+        the direction-confirmed velocity of :mod:`fricctl.compensators.nn_confirmed` (one count
+        of the bench's encoder): a count that flickers against the last difference's direction
+        is read as rest, so encoder jitter at rest does not switch the estimate between its rest
+        and its sliding branch.
+        """
+        if self.velocity == "confirmed":
+            return ConfirmedNNCompensator(self.net, count=self.params.encoder_resolution, scale=scale)
         return NNCompensator(self.net, scale=scale)
 
     def experiment(self, name: str) -> Experiment:
@@ -115,6 +132,13 @@ class PaperNetwork:
             if ex.name == name:
                 return ex
         raise ValueError(f"no experiment named {name!r}; have {[e.name for e in self.experiments]}")
+
+
+def pipeline_velocity(pipeline: str) -> str:
+    """The velocity a pipeline's compensator feeds its network: ``"confirmed"`` (the fricctl
+    pipeline, :mod:`fricctl.compensators.nn_confirmed`) or ``"backward-difference"`` (the paper's)."""
+    return "confirmed" if v.choice("pipeline", pipeline, ("paper", "fricctl")) == "fricctl" else \
+        "backward-difference"
 
 
 def check_network(network) -> PaperNetwork:

@@ -28,7 +28,7 @@ from ..params import ActuatorParams
 from .benches import Bench, as_bench
 from .claims import paper_claims
 from .common import AGED_SCALE, designs
-from .network import PaperNetwork, train_paper_network
+from .network import PaperNetwork, pipeline_velocity, train_paper_network
 from .registry import paper_figures
 from .sweep import SweepResult, robustness_sweep
 from .table import aggregate_claims, claims_json, claims_markdown, holds_summary, representative_seed
@@ -73,6 +73,12 @@ class SeedRun:
     def net(self) -> FrictionNet:
         """The trained network."""
         return FrictionNet.from_json(self.net_json)
+
+    @property
+    def velocity(self) -> str:
+        """The velocity the pipeline's compensator feeds the network
+        (:attr:`fricctl.paper.PaperNetwork.velocity`)."""
+        return pipeline_velocity(self.pipeline)
 
     @property
     def n_passed(self) -> int:
@@ -344,7 +350,8 @@ def reproduce_paper(params: ActuatorParams | None = None, *, bench=None, fast: b
     for i, name in enumerate(names, start=len(jobs) + 1):
         run = runs[(name, rep[name])]
         # its rows (one per link inertia) through the same executor: deterministic, so the same numbers
-        sweeps[name] = robustness_sweep(run.net, p, design=designs(b)["fig16-17"], executor=executor, **grid)
+        sweeps[name] = robustness_sweep(run.net, p, design=designs(b)["fig16-17"], executor=executor,
+                                        velocity=run.velocity, **grid)
         if keep_figures:
             networks[name], figs[name] = representative_figures(b, fast, name, rep[name], run.net_json)
             tick(i, f"{name} seed {rep[name]} figures")

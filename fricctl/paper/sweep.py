@@ -9,7 +9,8 @@ import numpy as np
 
 from .. import _validate as v
 from .. import controllers as ctl
-from ..compensators import NNCompensator, NoCompensation
+from ..compensators import ConfirmedNNCompensator, NNCompensator, NoCompensation
+from ..compensators.nn_confirmed import VELOCITIES
 from ..design import Design
 from ..nn import FrictionNet
 from ..params import ActuatorParams, paper_actuator
@@ -81,14 +82,17 @@ class _Row:
 
 
 def _sweep_row(params: ActuatorParams, net_json: str, scales: tuple, kp: float, kd: float,
-               step: float, duration: float, comp_scale: float, simulator) -> _Row:
+               step: float, duration: float, comp_scale: float, simulator,
+               velocity: str = "backward-difference") -> _Row:
     # Module-level and fed plain data (the net as JSON) so that any Executor,
     # including a process pool or a dask client, can run it.
     net = FrictionNet.from_json(net_json)
     base = params.friction_model()
     frs = [base.scaled(float(s)) for s in scales]
     c = ctl.pd_control(kp, kd, ctl.step(step))
-    nn = simulator(params, c, NNCompensator(net, scale=comp_scale), duration=duration, friction=frs)
+    comp = (ConfirmedNNCompensator(net, count=params.encoder_resolution, scale=comp_scale)
+            if velocity == "confirmed" else NNCompensator(net, scale=comp_scale))
+    nn = simulator(params, c, comp, duration=duration, friction=frs)
     none = simulator(params, c, NoCompensation(), duration=duration, friction=frs)
     last = nn.t >= nn.t[-1] - SS_WINDOW + 1e-12   # the window steady_state_error averages over
     return _Row(error_nn=np.abs(nn.steady_state_error(SS_WINDOW)),
@@ -102,7 +106,8 @@ def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
                      step: float = float(np.deg2rad(30.0)), duration: float = 3.0,
                      design: Design | None = None, compensation_scale: float = 1.0,
                      tolerance: float = float(np.deg2rad(ACCURACY_DEG)),
-                     executor: Executor | None = None, simulator=simulate_batch) -> SweepResult:
+                     executor: Executor | None = None, simulator=simulate_batch,
+                     velocity: str = "backward-difference") -> SweepResult:
     """Where NN compensation keeps the PD steady-state error below ``tolerance``.
 
     For every link inertia (one job: a batch over the friction scales) the PD
@@ -138,6 +143,10 @@ def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
         whose numba/OpenMP threads have started aborts the workers.
     simulator : callable
         Batch simulator with :func:`fricctl.simulate.simulate_batch`'s signature.
+    velocity : {"backward-difference", "confirmed"}
+        The velocity the network is fed: the paper's backward difference, or the fricctl
+        pipeline's direction-confirmed velocity (:mod:`fricctl.compensators.nn_confirmed`;
+        :attr:`fricctl.paper.PaperNetwork.velocity` names a pipeline's).
 
     Returns
     -------
@@ -161,11 +170,12 @@ def robustness_sweep(net: FrictionNet, params: ActuatorParams | None = None, *,
     duration = v.real("duration", duration, positive=True, unit="s")
     tolerance = v.real("tolerance", tolerance, positive=True, unit="rad")
     compensation_scale = v.real("compensation_scale", compensation_scale)
+    velocity = v.choice("velocity", velocity, VELOCITIES)
     if executor is not None and not hasattr(executor, "submit"):
         raise ValueError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
     d = designs(p)["fig16-17"] if design is None else v.instance("design", design, Design)
     args = [(p.replace(link_inertia=float(j)), net.to_json(), tuple(scales.tolist()), d.kp, d.kd,
-             step, duration, compensation_scale, simulator) for j in links]
+             step, duration, compensation_scale, simulator, velocity) for j in links]
     if executor is None:
         rows = [_sweep_row(*a) for a in args]
     else:
