@@ -481,7 +481,7 @@ def test_fig18_sawtooth(figs, claims):
     # only difference being the quantised feedback; the RMS by hand against it agrees to a count.
     pl = P.with_link()
     c = ctl.pd_control(r.design.kp, r.design.kd, ctl.sawtooth(r.amplitude, r.period))
-    viscous = simulate(pl, c, NoCompensation(), duration=2 * r.period, friction=Viscous(P.viscous))
+    viscous = simulate(pl, c, NoCompensation(), duration=r.periods * r.period, friction=Viscous(P.viscous))
     np.testing.assert_allclose(viscous.q, r.linear, rtol=0, atol=RES)
     assert np.sqrt(np.mean((r.with_nn.q - viscous.q) ** 2)) == pytest.approx(r.rms_deviation_with, abs=RES)
     # physics of the failure: the compensated joint moves in stick-slip itself (a staircase)
@@ -744,6 +744,18 @@ def test_reversal_against_hand_made_sinusoids():
     assert r.passed and "3 encoder counts" in r.reason
     with pytest.raises(ValueError, match="full periods"):
         paper.reversal(runaway, 2.0)
+
+
+def test_periods_with_motion_against_hand_made_runs():
+    from fricctl.paper.common import periods_with_motion
+
+    t = np.arange(1500) * P.sample_time  # 3 s, period 1 s
+    q = np.where(t < 1.0, 10 * RES * t, 10 * RES)  # moves 10 counts in period 1, then parks
+    assert periods_with_motion(_sim(np.zeros(1500), q=q), 1.0, 3) == 1
+    q = 10 * RES * np.abs(np.sin(np.pi * t))  # moves in every period
+    assert periods_with_motion(_sim(np.zeros(1500), q=q), 1.0, 3) == 3
+    q = np.where(t < 1.0, 0.0, 1.0 * RES)  # one count: not motion
+    assert periods_with_motion(_sim(np.zeros(1500), q=q), 1.0, 3) == 0
 
 
 def test_coast_decay_against_hand_made_runs():

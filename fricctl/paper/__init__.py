@@ -40,7 +40,7 @@ Assumptions (the paper does not give these; labelled as such in the results):
   sliding patterns gives, both with the same s = 0.95;
 * Fig. 17 runs on the same aged actuator and compensation as Fig. 16;
 * Fig. 18: the sawtooth's span and period are the bench's (fig18_amplitude, fig18_period;
-  literal: 0 to 0.1 rad over 1 s), two periods.
+  literal: 0 to 0.1 rad over 1 s), three periods (the figure's two and one more).
 
 Each figure's registry entry carries the same list (``PaperFigure.assumptions``).
 

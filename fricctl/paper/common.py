@@ -27,7 +27,8 @@ from .network import PaperNetwork
 from .runaway import RunawayCheck
 
 __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "designs",
-           "stick_intervals_after_motion", "restarts", "sign_changes", "last_window", "deg",
+           "stick_intervals_after_motion", "restarts", "periods_with_motion", "FIG18_PERIODS",
+           "sign_changes", "last_window", "deg",
            "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction",
            "OpenLoopChecks", "LinkFigure", "COULOMB_AT_FS", "COULOMB_AT_FC", "CoulombLevels",
            "uncompensated_dead_zone", "coulomb_levels", "Oscillation", "oscillation", "sensed"]
@@ -36,6 +37,10 @@ __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "des
 ACCURACY_DEG = 0.3
 #: A rest shorter than this is a velocity reversal, not a stick interval [s].
 STICK_MIN_DURATION = 0.02
+#: Periods of Fig. 18's sawtooth that are run and judged: the figure's two and one more, so
+#: that a joint parked after a start-up transient does not count as stick-slip, and a single
+#: rest that noise moves across the end of the second period does not decide the claim.
+FIG18_PERIODS = 3
 #: Compensation scale of the aged actuator (Fig. 16), and its assumed friction change [-].
 AGED_SCALE = 0.95
 #: Window at the end of a run over which steady state is measured [s].
@@ -112,6 +117,15 @@ def stick_intervals_after_motion(result: SimResult, min_duration: float = STICK_
         return []
     t0 = result.t[moving[0]]
     return [iv for iv in result.stuck_intervals(min_duration) if iv[0] > t0]
+
+
+def periods_with_motion(result: SimResult, period: float, periods: int) -> int:
+    """Of the ``periods`` periods of ``period`` [s] a run spans, those in which the encoder moves
+    by more than one count (a joint that stick-slips keeps moving in every period; one parked
+    after a start-up transient does not)."""
+    res = result.info.encoder_resolution
+    k = np.minimum((result.t / period).astype(int), periods - 1)
+    return int(sum(np.ptp(result.q[k == j]) > res for j in range(periods) if np.any(k == j)))
 
 
 def restarts(result: SimResult, min_duration: float = STICK_MIN_DURATION) -> int:

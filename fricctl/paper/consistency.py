@@ -58,7 +58,8 @@ from ..design import (PAPER_DESIGN_SPECS, DesignWarning, LinearLoop, design_p, d
 from ..params import (PAPER_LINK_INERTIA, PAPER_SAMPLE_TIME, PAPER_STATIC_FRACTION,
                       PAPER_STATIC_FRICTION, PAPER_VISCOUS, paper_actuator)
 from ..simulate import simulate_batch
-from .common import SS_WINDOW, restarts, stick_intervals_after_motion
+from .common import (FIG18_PERIODS, SS_WINDOW, periods_with_motion, restarts,
+                     stick_intervals_after_motion)
 from .fig12 import IdealEstimate
 
 __all__ = ["RISE_TIME_READINGS", "STATEMENTS", "Statement", "Unknowns", "Check", "CandidateResult",
@@ -74,9 +75,8 @@ STEPS = MappingProxyType({"fig11-12": math.radians(25.0), "fig13-14": math.radia
                           "fig16": math.radians(30.0), "fig17": 0.08})
 #: Relative slack on a design spec (rise time) or an identified value (b) [-].
 TOLERANCE = 0.10
-#: Fig. 11's run [s], as the figure; Fig. 18's periods: the figure's two and one more, so that a
-#: joint parked after a start-up transient does not count as stick-slip.
-FIG11_DURATION, FIG18_PERIODS = 3.0, 3
+#: Fig. 11's run [s], as the figure (Fig. 18's periods: :data:`fricctl.paper.common.FIG18_PERIODS`).
+FIG11_DURATION = 3.0
 #: Readings of the paper's "rise time": reading -> what it measures.
 RISE_TIME_READINGS = MappingProxyType({
     "0-100": "first time the step reaches its final value (fricctl.design's default)",
@@ -320,8 +320,7 @@ def _fig11(r, kp_r: float) -> Check:
 
 def _fig18(r, kp_span: float, period: float) -> Check:
     n, peak, res = restarts(r), float(np.abs(r.q).max()), r.info.encoder_resolution
-    k = np.minimum((r.t / period).astype(int), FIG18_PERIODS - 1)
-    moving = sum(np.ptp(r.q[k == j]) > res for j in range(FIG18_PERIODS))
+    moving = periods_with_motion(r, period, FIG18_PERIODS)
     why = (f"never moves (Kp*span = {kp_span:.3f} <= Fs {FS:g} N*m)" if peak <= res else
            f"{n} rest(s) followed by motion, motion in {moving} of {FIG18_PERIODS} periods")
     return Check(key="fig18-stick-slip", satisfied=n >= 2 and moving == FIG18_PERIODS, value=float(n),
