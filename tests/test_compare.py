@@ -92,6 +92,25 @@ def test_lugre_observer_on_a_model_without_lugre_gets_the_assumed_bristle():
     given = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time,
                            options={"sigma0": 500.0, "sigma1": 2.0})
     assert (given.sigma0, given.sigma1) == (500.0, 2.0)
+    # a stiffness given alone: the assumed damping rule applies to it, sqrt(sigma0 * I)
+    alone = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time, options={"sigma0": 500.0})
+    assert alone.sigma1 == pytest.approx(math.sqrt(500.0 * m.inertia), rel=1e-12)
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"sigma0": -1.0}, "sigma0 must be > 0 N\\*m/rad, got -1.0"),
+    ({"sigma0": 0.0}, "sigma0 must be > 0 N\\*m/rad"),
+    ({"sigma0": float("inf")}, "sigma0 must be finite"),
+    ({"sigma0": "stiff"}, "sigma0 must be a real number"),
+    ({"sigma0": 500.0, "sigma1": -2.0}, "sigma1 must be >= 0 N\\*m\\*s/rad"),
+])
+def test_lugre_observer_bristle_not_physical_is_a_value_error(options, match):
+    b = bench("literal")
+    with pytest.raises(ValueError, match=match):
+        make_contender("lugre_observer", b.model, designs(b)["fig13-14"], b.model.sample_time, options=options)
+    with pytest.raises(ValueError, match="options of 'lugre_observer': " + match):
+        compare(compensators=("lugre_observer",), experiments=("pd_steps",), plants=("nominal",), seeds=1,
+                bench="literal", options={"lugre_observer": options})
 
 
 # ------------------------------------------------------------------ plants
