@@ -622,3 +622,28 @@ def test_a_limit_cycle_the_run_cannot_judge_is_not_reported_as_none(monkeypatch)
     none = r.row("none", "limit_cycle", "nominal")  # at rest under a held torque after 6 s: judged
     assert none["metrics"]["limit_cycle_amplitude"]["median"] == 0.0 and not none["warnings"]
     assert none["metrics"]["limit_cycle_duration"]["median"] == 6.0
+
+
+def test_a_check_too_short_for_its_period_says_so_in_the_row(monkeypatch):
+    # the plumbing: a runaway check whose record is too short for part of its criterion (judged
+    # False) reaches the row's warnings, its pass counted as the rest of the criterion found
+    from dataclasses import replace
+    from types import MappingProxyType
+
+    import fricctl.compare.experiments as experiments
+    import fricctl.compare.protocol as protocol
+    from fricctl.compare.experiments import Outcome
+    from fricctl.paper.runaway import RunawayCheck
+
+    short = RunawayCheck(name="divergence", value=10.0, unit="%", limit=50.0, passed=True, judged=False,
+                         reason="no divergence: ...; too short to judge whether it is sustained")
+
+    def run(bench, pl, comp, design, rng):
+        return Outcome(metrics={m: 0.0 for m in EXPERIMENTS["pd_steps"].metrics}, checks=(short,))
+
+    table = MappingProxyType({**EXPERIMENTS, "pd_steps": replace(EXPERIMENTS["pd_steps"], run=run)})
+    monkeypatch.setattr(experiments, "EXPERIMENTS", table)
+    monkeypatch.setattr(protocol, "EXPERIMENTS", table)
+    row = compare(compensators=("integral",), experiments=("pd_steps",), plants=("nominal",),
+                  seeds=1).row("integral", "pd_steps", "nominal")
+    assert row["runaway"]["passed"] == 1 and row["warnings"] == [short.reason]

@@ -434,7 +434,8 @@ def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
     return Outcome(metrics={"limit_cycle_amplitude": float(np.rad2deg(osc.amplitude)),
                             "limit_cycle_frequency": osc.frequency, "limit_cycle_duration": duration,
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(torque_check(r, comp),),
+                   # the cycle measured is the slowest oscillation the divergence check must see
+                   checks=(torque_check(r, comp, period=1.0 / osc.frequency if osc.frequency > 0 else None),),
                    warnings=(osc.reason,) if osc.verdict == "not judged" else ())
 
 

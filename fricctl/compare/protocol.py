@@ -85,7 +85,9 @@ def _evaluate_job(name: str, seed: int, options: dict, plant: dict, experiments:
             out.append({"experiment": en, "error": str(exc).splitlines()[0]})
             continue
         out.append({"experiment": en, "metrics": {k: float(o.metrics[k]) for k in ex.metrics},
-                    "checks": [c.as_dict() for c in o.checks], "warnings": list(o.warnings)})
+                    "checks": [c.as_dict() for c in o.checks],
+                    # a check whose record was too short for part of its criterion says so in the row
+                    "warnings": list(o.warnings) + [c.reason for c in o.checks if not c.judged]})
     return out
 
 
