@@ -492,6 +492,8 @@ t_hunt = 1 / lcs["nominal"]["limit_cycle_frequency"]["median"]
 t_est = 4 * fs_true / (pid.ki * a_hunt)
 print(f"nominal: hunting period {t_hunt:.3g} s; 4 Fs/(Ki A) = 4 x {fs_true:.3g} / ({pid.ki:.3g} x {a_hunt:.3g}) "
       f"= {t_est:.3g} s")
+ki_routh = (d14.viscous + d14.kd) * d14.kp / d14.inertia  # the PID's Routh limit [N m/(rad s)]
+print(f"Ki = {pid.ki:.3g} N m/(rad s) is {pid.ki / ki_routh:.1%} of the Routh limit {ki_routh:.3g} N m/(rad s)")
 short = oscillation(simulate(b.actuator, pd_control(d14.kp, d14.kd, step(float(np.deg2rad(30.0)))), pid,
                              duration=LC_DURATION))
 print(f"the first {LC_DURATION:g} s alone: {short.reason}")
@@ -500,6 +502,7 @@ for pl, m in lcs.items():  # a sustained hunt on every plant, seen only on runs 
     assert m["limit_cycle_frequency"]["min"] > 0 and m["limit_cycle_amplitude"]["min"] > 10 * count
     assert m["limit_cycle_duration"]["min"] > LC_DURATION and passed("integral", "limit_cycle", pl)
 assert abs(t_hunt / t_est - 1) < 0.15  # the hand estimate, within 15 %
+assert pid.ki < 0.1 * ki_routh  # "far below the Routh limit"
 assert short.verdict == "not judged" and "winding" in short.reason
 for pl in ("nominal", "friction_0.8"):  # the DOB's hunt is faster than the integral's
     assert median("dob", "limit_cycle", "limit_cycle_frequency", pl) > lcs[pl]["limit_cycle_frequency"]["max"]
