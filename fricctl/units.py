@@ -152,13 +152,16 @@ SUFFIXES = {
     ("viscous", "linear"): {"N*s/m": 1.0, "Ns/m": 1.0},
     ("inertia", "rotary"): {"kg*m^2": 1.0, "kgm2": 1.0, "g*cm^2": 1e-7},
     ("inertia", "linear"): {"kg": 1.0, "g": 1e-3},
+    # a stiffness: the LuGre bristle's sigma0 (fricctl simulate/compare --sigma0)
+    ("stiffness", "rotary"): {"N*m/rad": 1.0, "Nm/rad": 1.0},
+    ("stiffness", "linear"): {"N/m": 1.0, "N/mm": 1e3},
 }
 
 #: What each SI unit is called in a message (a reader who typed 'degs' learns the default).
 _UNIT_NAMES = {"rad": "radians", "m": "metres", "N*m": "newton metres", "N": "newtons",
                "s": "seconds", "Hz": "hertz", "rad/s": "radians per second",
                "m/s": "metres per second", "N*m*s/rad": "N*m*s/rad", "N*s/m": "N*s/m",
-               "kg*m^2": "kg*m^2", "kg": "kilograms"}
+               "kg*m^2": "kg*m^2", "kg": "kilograms", "N*m/rad": "N*m/rad", "N/m": "newtons per metre"}
 
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S*)\s*")
 
@@ -170,7 +173,7 @@ def parse_quantity(text: str, quantity: str, kind: str = "rotary") -> float:
     ----------
     text : str
         ``"0.35"`` (already in the SI unit), ``"20deg"``, ``"5 mm"``, ``"0.2N*m"``.
-    quantity : {"position", "torque", "time", "frequency", "velocity", "viscous", "inertia"}
+    quantity : {"position", "torque", "time", "frequency", "velocity", "viscous", "inertia", "stiffness"}
         What the number is (angle or displacement for ``"position"``; force for a linear
         ``"torque"``, mass for a linear ``"inertia"``).
     kind : {"rotary", "linear"}

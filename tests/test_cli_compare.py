@@ -72,6 +72,12 @@ def test_compare_refuses_to_overwrite_without_force(written, tmp_path, capsys):
     (["--scheduler", "tcp://x:8786", "--executor", "process"], "needs --executor dask"),
     (["--scheduler", "tcp://x:8786", "--workers", "2"], "give one or the other"),
     (["--scheduler", " "], "--scheduler needs an address"),
+    (["--sigma0", "-5"], "--sigma0 must be > 0 N*m/rad, got -5.0"),
+    (["--sigma0", "nan"], "--sigma0 must be finite"),
+    (["--sigma0", "soft"], "--sigma0: 'soft' is not a number"),
+    (["--sigma0", "2e4N*s/m"], "--sigma0: unknown unit 'N*s/m'"),
+    (["--sigma1", "-0.5"], "--sigma1 must be >= 0 N*m*s/rad, got -0.5"),
+    (["--compensators", "none,dob", "--sigma0", "2e4"], "--sigma0 has no effect: it is lugre_observer's"),
 ])
 def test_compare_bad_arguments_exit_2_with_one_line(argv, match, tmp_path, capsys):
     code = main(["compare", "--out", str(tmp_path / "o")] + argv)
@@ -98,3 +104,30 @@ def test_compare_on_processes_and_dask_writes_the_serial_file(written, tmp_path,
         assert main(["compare", "--out", str(tmp_path / kind), "--executor", kind, "--workers", "2"]
                     + SMALL) == 0
         assert (tmp_path / kind / "comparison.json").read_bytes() == (serial / "comparison.json").read_bytes()
+
+
+def test_compare_sigma0_reaches_the_lugre_observer(tmp_path, capsys, monkeypatch):
+    # --sigma0/--sigma1 (a unit suffix accepted) become the observer's options of compare(), and
+    # the observer the rows ran is built with them (make_contender with the same options)
+    import fricctl.compare as fc
+
+    seen = {}
+    real = fc.compare
+
+    def spy(**kw):
+        seen.update(kw["options"])
+        return real(**kw)
+
+    monkeypatch.setattr(fc, "compare", spy)
+    assert main(["compare", "--out", str(tmp_path / "o"), "--compensators", "lugre_observer", "--experiments",
+                 "pd_steps", "--plants", "nominal", "--quiet", "--sigma0", "2e4 N*m/rad", "--sigma1", "1.5"]) == 0
+    capsys.readouterr()
+    assert seen == {"lugre_observer": {"sigma0": 2e4, "sigma1": 1.5}}
+    from fricctl.compare import make_contender
+    from fricctl.paper.benches import DEFAULT_BENCH, bench
+    from fricctl.paper.common import designs
+
+    b = bench(DEFAULT_BENCH)
+    obs = make_contender("lugre_observer", b.model, designs(b)["fig13-14"], b.actuator.sample_time,
+                         options=seen["lugre_observer"])
+    assert (obs.sigma0, obs.sigma1) == (2e4, 1.5)

@@ -470,3 +470,46 @@ def test_a_stuck_joint_record_is_written_and_identify_refuses_it(tmp_path, capsy
         assert main(["identify", str(csv), "--recipe", recipe]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "stuck.csv: position: no motion" in err, err
+
+
+# ---------------------------------------------------------------- the LuGre bristle of a static model
+SIGMA_RUN = ["simulate", "--controller", "pd", "--kp", "1.213", "--kd", "0.0892", "--reference", "step:0.2",
+             "--duration", "1", "--json"]
+
+
+def test_sigma0_gives_a_static_model_its_lugre_observer(capsys):
+    # the paper's actuator has no LuGre law: with --sigma0 (and --sigma1) the observer is built, and
+    # runs as the library's LuGreObserver.from_model with the same bristle (same number, to rounding)
+    from fricctl import controllers as ctl
+    from fricctl.compensators import LuGreObserver
+    from fricctl.params import paper_actuator
+    from fricctl.simulate import simulate
+
+    p = paper_actuator()
+    assert p.friction_model().lugre_sigma0 == 0.0
+    assert main([*SIGMA_RUN, "--compensation", "lugre_observer", "--sigma0", "2e4N*m/rad", "--sigma1", "1.5"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    want = simulate(p, ctl.pd_control(1.213, 0.0892, ctl.step(0.2)),
+                    LuGreObserver.from_model(p, sigma0=2e4, sigma1=1.5), duration=1.0)
+    assert got["steady_state_error"]["value"] == pytest.approx(want.steady_state_error(0.5), rel=1e-12, abs=1e-15)
+
+
+@pytest.mark.parametrize("argv, words", [
+    ([], "the model has no LuGre law (lugre_sigma0 = 0): give the bristle stiffness with --sigma0 [N*m/rad]"),
+    (["--sigma0", "-5"], "--sigma0 must be > 0 N*m/rad, got -5.0"),
+    (["--sigma0", "0"], "--sigma0 must be > 0 N*m/rad, got 0.0"),
+    (["--sigma0", "nan"], "--sigma0 must be finite"),
+    (["--sigma0", "stiff"], "--sigma0: 'stiff' is not a number"),
+    (["--sigma0", "2e4N/m"], "--sigma0: unknown unit 'N/m'"),
+    (["--sigma0", "2e4", "--sigma1", "-1"], "--sigma1 must be >= 0 N*m*s/rad, got -1.0"),
+])
+def test_sigma0_missing_or_not_physical_is_one_line_exit_2(argv, words, capsys):
+    assert main([*SIGMA_RUN, "--compensation", "lugre_observer", *argv]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1
+
+
+def test_sigma0_without_the_lugre_observer_has_no_effect(capsys):
+    assert main([*SIGMA_RUN, "--compensation", "dob", "--sigma0", "2e4"]) == 2
+    err = capsys.readouterr().err
+    assert "--sigma0 has no effect with --compensation dob" in err and err.count("\n") == 1

@@ -92,6 +92,25 @@ def test_lugre_observer_on_a_model_without_lugre_gets_the_assumed_bristle():
     given = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time,
                            options={"sigma0": 500.0, "sigma1": 2.0})
     assert (given.sigma0, given.sigma1) == (500.0, 2.0)
+    # a stiffness given alone: the assumed damping rule applies to it, sqrt(sigma0 * I)
+    alone = make_contender("lugre_observer", m, designs(b)["fig13-14"], m.sample_time, options={"sigma0": 500.0})
+    assert alone.sigma1 == pytest.approx(math.sqrt(500.0 * m.inertia), rel=1e-12)
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"sigma0": -1.0}, "sigma0 must be > 0 N\\*m/rad, got -1.0"),
+    ({"sigma0": 0.0}, "sigma0 must be > 0 N\\*m/rad"),
+    ({"sigma0": float("inf")}, "sigma0 must be finite"),
+    ({"sigma0": "stiff"}, "sigma0 must be a real number"),
+    ({"sigma0": 500.0, "sigma1": -2.0}, "sigma1 must be >= 0 N\\*m\\*s/rad"),
+])
+def test_lugre_observer_bristle_not_physical_is_a_value_error(options, match):
+    b = bench("literal")
+    with pytest.raises(ValueError, match=match):
+        make_contender("lugre_observer", b.model, designs(b)["fig13-14"], b.model.sample_time, options=options)
+    with pytest.raises(ValueError, match="options of 'lugre_observer': " + match):
+        compare(compensators=("lugre_observer",), experiments=("pd_steps",), plants=("nominal",), seeds=1,
+                bench="literal", options={"lugre_observer": options})
 
 
 # ------------------------------------------------------------------ plants
@@ -485,3 +504,146 @@ def test_the_table_says_when_the_bench_sensing_is_not_applied():
                     bench=name)
         assert ("**not applied**" in r.table()) == sensed
         assert r.as_dict()["bench_sensing_applied"] is False
+
+
+# ------------------------------------------------------------------ the limit cycle, judged on the record
+RES = B.actuator.encoder_resolution
+
+
+def _record(q, tm):
+    """A hand-made closed-loop run on the literal bench (PD, reference held at 0): the true position
+    ``q`` [rad], its encoder reading (floor to the count) and the motor torque ``tm`` [N*m]."""
+    from dataclasses import replace
+
+    from fricctl import controllers as ctl
+    from fricctl.simulate import simulate
+
+    ts = B.actuator.sample_time
+    base = simulate(B.actuator, ctl.pd_control(D.kp, D.kd, ctl.constant(0.0)), duration=len(q) * ts)
+    assert base.t.size == len(q)
+    q = np.asarray(q, dtype=float)
+    return replace(base, q=q, q_meas=np.floor(q / RES) * RES, torque_motor=np.asarray(tm, dtype=float))
+
+
+def test_oscillation_on_hand_made_records():
+    from fricctl.compare import oscillation
+    from fricctl.paper.runaway import STEADY
+
+    t = B.actuator.sample_time * np.arange(4000)  # 8 s; the judged half 4 s
+    wave = 100 * RES * np.sin(2 * np.pi * 2.0 * t)  # 100 counts at 2 Hz: 8 periods in the judged half
+    held = np.full(t.size, 0.05)
+    o = oscillation(_record(wave, 0.05 * np.sign(wave)))
+    # closed form: amplitude 100 counts (to the sampling of the peak, 500 samples a period:
+    # within 1 - cos(pi/500)), frequency 2 Hz (crossings sampled to one Ts in 4 s)
+    assert o.verdict == "limit cycle" and o.duration == pytest.approx(8.0)
+    assert o.amplitude == pytest.approx(100 * RES, rel=1e-4) and o.frequency == pytest.approx(2.0, rel=1e-3)
+    # the same decaying with a time constant of 4 s: the last two half-cycles swing exp(-3.5/4) =
+    # 42 % of the first two's, under STEADY: a ring that dies out is no limit cycle, nor is it none
+    o = oscillation(_record(wave * np.exp(-t / 4.0), held))
+    assert o.verdict == "not judged" and math.isnan(o.amplitude) and "decays" in o.reason
+    assert math.exp(-3.5 / 4.0) < STEADY
+    # two periods in the judged half (0.5 Hz over 4 s), of which 1.5 between its first and last
+    # crossing (4 crossings, phase 0.3 rad): too few to compare two periods' swing
+    o = oscillation(_record(100 * RES * np.sin(2 * np.pi * 0.5 * t + 0.3), held))
+    assert o.verdict == "not judged" and "1.5 period(s), under 2" in o.reason
+    # the joint at rest: under a held torque none; with a torque that still winds (a ramp of
+    # 0.01 N*m/s, an integral against the stuck joint) not judged: a breakaway may come
+    rest = np.full(t.size, 5.5 * RES)
+    o = oscillation(_record(rest, held))
+    assert o.verdict == "none" and o.amplitude == 0.0 and o.frequency == 0.0 and "held torque" in o.reason
+    o = oscillation(_record(rest, 0.05 + 0.01 * t))
+    assert o.verdict == "not judged" and "winding" in o.reason and "changes by 0.04 N*m" in o.reason
+    # a dither across one count boundary (0.3 count peak to peak): under half a count, none
+    o = oscillation(_record(5.0 * RES + 0.15 * RES * np.sin(2 * np.pi * 2.0 * t), 0.05 * np.sign(wave)))
+    assert o.verdict == "none" and "under half a count" in o.reason
+    with pytest.raises(ValueError, match="periods"):
+        oscillation(_record(wave, held), periods=0)
+
+
+def _hunt(plant_params, duration=None):
+    """The limit-cycle experiment of the integral contender (the PID of Fig. 14's design) on the
+    literal bench's actuator ``plant_params`` (its own friction, no delay, no noise)."""
+    from fricctl.compare.plants import Realised
+
+    comp = make_contender("integral", B.model, D, B.actuator.sample_time)
+    pl = Realised(params=plant_params, friction=plant_params.friction_model(), delay=0,
+                  compensation_scale=1.0, noise_std=0.0)
+    return comp, EXPERIMENTS["limit_cycle"].run(B, pl, comp, D, np.random.default_rng(0))
+
+
+def test_integral_action_hunts_and_the_limit_cycle_experiment_reports_it():
+    from fricctl import controllers as ctl
+    from fricctl.compare.experiments import LC_DURATION, LC_MAX_DURATION
+    from fricctl.simulate import simulate
+
+    p = B.actuator
+    comp, o = _hunt(p)
+    m = o.metrics
+    # with Coulomb and static friction the integral hunts: the run was extended past its first
+    # 6 s (where the joint sits still with the integral winding) and the row holds a cycle
+    assert LC_DURATION < m["limit_cycle_duration"] <= LC_MAX_DURATION and not o.warnings
+    assert m["limit_cycle_amplitude"] > np.rad2deg(100 * RES) and m["limit_cycle_frequency"] > 0
+    # an independent reading of the period: the first peak of the autocorrelation of q over the
+    # judged half (one sample of resolution); the crossings' frequency within 2 %
+    run = simulate(p, ctl.pd_control(D.kp, D.kd, ctl.step(float(np.deg2rad(30.0)))), comp,
+                   duration=m["limit_cycle_duration"])
+    x = run.q[run.t.size // 2:] - run.q[run.t.size // 2:].mean()
+    ac = np.correlate(x, x, "full")[x.size - 1:]
+    first_neg = int(np.argmax(ac < 0))
+    lag = first_neg + int(np.argmax(ac[first_neg:x.size // 2]))
+    assert 1.0 / (lag * p.sample_time) == pytest.approx(m["limit_cycle_frequency"], rel=0.02)
+    # the hand calculation of a hunt: each half-period the integral carries the torque across the
+    # friction band 2 Fs at the rate Ki*A, so the period is about 4 Fs/(Ki A); within 15 % (the
+    # error while stuck is not quite the amplitude A, nor is the band swept from end to end)
+    a = np.deg2rad(m["limit_cycle_amplitude"])
+    assert 1.0 / m["limit_cycle_frequency"] == pytest.approx(4 * p.static / (comp.ki * a), rel=0.15)
+
+
+def test_without_dry_friction_the_integral_has_no_limit_cycle():
+    # viscous friction only: the PID is linear and its loop stable (design_ki checks the poles);
+    # what is left is the encoder's one-count dither around the target, under half a count
+    comp, o = _hunt(B.actuator.replace(coulomb=0.0, static=0.0))
+    assert o.metrics["limit_cycle_frequency"] == 0.0 and not o.warnings
+    assert o.metrics["limit_cycle_amplitude"] < np.rad2deg(0.5 * RES)
+
+
+def test_a_limit_cycle_the_run_cannot_judge_is_not_reported_as_none(monkeypatch):
+    # the integral's hunt takes ~25 s a period: with the runs capped at 12 s the row must say it
+    # could not judge (no amplitude, a warning), not that there is no limit cycle
+    import fricctl.compare.experiments as experiments
+
+    monkeypatch.setattr(experiments, "LC_MAX_DURATION", 2 * experiments.LC_DURATION)
+    r = compare(compensators=("none", "integral"), experiments=("limit_cycle",), plants=("nominal",), seeds=1)
+    row = r.row("integral", "limit_cycle", "nominal")
+    assert row["metrics"]["limit_cycle_amplitude"]["median"] is None
+    assert row["metrics"]["limit_cycle_duration"]["median"] == 12.0
+    assert any(w.startswith("not judged: the joint") for w in row["warnings"])
+    assert "not judged: the joint" in r.table()
+    none = r.row("none", "limit_cycle", "nominal")  # at rest under a held torque after 6 s: judged
+    assert none["metrics"]["limit_cycle_amplitude"]["median"] == 0.0 and not none["warnings"]
+    assert none["metrics"]["limit_cycle_duration"]["median"] == 6.0
+
+
+def test_a_check_too_short_for_its_period_says_so_in_the_row(monkeypatch):
+    # the plumbing: a runaway check whose record is too short for part of its criterion (judged
+    # False) reaches the row's warnings, its pass counted as the rest of the criterion found
+    from dataclasses import replace
+    from types import MappingProxyType
+
+    import fricctl.compare.experiments as experiments
+    import fricctl.compare.protocol as protocol
+    from fricctl.compare.experiments import Outcome
+    from fricctl.paper.runaway import RunawayCheck
+
+    short = RunawayCheck(name="divergence", value=10.0, unit="%", limit=50.0, passed=True, judged=False,
+                         reason="no divergence: ...; too short to judge whether it is sustained")
+
+    def run(bench, pl, comp, design, rng):
+        return Outcome(metrics={m: 0.0 for m in EXPERIMENTS["pd_steps"].metrics}, checks=(short,))
+
+    table = MappingProxyType({**EXPERIMENTS, "pd_steps": replace(EXPERIMENTS["pd_steps"], run=run)})
+    monkeypatch.setattr(experiments, "EXPERIMENTS", table)
+    monkeypatch.setattr(protocol, "EXPERIMENTS", table)
+    row = compare(compensators=("integral",), experiments=("pd_steps",), plants=("nominal",),
+                  seeds=1).row("integral", "pd_steps", "nominal")
+    assert row["runaway"]["passed"] == 1 and row["warnings"] == [short.reason]

@@ -372,7 +372,7 @@ def test_cli_simulate_takes_every_registered_name_and_builds_it_from_the_model(c
 
 @pytest.mark.parametrize("argv, words", [
     (["--compensation", "dobb"], "unknown compensation 'dobb'.*integral"),
-    (["--compensation", "lugre_observer"], "lugre_observer: sigma0: the model has no LuGre law"),
+    (["--compensation", "lugre_observer"], "lugre_observer: the model has no LuGre law.*--sigma0 \\[N\\*m/rad\\]"),
     (["--compensation", "coulomb", "--c-source", "x.c"], "applies to --compensation nn or to one"),
 ])
 def test_cli_refusals_name_the_compensation(argv, words, capsys):

@@ -683,6 +683,32 @@ def test_divergence_fails_a_sustained_envelope_after_a_large_transient():
             paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing), **bad)
 
 
+def test_divergence_says_when_its_record_is_too_short_for_the_loops_period():
+    # the last quarter of 400 samples (Ts = 2 ms) is k = 300..398 (99 judged pairs): 0.198 s.  A
+    # large first transient, then an excess of 0.05 N*m beyond the bound in the last quarter's first
+    # half only (one half holds no episode: the steadiness test cannot compare them), 10 % of the
+    # first: decay passes it.  Told the loop's period, the check says whether 0.198 s hold two
+    fs, n = P.static, 400
+    k = np.arange(n)
+    tm = np.zeros(n)
+    tm[10:40] = fs + 0.5
+    tm[60:349] = np.where((k[60:349] % 20) < 8, fs + 0.05, 0.0)
+    run = _held(n, tm=tm, q=10 * RES * np.sin(2 * np.pi * k / 20))
+    plain = paper.divergence(run)
+    assert plain.passed and plain.judged and "too short" not in plain.reason
+    slow = paper.divergence(run, period=0.2)  # 0.198 s hold 0.99 of it: not judged
+    assert slow.passed == plain.passed and not slow.judged
+    assert "too short to judge whether it is sustained: the last 0.198 s hold 0.99 of the loop's period 0.2 s" \
+        in slow.reason and slow.as_dict()["judged"] is False
+    fast = paper.divergence(run, period=0.09)  # 2.2 periods: judged
+    assert fast.judged and fast.reason == plain.reason
+    # no episode in the last quarter: nothing to judge there, whatever the period
+    tm[200:] = 0.0
+    assert paper.divergence(_held(n, tm=tm, q=np.zeros(n)), period=10.0).judged
+    with pytest.raises(ValueError, match="period"):
+        paper.divergence(run, period=0.0)
+
+
 def test_divergence_fails_the_integral_limit_cycle_above_the_routh_limit():
     # the review's case: literal bench, design fig13-14, 30 deg step, IntegralAction at 1.1 x the
     # Routh limit Ki < (b + Kd) Kp / I, 30 s.  After a large first transient the error rings at a

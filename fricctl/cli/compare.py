@@ -1,4 +1,4 @@
-"""``fricctl compare --out DIR [--seeds N] [--compensators LIST] [--experiments LIST] [--plants LIST] [--executor serial|process|dask] [--workers N] [--scheduler ADDRESS] [--force]``.
+"""``fricctl compare --out DIR [--seeds N] [--compensators LIST] [--experiments LIST] [--plants LIST] [--sigma0 S] [--sigma1 D] [--executor serial|process|dask] [--workers N] [--scheduler ADDRESS] [--force]``.
 
 Runs every compensator on the paper's experiments (dead zone, PD steps, small steps, sawtooth
 tracking, coast, limit cycle) and on perturbed plants (friction x0.8 and x1.2, wear, the SCARA
@@ -15,7 +15,10 @@ Both are written atomically; an existing comparison.json or comparison.md in DIR
 unless --force.  --executor process runs the jobs on W local worker processes; --executor dask
 starts a Dask LocalCluster of W single-threaded worker processes, or with --scheduler ADDRESS
 joins a running Dask cluster (docs/cluster.md).  The rows are the same bit for bit whichever
-executor ran them.  Exit code 0 when the run completes (whatever it measured), 2 for bad
+executor ran them.  --sigma0 and --sigma1 give the LuGre observer its bristle (stiffness
+[N*m/rad], damping [N*m*s/rad]; a unit suffix such as 2e4N*m/rad is accepted) in place of the
+assumed one of a design model without a LuGre law (fricctl.compare.contenders.BRISTLE_COUNTS
+encoder counts at the breakaway level, sigma1 = sqrt(sigma0 * I)), or of the model's own law.  Exit code 0 when the run completes (whatever it measured), 2 for bad
 arguments.
 """
 
@@ -50,6 +53,12 @@ def register(subparsers) -> None:
                    help="comma-separated names of fricctl.compare.EXPERIMENTS (default all)")
     p.add_argument("--plants", default=None, metavar="LIST",
                    help="comma-separated names of fricctl.compare.PLANTS (default all)")
+    p.add_argument("--sigma0", default=None, metavar="S",
+                   help="lugre_observer's bristle stiffness sigma0 [N*m/rad] (default: the model's LuGre "
+                        "law, or the assumed bristle of BRISTLE_COUNTS encoder counts at Fs)")
+    p.add_argument("--sigma1", default=None, metavar="D",
+                   help="lugre_observer's bristle damping sigma1 [N*m*s/rad] (default: the model's LuGre "
+                        "law, or sqrt(sigma0 * I))")
     p.add_argument("--bench", default=None, metavar="NAME",
                    help="the bench (fricctl.paper.benches.BENCHES); default the paper's default bench")
     p.add_argument("--executor", default=None, metavar="KIND",
@@ -142,6 +151,28 @@ def _executor(kind: str, workers: int, scheduler: str | None):
         yield client.get_executor()
 
 
+def bristle(args, compared) -> dict:
+    """The LuGre observer's options of ``--sigma0`` / ``--sigma1`` (``{}`` without them), each a
+    finite number > 0 (>= 0 for the damping) in its unit; refused when ``compared`` (the
+    compensators run) leaves the observer out."""
+    from .. import _validate as v
+    from ..units import parse_quantity
+
+    given = {k: getattr(args, k) for k in ("sigma0", "sigma1") if getattr(args, k) is not None}
+    if given and "lugre_observer" not in compared:
+        raise ValueError(f"--{next(iter(given))} has no effect: it is lugre_observer's, which --compensators "
+                         "leaves out")
+    out = {}
+    for key, text in given.items():
+        unit = "N*m/rad" if key == "sigma0" else "N*m*s/rad"
+        try:
+            x = parse_quantity(str(text).strip(), "stiffness" if key == "sigma0" else "viscous")
+        except ValueError as exc:
+            raise ValueError(f"--{key}: {exc}") from None
+        out[key] = v.real(f"--{key}", x, positive=key == "sigma0", nonneg=True, unit=unit)
+    return out
+
+
 def run(args) -> int:
     from ..compare import CONTENDERS, EXPERIMENTS, PLANTS
     from ..compare.protocol import MAX_SEEDS
@@ -164,6 +195,9 @@ def run(args) -> int:
 
     options = {n: {"fast": True} for n in (comps or CONTENDERS)
                if args.fast and "fast" in (CONTENDERS[n].options or ())}
+    lugre = bristle(args, comps or tuple(CONTENDERS))
+    if lugre:
+        options["lugre_observer"] = lugre
     t0 = time.perf_counter()
     with _executor(kind, workers, scheduler) as ex:
         res = compare(compensators=comps, experiments=exps, plants=plants, seeds=seeds, bench=bench,

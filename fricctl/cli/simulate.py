@@ -23,7 +23,10 @@ inertia and viscous coefficient).  ``--c-source NAME.c`` (with ``--compensation 
 compensation that has a C export: :func:`fricctl.compensators.c_export.exportable`) also
 writes the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 (:func:`fricctl.nn.c_export.c_source`, :func:`fricctl.compensators.c_export.c_source`;
-functions prefixed ``NAME``).  An existing
+functions prefixed ``NAME``).  ``--sigma0`` (and ``--sigma1``) give the LuGre observer
+(``--compensation lugre_observer``) its bristle's stiffness [N*m/rad] (and damping
+[N*m*s/rad]; [N/m] and [N*s/m] on a linear axis) where the model has no LuGre law, or
+replace the law's.  An existing
 output file is kept unless ``--force``.
 
 Examples::
@@ -140,6 +143,12 @@ def register(sub):
                         "compensated run is checked for wind-up (warning)")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn or nn_confirmed)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
+    p.add_argument("--sigma0", default=None, metavar="S",
+                   help="with --compensation lugre_observer: the bristle stiffness sigma0 [N*m/rad] "
+                        "(a model without a LuGre law needs it; e.g. 2e4 or 2e4N*m/rad)")
+    p.add_argument("--sigma1", default=None, metavar="D",
+                   help="with --compensation lugre_observer: the bristle damping sigma1 [N*m*s/rad] "
+                        "(default the model's LuGre law's, else 0)")
     p.add_argument("--clip", action="store_true",
                    help="clip the network's inputs to its training envelope")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
@@ -159,8 +168,8 @@ def register(sub):
 
 def _check_combination(args) -> None:
     """Refuse options that would have no effect in this combination (nothing silently ignored)."""
-    given = {name for name in ("kp", "kd", "rise_time", "damping", "reference", "torque", "net", "scale")
-             if getattr(args, name) is not None}
+    given = {name for name in ("kp", "kd", "rise_time", "damping", "reference", "torque", "net", "scale",
+                               "sigma0", "sigma1") if getattr(args, name) is not None}
 
     def refuse(names, why):
         bad = sorted(given & set(names))
@@ -183,6 +192,8 @@ def _check_combination(args) -> None:
         else:
             refuse(("kd",), "without --kp (the design gives Kd)")
     given_comp = ",".join(args.compensation)
+    if "lugre_observer" not in args.compensation:
+        refuse(("sigma0", "sigma1"), f"with --compensation {given_comp} (they are lugre_observer's)")
     nets = [n for n in args.compensation if n in _NETS]
     if not nets:
         refuse(("net",), f"with --compensation {given_comp}")
@@ -246,8 +257,9 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=N
             inertia = getattr(plant, "total_inertia", None) or plant.inertia
             loop = LinearLoop(kp=ctrl.kp, kd=ctrl.kd, inertia=inertia, viscous=plant.viscous,
                               sample_time=plant.sample_time)
+        options = _bristle(args, plant) if name == "lugre_observer" else {}
         try:
-            return make(name, plant, loop, scale=scale)
+            return make(name, plant, loop, scale=scale, **options)
         except ValueError as exc:
             raise ValueError(f"--compensation {name}: {exc}") from None
     if name == "none":
@@ -268,6 +280,34 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=N
                              "(one count) to confirm a direction with")
         return ConfirmedNNCompensator(net, count=float(count), scale=scale, clip=args.clip)
     return NNCompensator(net, scale=scale, clip=args.clip)
+
+
+def _bristle(args, plant) -> dict:
+    """``sigma0`` / ``sigma1`` of ``--sigma0`` / ``--sigma1`` in the plant's units (checked: a
+    finite stiffness > 0, a damping >= 0); a model without a LuGre law and no ``--sigma0`` is
+    refused here, naming the option."""
+    from .. import _validate as v
+    from ..compensators.base import friction_of
+    from ..units import parse_quantity, units
+
+    kind = getattr(plant, "units", "rotary")
+    u = units(kind)
+    out = {}
+    for key, quantity in (("sigma0", "stiffness"), ("sigma1", "viscous")):
+        text = getattr(args, key)
+        if text is None:
+            continue
+        unit = u.stiffness if key == "sigma0" else u.viscous
+        try:
+            x = parse_quantity(str(text).strip(), quantity, kind)
+        except ValueError as exc:
+            raise ValueError(f"--{key}: {exc}") from None
+        out[key] = v.real(f"--{key}", x, positive=key == "sigma0", nonneg=True, unit=unit)
+    if "sigma0" not in out and not friction_of(plant).lugre_sigma0 > 0.0:
+        raise ValueError("--compensation lugre_observer: the model has no LuGre law (lugre_sigma0 = 0): "
+                         f"give the bristle stiffness with --sigma0 [{u.stiffness}] (and its "
+                         f"damping with --sigma1 [{u.viscous}])")
+    return out
 
 
 def _outputs(args) -> dict:

@@ -7,7 +7,8 @@ continuation of the present work."  This package is that comparison's protocol (
   signature ``(model, design, sample_time, seed, options)`` (:data:`CONTENDERS`,
   :func:`make_contender`);
 * :mod:`~fricctl.compare.experiments` -- the paper's experiments with any compensator and plant,
-  and the metrics with their units (:data:`EXPERIMENTS`, :data:`METRICS`);
+  and the metrics with their units (:data:`EXPERIMENTS`, :data:`METRICS`; :func:`oscillation`
+  judges a run's limit cycle);
 * :mod:`~fricctl.compare.plants` -- the nominal plant and its perturbations, plain dicts
   (:data:`PLANTS`);
 * :mod:`~fricctl.compare.protocol` -- :func:`compare` (any ``concurrent.futures`` executor, Dask's
@@ -20,10 +21,12 @@ one experiment's metric over the plants.
 from __future__ import annotations
 
 from .contenders import CONTENDERS, REGISTERED, Contender, contender, contender_names, make_contender
-from .experiments import EXPERIMENTS, HF_CUTOFF, METRICS, Experiment, Outcome, experiment
+from .experiments import (EXPERIMENTS, HF_CUTOFF, METRICS, Experiment, Oscillation, Outcome, experiment,
+                          oscillation)
 from .plants import FIELDS, PLANTS, check_plant, realise
 from .protocol import MAX_SEEDS, ComparisonResult, compare
 
 __all__ = ["CONTENDERS", "REGISTERED", "Contender", "contender", "contender_names", "make_contender",
            "EXPERIMENTS", "METRICS", "HF_CUTOFF", "Experiment", "Outcome", "experiment",
+           "Oscillation", "oscillation",
            "PLANTS", "FIELDS", "check_plant", "realise", "ComparisonResult", "compare", "MAX_SEEDS"]

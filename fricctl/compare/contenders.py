@@ -185,23 +185,32 @@ def _network(pipeline: str, name: str):
 #: breakaway level (``sigma0 = Fs / (BRISTLE_COUNTS * count)``; the diagnosis's presliding scan
 #: starts at a few counts, below which the encoder cannot see a bristle), and its damping is
 #: that of Canudas de Wit et al.'s example, ``sigma1 = sqrt(sigma0 * I)`` (ratio 0.5 on the
-#: rotor's inertia).  Either is overridden by the option ``sigma0`` / ``sigma1``.
+#: rotor's inertia).  The option ``sigma0`` [N*m/rad] replaces the assumed stiffness (the
+#: damping rule then applies to it), ``sigma1`` [N*m*s/rad] the damping; on a model with a
+#: LuGre law either replaces the law's (``fricctl compare --sigma0 / --sigma1``).
 BRISTLE_COUNTS = 10.0
 
 
 def _lugre_defaults(model, options: dict) -> dict:
-    """``options`` with the assumed bristle of :data:`BRISTLE_COUNTS` where the model has none."""
+    """``options`` with the bristle of a model without a LuGre law: ``sigma0`` given (checked:
+    a finite stiffness > 0) or assumed (:data:`BRISTLE_COUNTS`), ``sigma1`` given or
+    ``sqrt(sigma0 * I)``."""
+    out = dict(options)
+    if "sigma0" in out:
+        out["sigma0"] = v.real("sigma0", out["sigma0"], positive=True, unit="N*m/rad")
+    if "sigma1" in out:
+        out["sigma1"] = v.real("sigma1", out["sigma1"], nonneg=True, unit="N*m*s/rad")
     fr = model.friction
-    if fr.lugre_sigma0 > 0.0 or "sigma0" in options:
-        return options
-    count = model.encoder_resolution
-    if not count > 0.0:
-        raise ValueError("lugre_observer: the model has neither a LuGre law nor an encoder count "
-                         "to size an assumed bristle from; give the option sigma0")
-    fs = max(fr.breakaway(1), fr.breakaway(-1))
-    sigma0 = fs / (BRISTLE_COUNTS * count)
-    out = {"sigma0": sigma0, **options}
-    out.setdefault("sigma1", (sigma0 * model.inertia) ** 0.5)
+    if fr.lugre_sigma0 > 0.0:
+        return out
+    if "sigma0" not in out:
+        count = model.encoder_resolution
+        if not count > 0.0:
+            raise ValueError("lugre_observer: the model has neither a LuGre law nor an encoder count "
+                             "to size an assumed bristle from; give the option sigma0 [N*m/rad] "
+                             "(fricctl compare --sigma0)")
+        out["sigma0"] = max(fr.breakaway(1), fr.breakaway(-1)) / (BRISTLE_COUNTS * count)
+    out.setdefault("sigma1", (out["sigma0"] * model.inertia) ** 0.5)
     return out
 
 

@@ -16,7 +16,8 @@ pd_steps        PD steps of -40 .. 40 deg, 3 s each: the steady-state error     
 small_steps     steps of +-0.08 rad with the link, PD (0.4 s, 0.85)                  Fig. 17
 sawtooth        the bench's sawtooth with the link, two periods: tracking            Fig. 18
 coast           a torque pulse of 2 Fs for 0.3 s, then Tc = 0: does the joint coast  coast test
-limit_cycle     a 30 deg PD step held 6 s: oscillation over the last 2 s             Fig. 14
+limit_cycle     a 30 deg PD step, held until the record judges: oscillation over     Fig. 14
+                the run's last half (6 s, doubled up to 384 s)
 ==============  ===================================================================  ===========
 
 Open-loop experiments (dead zone, coast) build the compensator for the PD loop of Fig. 14 (a
@@ -26,10 +27,19 @@ Notes
 -----
 The metrics are measured on the simulator's true position and torque (no measurement noise
 unless the plant asks for it); the limit cycle is the true position's oscillation.
+
+The limit-cycle run has no fixed length: a stick-slip cycle (integral action or a DOB hunting
+around the target) is as slow as its state is to wind the torque across the friction band
+(tens of seconds for the paper's integral design), and a run shorter than two of its periods
+shows a joint at rest, not a limit cycle.  The run is doubled from :data:`LC_DURATION` until
+its last half either holds two sustained periods or a joint at rest whose torque no state
+moves any more (:func:`oscillation`), up to :data:`LC_MAX_DURATION`; a loop still undecided
+there is reported as not judged (no amplitude, and the row says why), never as "none".
 """
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, fields, is_dataclass, replace
 from types import MappingProxyType
@@ -37,25 +47,44 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from .. import _validate as v
 from .. import controllers as ctl
 from ..bench.experiments import dead_zone
 from ..compensators import Compensator, NoCompensation
 from ..paper import coast as coast_test
 from ..paper.common import SS_WINDOW, designs, restarts
 from ..paper.fig14 import STEPS_DEG
-from ..paper.runaway import coast_decay, reversal, torque_check
-from ..simulate import simulate, simulate_batch
+from ..paper.runaway import STEADY, coast_decay, reversal, torque_check
+from ..simulate import SimResult, simulate, simulate_batch
 
-__all__ = ["Experiment", "Outcome", "EXPERIMENTS", "METRICS", "HF_CUTOFF", "HF_TAIL", "LC_WINDOW",
-           "effort_rms", "hf_share", "limit_cycle", "scaled", "experiment", "design_for"]
+__all__ = ["Experiment", "Outcome", "Oscillation", "EXPERIMENTS", "METRICS", "HF_CUTOFF", "HF_TAIL",
+           "LC_DURATION", "LC_MAX_DURATION", "LC_PERIODS", "TORQUE_HELD", "effort_rms", "hf_share",
+           "limit_cycle", "oscillation", "scaled", "experiment", "design_for"]
 
 #: Above this frequency the motor torque's power counts as high-frequency content [Hz]: one
 #: decade above the fastest of the paper's loops (rise time 0.22 s, a bandwidth of ~1.6 Hz)
 #: and a tenth of the 250 Hz Nyquist frequency of Ts = 2 ms; chatter of a relay-like
 #: compensator (sign(omega_hat) switching) lands above it.
 HF_CUTOFF = 25.0
-#: The window at the end of the limit-cycle run over which the oscillation is measured [s].
-LC_WINDOW = 2.0
+#: First length of the limit-cycle run [s]: Fig. 14's 3 s step twice over, so that the step's
+#: transient (the PD design's slowest mode, tau = 1/min|Re p| = 0.05 s on the paper's bench; 0.55 s
+#: with the integral's PID) has the run's first half to die out.  It is not the length the verdict
+#: rests on: the run is doubled until :func:`oscillation` judges its last half.
+LC_DURATION = 6.0
+#: Longest limit-cycle run [s] (LC_DURATION doubled six times): a compute budget, not a property of
+#: any loop (384 s at Ts = 2 ms is 192 000 samples, a fraction of a second in the compiled loop).  A
+#: stick-slip cycle's period grows as its state winds more slowly (the integral's ~ 4 Fs/(Ki A) for
+#: an amplitude A); one too slow for this budget is reported as not judged, with the reason.
+LC_MAX_DURATION = 64 * LC_DURATION
+#: Full periods the last half of the run must hold for a limit cycle to be measured [-]: two, so
+#: that the amplitude of the first can be compared with that of the second (sustained, not a
+#: decaying ring; :data:`fricctl.paper.runaway.STEADY` is the least ratio).
+LC_PERIODS = 2
+#: A motor torque that changes by at most this share of its largest magnitude over the run's last
+#: half is held [-]: rounding level.  A joint at rest under a held torque stays at rest (the loop
+#: is deterministic and its reference held); one whose torque still moves (an integral or a DOB
+#: winding up against the stuck joint) will break away, so its rest is no verdict.
+TORQUE_HELD = 1e-9
 #: The high-frequency share is measured over the last this share of each run [-]: after the
 #: transient, where chatter is what is left (a PD step's first sample holds the derivative kick,
 #: a one-sample spike whose flat spectrum would otherwise count as high-frequency content).
@@ -71,9 +100,14 @@ METRICS = MappingProxyType({
     "stick_slip_cycles": ("cycles", "rests of >= 20 ms after first motion that end in motion"),
     "coast_excess": ("%", "largest excess of |omega| over the viscous decay after the pulse, in % "
                      "of |omega| at its end (fricctl.paper.runaway.coast_decay)"),
-    "limit_cycle_amplitude": ("deg", f"half the peak-to-peak of q over the last {LC_WINDOW:g} s"),
-    "limit_cycle_frequency": ("Hz", "half the rate of crossings of q through its mean over that window; 0 "
-                              "below half an encoder count of amplitude or under three crossings"),
+    "limit_cycle_amplitude": ("deg", "half the peak-to-peak of q over the last half of the limit-cycle run, "
+                              "once judged (fricctl.compare.oscillation): a sustained cycle's, 0 at rest; "
+                              "none when not judged"),
+    "limit_cycle_frequency": ("Hz", "half the rate of crossings of q through its mean over that half of a "
+                              f"sustained cycle (at least {LC_PERIODS} full periods); 0 at rest or below half "
+                              "an encoder count of amplitude; none when not judged"),
+    "limit_cycle_duration": ("s", f"length of the limit-cycle run the verdict needed ({LC_DURATION:g} s "
+                             f"doubled until judged, at most {LC_MAX_DURATION:g} s)"),
     "effort_rms": ("N*m", "RMS of the motor torque Tm over the run(s)"),
     "effort_hf_share": ("%", f"share of the motor torque's variance above {HF_CUTOFF:g} Hz over the last "
                         f"{100 * HF_TAIL:.0f} % of each run (mean over runs)"),
@@ -88,10 +122,12 @@ class Outcome:
     ----------
     metrics : metric name -> value, in the unit of :data:`METRICS`
     checks : the runaway checks of its compensated runs (:class:`~fricctl.paper.RunawayCheck`)
+    warnings : one line each: what the experiment could not judge (its row shows them)
     """
 
     metrics: Mapping
     checks: tuple
+    warnings: tuple = ()
 
 
 # --------------------------------------------------------------------------- measurements
@@ -126,35 +162,150 @@ def hf_share(torque, sample_time: float, cutoff: float = HF_CUTOFF) -> float:
     return 100.0 * float(p[f > cutoff].sum()) / total if total > 0 else 0.0
 
 
-def limit_cycle(t, q, resolution: float, window: float = LC_WINDOW) -> tuple[float, float]:
+def _crossings(x: np.ndarray, resolution: float) -> np.ndarray:
+    """Indices where ``x`` (a record minus its mean) changes sign, counted only where it is more
+    than a quarter count from 0 (a hysteresis: the encoder's flicker is no crossing)."""
+    idx = np.flatnonzero(np.abs(x) > 0.25 * resolution)
+    s = np.sign(x[idx])
+    return idx[1:][s[1:] != s[:-1]]
+
+
+def limit_cycle(t, q, resolution: float, window: float | None = None) -> tuple[float, float]:
     """Amplitude [rad] and frequency [Hz] of the oscillation of ``q`` over the last ``window`` s.
 
     The amplitude is half the peak-to-peak; the frequency is half the rate of crossings of the
     window's mean between the first and the last crossing (a crossing counted only where ``q``
     is more than a quarter count from the mean).  Below half an encoder count of amplitude there
     is no limit cycle the controller could see, and fewer than three crossings are no full
-    period: frequency 0.
+    period: frequency 0.  ``window`` None: the record's last half.  (Whether the oscillation is
+    sustained, and the record long enough to tell, is :func:`oscillation`'s question.)
 
     Examples
     --------
     >>> t = 0.002 * np.arange(3000)
-    >>> a, f = limit_cycle(t, 1e-3 * np.sin(2 * np.pi * 5 * t), 1e-4)
+    >>> a, f = limit_cycle(t, 1e-3 * np.sin(2 * np.pi * 5 * t), 1e-4, window=2.0)
     >>> round(a, 6), round(f, 2)
     (0.001, 5.0)
     """
     t, q = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
-    sel = t >= t[-1] - window + 1e-12
+    if window is None:
+        sel = np.arange(t.size) >= t.size // 2
+    else:
+        sel = t >= t[-1] - v.real("window", window, positive=True, unit="s") + 1e-12
     ts, seg = t[sel], q[sel]
     amp = 0.5 * float(seg.max() - seg.min())
     if amp < 0.5 * resolution:
         return amp, 0.0
-    x = seg - seg.mean()
-    idx = np.flatnonzero(np.abs(x) > 0.25 * resolution)
-    s = np.sign(x[idx])
-    cross = idx[1:][s[1:] != s[:-1]]
+    cross = _crossings(seg - seg.mean(), resolution)
     if cross.size < 3:
         return amp, 0.0
     return amp, float((cross.size - 1) / (2.0 * (ts[cross[-1]] - ts[cross[0]])))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Oscillation:
+    """The verdict of :func:`oscillation` on one run's last half.
+
+    Attributes
+    ----------
+    verdict : ``"limit cycle"`` (at least :data:`LC_PERIODS` sustained periods), ``"none"`` (the
+        joint at rest under a held torque, or moving less than half an encoder count) or ``"not
+        judged"`` (neither: a joint at rest whose torque still winds, a transient, a creep, a
+        cycle slower than the record)
+    amplitude : half the peak-to-peak of q over the last half [rad] (nan when not judged)
+    frequency : the cycle's frequency [Hz] (0 for none, nan when not judged)
+    duration : the run's length [s]
+    reason : one line: what the record showed
+    """
+
+    verdict: str
+    amplitude: float
+    frequency: float
+    duration: float
+    reason: str
+
+
+def oscillation(run: SimResult, *, periods: int = LC_PERIODS, steady: float = STEADY,
+                held: float = TORQUE_HELD) -> Oscillation:
+    """Is there a sustained limit cycle in the last half of ``run``, none, or can it not tell?
+
+    Read on the run's last half (its first half is the transient's), in this order:
+
+    * the true position moves less than half an encoder count: **none**, unless the encoder
+      reads the joint at rest while the motor torque still changes (by more than ``held`` of
+      its largest magnitude): a state winding up against a stuck joint (an integral, a DOB) is
+      the stick phase of a stick-slip cycle, and the breakaway it leads to may come after the
+      record ends -- **not judged**;
+    * the position crosses its mean at least ``2*periods + 1`` times (``periods`` full periods)
+      and the swing of the last two half-cycles is at least ``steady`` times that of the first
+      two (sustained, or growing): **limit cycle**, its amplitude (half the peak-to-peak) and
+      frequency (half the rate of crossings, :func:`limit_cycle`);
+    * otherwise -- a swing of fewer periods, or one that decays -- **not judged**.
+
+    Parameters
+    ----------
+    run : SimResult
+        A closed-loop run whose reference is held over its last half.
+    periods : int
+        Full periods the last half must hold (>= 1; :data:`LC_PERIODS`) [-].
+    steady : float
+        Least ratio of the last two half-cycles' swing to the first two's that counts as
+        sustained (> 0; :data:`fricctl.paper.runaway.STEADY`) [-].
+    held : float
+        Share of the largest |Tm| up to which the motor torque counts as held (>= 0;
+        :data:`TORQUE_HELD`) [-].
+
+    Returns
+    -------
+    Oscillation
+
+    Notes
+    -----
+    A joint at rest under a held torque is at rest for good only because the loop is
+    deterministic; with torque noise at the joint the held command is still the verdict's
+    test (the noise is not in the commanded torque).  A cycle whose period is longer than half
+    of the last half is not seen: the record is too short to judge it, and says so.
+    """
+    r = v.instance("run", run, SimResult, "a SimResult (fricctl.simulate)")
+    periods = v.integer("periods", periods, low=1)
+    steady = v.real("steady", steady, positive=True)
+    held = v.real("held", held, nonneg=True)
+    if r.t.size < 4:
+        raise ValueError("run must hold at least 4 samples")
+    res = r.info.encoder_resolution
+    half = r.t.size // 2
+    duration = round(r.t.size * r.sample_time, 9)  # the samples' span, not t[-1] + Ts's rounding
+    q, y, tm = r.q[half:], r.q_meas[half:], r.torque_motor[half:]
+    span = f"the last {duration - float(r.t[half]):.4g} s of a {duration:.4g} s run"
+    amp, freq = limit_cycle(r.t, r.q, res)
+    if amp < 0.5 * res:
+        moved = float(np.ptp(tm))
+        if np.ptp(y) == 0.0 and moved > held * float(np.max(np.abs(r.torque_motor))):
+            return Oscillation(verdict="not judged", amplitude=math.nan, frequency=math.nan,
+                               duration=duration,
+                               reason=f"not judged: the joint is at rest over {span} while its motor torque "
+                                      f"still changes by {moved:.3g} N*m (a state winding up against the "
+                                      "stuck joint: a breakaway may come after the record)")
+        what = "at rest under a held torque" if np.ptp(y) == 0.0 else \
+            f"moving {amp / res:.2g} encoder count(s), under half a count"
+        return Oscillation(verdict="none", amplitude=amp, frequency=0.0, duration=duration,
+                           reason=f"no limit cycle: the joint is {what} over {span}")
+    x = q - q.mean()
+    cross = _crossings(x, res)
+    if cross.size >= 2 * periods + 1:
+        swing = [float(np.max(np.abs(x[a:b]))) for a, b in zip(cross[:-1], cross[1:])]
+        first, last = swing[0] + swing[1], swing[-2] + swing[-1]
+        if last >= steady * first:
+            return Oscillation(verdict="limit cycle", amplitude=amp, frequency=freq, duration=duration,
+                               reason=f"limit cycle: {(cross.size - 1) / 2:g} periods of {1 / freq:.3g} s "
+                                      f"over {span}, swing held ({100 * last / first:.0f} % of the first "
+                                      f"half-cycles'), amplitude {np.rad2deg(amp):.3g} deg")
+        why = f"a swing that decays ({100 * last / first:.0f} % of its first half-cycles', under " \
+              f"{100 * steady:g} %)"
+    else:
+        why = f"a swing with {max(cross.size - 1, 0) / 2:g} period(s), under {periods}"
+    return Oscillation(verdict="not judged", amplitude=math.nan, frequency=math.nan, duration=duration,
+                       reason=f"not judged: the joint moves {np.rad2deg(amp):.3g} deg over {span}: {why}")
 
 
 def scaled(compensator: Compensator, scale: float) -> Compensator:
@@ -273,11 +424,19 @@ def _coast(bench, pl, comp, design, rng) -> Outcome:
 def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
     p = pl.params
     c = ctl.pd_control(design.kp, design.kd, ctl.step(float(np.deg2rad(30.0))))
-    r = simulate(p, c, comp, duration=6.0, **_loop(pl, rng))
-    amp, freq = limit_cycle(r.t, r.q, p.encoder_resolution)
-    return Outcome(metrics={"limit_cycle_amplitude": float(np.rad2deg(amp)), "limit_cycle_frequency": freq,
+    duration = LC_DURATION
+    while True:  # doubled until the record judges (see the module's Notes); each try the same noise
+        r = simulate(p, c, comp, duration=duration, **_loop(pl, copy.deepcopy(rng)))
+        osc = oscillation(r)
+        if osc.verdict != "not judged" or 2 * duration > LC_MAX_DURATION:
+            break
+        duration *= 2
+    return Outcome(metrics={"limit_cycle_amplitude": float(np.rad2deg(osc.amplitude)),
+                            "limit_cycle_frequency": osc.frequency, "limit_cycle_duration": duration,
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(torque_check(r, comp),))
+                   # the cycle measured is the slowest oscillation the divergence check must see
+                   checks=(torque_check(r, comp, period=1.0 / osc.frequency if osc.frequency > 0 else None),),
+                   warnings=(osc.reason,) if osc.verdict == "not judged" else ())
 
 
 _EFFORT = ("effort_rms", "effort_hf_share")
@@ -298,9 +457,10 @@ EXPERIMENTS: Mapping[str, Experiment] = MappingProxyType({e.name: e for e in (
     Experiment(name="coast", description="open-loop pulse of 2 Fs for 0.3 s, then Tc = 0 for 2 s "
                "(the coast test)", design="fig13-14", linked=False, metrics=("coast_excess",) + _EFFORT,
                run=_coast, closed_loop=False),
-    Experiment(name="limit_cycle", description=f"PD step of 30 deg held 6 s, the last {LC_WINDOW:g} s "
-               "(chatter, hunting)", design="fig13-14", linked=False,
-               metrics=("limit_cycle_amplitude", "limit_cycle_frequency") + _EFFORT, run=_limit_cycle),
+    Experiment(name="limit_cycle", description=f"PD step of 30 deg held {LC_DURATION:g} s, doubled until the "
+               f"last half judges (at most {LC_MAX_DURATION:g} s): chatter, hunting", design="fig13-14",
+               linked=False, metrics=("limit_cycle_amplitude", "limit_cycle_frequency", "limit_cycle_duration")
+               + _EFFORT, run=_limit_cycle),
 )})
 
 

@@ -85,7 +85,9 @@ def _evaluate_job(name: str, seed: int, options: dict, plant: dict, experiments:
             out.append({"experiment": en, "error": str(exc).splitlines()[0]})
             continue
         out.append({"experiment": en, "metrics": {k: float(o.metrics[k]) for k in ex.metrics},
-                    "checks": [c.as_dict() for c in o.checks]})
+                    "checks": [c.as_dict() for c in o.checks],
+                    # a check whose record was too short for part of its criterion says so in the row
+                    "warnings": list(o.warnings) + [c.reason for c in o.checks if not c.judged]})
     return out
 
 
@@ -124,6 +126,9 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
             warnings.append(f"{m} is {vals[seeds.index(bad[0])]} for seed(s) {', '.join(map(str, bad))} "
                             "(left out of median/min/max)")
         metrics[m] = {"unit": METRICS[m][0], **_stats(vals)}
+    # what an experiment could not judge, in its own words (e.g. a limit cycle too slow for the run)
+    said = [(s, w) for s, o in zip(seeds, outs) for w in (o["warnings"] if "warnings" in o else ())]
+    warnings += [f"seed {s}: {w}" if seeded else w for s, w in said]
     na = [o["not_applicable"] for o in outs if "not_applicable" in o]
     if na:  # open loop for a compensator of the position error: nothing measured, nothing failed
         return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
