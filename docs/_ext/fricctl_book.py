@@ -27,6 +27,11 @@
 * With ``math_number_all``, every display equation of a page gets its number, also those
   written as ``$$ ... $$`` (MyST's dollarmath, which the ``math`` directive's numbering does not
   reach): :func:`number_equations`.
+* Numbering: the chapters are the numbered sections of the book (``index.md``'s ``:numbered: 1``
+  toctree; ``numfig``), so a chapter's figures and equations read "Fig. 5.2", "Eq. (5.3)"; its
+  title drops its own "Chapter 5 --", which the number now shows (:func:`chapter_titles`), and
+  the PDF numbers its chapters as the HTML does, not one LaTeX chapter per page
+  (:func:`latex_numbering`).
 * In the API reference, the reST sections of a *module* docstring (``Notes``, ``Modules``)
   become rubrics: a page's sections are its modules, and two modules' ``Notes`` must not
   collide as labels.
@@ -729,10 +734,10 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
 
 def number_equations(app, doctree) -> None:
     """``doctree-read``: an unlabelled display equation gets a label and its number, as
-    Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Chapter 5,
-    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are.
-    (With ``numfig``, the number shown and cited is numfig's: it runs on through the book's
-    pages, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
+    Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Eq. (5.3)");
+    equations written with their own environment (``nowrap``) are left as they are.  (With
+    ``numfig`` and ``math_numfig``, the number shown and cited is numfig's: the chapter's number
+    and the equation's place in it, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
     from docutils import nodes
 
     # a bare % in TeX starts a comment, in LaTeX and MathJax alike: "(0-100 % rise time)" in a
@@ -761,6 +766,77 @@ def number_equations(app, doctree) -> None:
         doctree.ids[node_id] = node
 
 
+#: A chapter's title as its source writes it, "Chapter 5 -- Open-loop ..." (``--`` typeset as an
+#: en dash by then, or an em dash).
+_CHAPTER_TITLE = re.compile(r"Chapter\s+(\d+)\s*(?:--|\u2013|\u2014|:)\s*")
+
+
+def chapter_titles(app, doctree) -> None:
+    """``doctree-read``, before Sphinx collects the titles: a chapter's title loses its
+    "Chapter 5 --", which its section number shows in the book ("5. Open-loop compensation
+    ..." in the navigation and on the page; "Chapter 5" above the title in the PDF).  Jupyter
+    shows the source's title as it is.  A title whose number is not its file's (``05_...``)
+    fails the build: the number cited would not be the chapter's."""
+    from docutils import nodes
+
+    m = re.fullmatch(r"chapters/(\d\d)_\w+", app.env.docname)
+    section = next(iter(doctree.findall(nodes.section)), None)
+    if m is None or section is None or not section.children:
+        return
+    title = section[0]
+    text = next(iter(title.findall(nodes.Text)), None)
+    head = _CHAPTER_TITLE.match(str(text)) if text is not None else None
+    if head is None:
+        return
+    if int(head.group(1)) != int(m.group(1)):
+        raise ExtensionError(f"{app.env.docname}: its title says Chapter {head.group(1)}, its "
+                             f"file chapter {int(m.group(1))}")
+    text.parent.replace(text, nodes.Text(str(text)[head.end():]))
+
+
+#: numfig's kinds of numbered things -> the LaTeX counter that numbers them in the PDF.
+_LATEX_COUNTERS = {"figure": "figure", "table": "table", "code-block": "literalblock",
+                   "displaymath": "equation"}
+
+
+def latex_numbering(app, doctree, docname) -> None:
+    """``doctree-resolved`` of the PDF's one document: LaTeX numbers every page of the root
+    toctrees as a chapter, so the chapters' numbers (and "Fig. 3.1" with them) would count the
+    pages before them (the chapters' introduction, "Run it yourself").  Before each page, a
+    line of LaTeX makes the PDF number it as the HTML does: a page of the numbered toctree gets
+    its HTML number (``\\setcounter{chapter}``) and its sections are numbered to the toctree's
+    depth; any other page is unnumbered (``secnumdepth`` -1), its figures and equations
+    numbered without a chapter and on from where the HTML's numbers of such pages stand
+    (``Eq. (3)`` on the notation page in both)."""
+    from docutils import nodes
+    from sphinx import addnodes
+
+    if app.builder.format != "latex" or docname != app.config.root_doc:
+        return
+    env = app.env
+    top = set(env.toctree_includes.get(app.config.root_doc, ()))
+    for start in list(doctree.findall(addnodes.start_of_file)):
+        doc = start["docname"]
+        if doc not in top:
+            continue  # a page under another page: numbered as its section, by LaTeX
+        numbers = env.toc_secnumbers.get(doc, {})
+        if numbers.get(""):
+            depth = max(len(n) for n in numbers.values()) - 1  # 0: the chapter's number only
+            tex = (f"\\setcounter{{secnumdepth}}{{{depth}}}"
+                   f"\\setcounter{{chapter}}{{{numbers[''][0] - 1}}}")
+        else:
+            tex = "\\setcounter{secnumdepth}{-1}\\setcounter{chapter}{0}"
+            # the first number of each kind on this page and the pages under it, as the HTML
+            # has it: the counter starts one below
+            docs = [s["docname"] for s in start.findall(addnodes.start_of_file)]
+            for kind, counter in _LATEX_COUNTERS.items():
+                first = [n[-1] for d in docs
+                         for n in env.toc_fignumbers.get(d, {}).get(kind, {}).values() if len(n) == 1]
+                if first:
+                    tex += f"\\setcounter{{{counter}}}{{{min(first) - 1}}}"
+        start.parent.insert(start.parent.index(start), nodes.raw("", tex, format="latex"))
+
+
 def setup(app):
     app.add_config_value("fricctl_reproduce_dir", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
@@ -776,4 +852,6 @@ def setup(app):
     app.connect("autodoc-process-docstring", module_sections_as_rubrics)
     app.connect("html-page-context", notebook_download, priority=500)
     app.connect("doctree-read", number_equations)
+    app.connect("doctree-read", chapter_titles, priority=400)  # before the title collector
+    app.connect("doctree-resolved", latex_numbering)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
