@@ -18,7 +18,8 @@
 * ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`);
   ``fricctl_executed_notebooks = <folder>`` (with ``nb_execution_mode = "off"``: the PDF of
   ``make book-pdf``) takes each chapter's notebook as an earlier build executed it
-  (:func:`read_chapter`).
+  (:func:`read_chapter`), if that build ran the same chapter code on the same fricctl
+  (:func:`package_digest`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
@@ -40,6 +41,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 import json
 import math
@@ -202,12 +204,30 @@ def api_links(nb) -> None:
 EXECUTED: dict[str, Path] = {}
 
 
+#: The notebook metadata in which a chapter records the :func:`package_digest` it ran with.
+DIGEST_KEY = "fricctl_package_digest"
+
+
+def package_digest(root: Path | None = None) -> str:
+    """SHA-256 of every file of the fricctl package a chapter runs (``root``; default the
+    package this build imports): its Python sources and the data they read (the paper's
+    actuator, the benches' JSON), not the bytecode caches.  A notebook executed with another
+    digest ran other code than the chapter would run now, even if the chapter's own cells are
+    the same."""
+    from fricctl._cache import PACKAGE_ROOT, source_digest
+
+    root = PACKAGE_ROOT if root is None else Path(root)
+    return source_digest(f for f in root.rglob("*") if f.is_file()
+                         and "__pycache__" not in f.relative_to(root).parts and f.suffix != ".pyc")
+
+
 def read_chapter(text: str):
     """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's,
     links to its equations and figures made numbered cross-references -- and, given
     ``fricctl_executed_notebooks`` (the PDF of ``make book-pdf``), the outputs the HTML build
-    computed from this very code, so that no chapter runs twice (a chapter whose code changed
-    since is refused)."""
+    computed from this very code, so that no chapter runs twice: a notebook executed from
+    another version of its chapter's code, or with other fricctl sources
+    (:func:`package_digest`, which the notebook's metadata records), is refused."""
     running = RUNNING.get(text)
     if running is not None:  # executed by start_execution's pool: wait for it here
         return _executed(running)
@@ -223,6 +243,10 @@ def read_chapter(text: str):
     if code[0] != code[1]:
         raise ExtensionError(f"{executed} was executed from another version of its chapter's "
                              f"code: build the HTML book again (make book) before the PDF")
+    if done.metadata.get(DIGEST_KEY) != nb.metadata[DIGEST_KEY]:
+        raise ExtensionError(f"{executed} was executed with other fricctl sources than the "
+                             f"package's now (or records none): build the HTML book again "
+                             f"(make book) before the PDF")
     # the outputs of the code as executed, the prose as the chapter reads now
     for fresh, old in zip(nb.cells, done.cells):
         if fresh.cell_type == "code":
@@ -237,6 +261,8 @@ def _read_chapter(text: str):
     # the kernel fills this in when it runs; set here so that a build without execution
     # (nb_execution_mode=off, an author's quick look) still highlights the code
     nb.metadata.setdefault("language_info", {"name": "python"})
+    # what the chapter runs besides its cells, kept in the executed notebook (read_chapter)
+    nb.metadata[DIGEST_KEY] = _package_digest()
     for cell in nb.cells:
         if cell.cell_type == "markdown":
             cell.source = cross_references(cell.source, figures=text not in UNEXECUTED)
@@ -255,6 +281,12 @@ def _read_chapter(text: str):
         _alt_from_caption(cell.metadata)
     api_links(nb)
     return nb
+
+
+@functools.lru_cache(maxsize=1)
+def _package_digest() -> str:
+    """:func:`package_digest` of the package this build imports, read once per build."""
+    return package_digest()
 
 
 #: TeX commands an alt text spells as the character a reader sees.
