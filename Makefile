@@ -60,7 +60,8 @@ book: $(VENV)/.book-installed
 
 # `make book-pdf`: the whole book as one PDF, $(BOOK)/latex/fricctl.pdf -- Sphinx's LaTeX builder
 # on the notebooks the HTML build executed (`make book` runs first when there is no HTML book;
-# no chapter is executed twice: FRICCTL_FAST=1 make book book-pdf gives the fast PDF), then
+# no chapter is executed twice: FRICCTL_FAST=1 make book book-pdf gives the fast PDF; a notebook
+# executed from other chapter code or other fricctl sources than today's fails it), then
 # latexmk with XeLaTeX.  LaTeX comes from Debian's packages, installed here when we are root
 # and apt-get exists; anywhere else the target says so and stops without failing.
 LATEX_PACKAGES = texlive-latex-recommended texlive-latex-extra texlive-fonts-recommended \

@@ -57,11 +57,17 @@ myst_heading_anchors = 3
 
 # an undefined macro is a TeX error (shown as such, and caught by tests/test_book.py), as in LaTeX,
 # not red text
-# every display equation numbered: "Eq. (19)" can be cited (issue 24 item 5); with numfig the
-# numbers of equations and figures run on through the book (no page is a numbered section)
+# every display equation numbered, so that a teacher can cite "Eq. (5.3)" (issue 24 item 5)
 math_number_all = True
-# captioned figures numbered ("Fig. 2"), as the equations are
+# captioned figures numbered as the equations are: the chapters are numbered sections (the
+# `:numbered: 1` toctree of index.md) and numbers restart in each, prefixed by the chapter's,
+# "Fig. 5.2", "Eq. (5.3)" (numfig_secnum_depth 1: the chapter's number only, not a section's;
+# math_numfig: equations as figures); the PDF numbers them the same way (LaTeX's chapters, made
+# to agree with the toctree by fricctl_book.latex_numbering).  A page outside the numbered
+# toctree (notation, API) has no section number: its numbers run on, "Eq. (3)".
 numfig = True
+numfig_secnum_depth = 1
+math_numfig = True
 numfig_format = {"figure": "Fig. %s", "table": "Table %s", "code-block": "Listing %s",
                  "section": "Section %s"}
 math_eqref_format = "Eq. ({number})"

@@ -158,17 +158,54 @@ def test_every_chapter_downloads_as_an_executed_notebook(book):
         assert nb["nbformat"] == 4 and code and sum(bool(c.get("outputs")) for c in code) > 0
 
 
+def _eqnos(path: Path) -> list[str]:
+    """The numbers of a page's display equations, in page order ("5.3" of "(5.3)")."""
+    return re.findall(r'<span class="eqno">\(([^)<]*)\)', path.read_text(encoding="utf-8"))
+
+
 def test_every_display_equation_is_numbered(book):
-    """A teacher can cite "Eq. (19)": every display equation of a chapter carries its number
-    (issue 24); the numbers run on through the book (numfig: no page is a numbered section)."""
+    """A teacher can cite "Eq. (5.3)": every display equation of a chapter carries its number,
+    the chapter's and its place in the chapter, 1, 2, ... in page order (issue 24; numfig with
+    the chapters a numbered toctree).  A page outside the chapters has plain numbers."""
     total = 0
     for chapter in CHAPTERS:
-        page = parse(book / "chapters" / f"{chapter.stem}.html")
+        path = book / "chapters" / f"{chapter.stem}.html"
+        page = parse(path)
         shown = len(page.find("div", "math"))
-        numbers = page.find("span", "eqno")
+        numbers = _eqnos(path)
         assert len(numbers) == shown, f"{chapter.name}: {shown - len(numbers)} equations unnumbered"
+        c = int(chapter.stem[:2])
+        assert numbers == [f"{c}.{k}" for k in range(1, shown + 1)], f"{chapter.name}: {numbers}"
         total += shown
     assert total > 20
+    others = {p.relative_to(book).as_posix(): _eqnos(p) for p in _pages(book)
+              if p.parent.name != "chapters"}
+    assert others["notation.html"], "the notation page has no numbered equation"
+    for name, numbers in others.items():
+        assert all(n.isdigit() for n in numbers), f"{name}: {numbers}"
+
+
+def test_chapters_are_the_numbered_sections_of_the_book(book):
+    """Each chapter's page and its entry in the navigation carry its number, the number of its
+    file ("5. Open-loop compensation ..." for 05_...), which its figures and equations take;
+    the title does not repeat it ("Chapter 5 --" is Jupyter's title only).  The pages around
+    the chapters are not numbered."""
+    def title(path: Path) -> str:  # the page's own title, as the reader sees it
+        html = path.read_text(encoding="utf-8")
+        h1 = re.search(r"<h1>(.*?)</h1>", html[html.index("<article"):], re.S)
+        assert h1, f"{path.name}: no title"
+        return re.sub(r"<[^>]+>", "", h1.group(1)).replace("#", "").strip()
+
+    nav = _anchor_texts(book / "index.html")
+    for chapter in CHAPTERS:
+        c = int(chapter.stem[:2])
+        shown = title(book / "chapters" / f"{chapter.stem}.html")
+        assert shown.startswith(f"{c}. ") and "Chapter" not in shown, f"{chapter.name}: {shown!r}"
+        entries = [text for href, _, text in nav if href == f"chapters/{chapter.stem}.html"]
+        assert entries and all(e == shown for e in entries), f"{chapter.name}: {entries}"
+    for page in ("chapters/README.html", "run_it_yourself.html", "notation.html",
+                 "reproduction.html"):
+        assert not re.match(r"\d", title(book / page)), f"{page}: {title(book / page)!r}"
 
 
 def test_every_image_resolves_to_a_file(book):
@@ -193,16 +230,21 @@ def test_every_chapter_figure_is_numbered_captioned_and_described(book):
     count = 0
     for chapter in CHAPTERS:
         page = parse(book / "chapters" / f"{chapter.stem}.html")
+        numbers = []
         for img, figure in page.images:
             where = f"{chapter.name}: {img.get('src', '')}"
             alt = img.get("alt", "").strip()
             assert alt and not hashed.search(alt), f"{where}: alt text {alt!r}"
             caption = None if figure is None else page.captions[figure]
             assert caption is not None, f"{where}: not in a <figure> with a <figcaption>"
-            number = re.match(r"\s*Fig\. \d+\s*", caption)
+            number = re.match(r"\s*Fig\. (\d+)\.(\d+)\s*", caption)
             assert number, f"{where}: caption not numbered: {caption[:60]!r}"
             assert caption[number.end():].strip(" #\n"), f"{where}: caption without text"
+            numbers.append(tuple(int(n) for n in number.groups()))
             count += 1
+        # "Fig. 5.1", "Fig. 5.2", ...: the chapter's number, then the figure's place in it
+        c = int(chapter.stem[:2])
+        assert numbers == [(c, k) for k in range(1, len(numbers) + 1)], f"{chapter.name}: {numbers}"
     assert count > 20  # the chapters draw dozens of figures in fast mode too
 
 
@@ -306,17 +348,17 @@ def test_every_citation_resolves_to_the_bibliography(book):
 
 def test_cross_references_resolve_to_numbers(book):
     """The chapters' links to their equations and figures are numbered references in the book
-    ("Eq. (5)", "Fig. 3"), each to an equation or a figure of that number on the page (or of
+    ("Eq. (5.3)", "Fig. 5.2"), each to an equation or a figure of that number on the page (or of
     another chapter), and no label or role is left raw (issue 24 item 5)."""
     numbers = {}  # the id of every numbered equation and figure of the chapters -> its number
     for chapter in CHAPTERS:
         html = (book / "chapters" / f"{chapter.stem}.html").read_text(encoding="utf-8")
         for m in re.finditer(r'id="(equation-[^"]+)"', html):
-            eqno = re.search(r'<span class="eqno">\((\d+)\)', html[m.end():m.end() + 600])
+            eqno = re.search(r'<span class="eqno">\((\d+\.\d+)\)', html[m.end():m.end() + 600])
             if eqno:
                 numbers[(chapter.stem, m.group(1))] = f"Eq. ({eqno.group(1)})"
         for m in re.finditer(r'<figure[^>]*id="([^"]+)"', html):
-            n = re.search(r'<span class="caption-number">Fig\. (\d+)', html[m.end():m.end() + 3000])
+            n = re.search(r'<span class="caption-number">Fig\. (\d+\.\d+)', html[m.end():m.end() + 3000])
             if n:
                 numbers[(chapter.stem, m.group(1))] = f"Fig. {n.group(1)}"
     refs = 0
@@ -466,6 +508,13 @@ def test_the_pdf_holds_the_whole_book(book, tmp_path):
         # the words after "Chapter N --" (Sphinx types the dash as an en dash)
         title = re.split(r"\s(?:--|\u2014|\u2013)\s", title.lstrip("# ").replace("`", ""))[-1].strip()
         assert title in flat, f"the PDF lacks the title of {chapter.name}: {title!r}"
+        # numbered as the HTML (fricctl_book.latex_numbering): every figure of the chapter's page
+        # under its number ("Fig. 5.2: ..." in LaTeX), every equation it cites as the page does
+        html = (book / "chapters" / f"{chapter.stem}.html").read_text(encoding="utf-8")
+        for number in re.findall(r'<span class="caption-number">Fig\. (\d+\.\d+)', html):
+            assert f"Fig. {number}:" in flat, f"the PDF has no Fig. {number} ({chapter.name})"
+        for ref in set(re.findall(r"Eq\. \(\d+\.\d+\)", re.sub(r"<[^>]+>", "", html))):
+            assert ref in flat, f"the PDF does not cite {ref} ({chapter.name})"
 
 
 # -- in a browser ----------------------------------------------------------------------------
@@ -559,3 +608,48 @@ def test_printing_opens_the_solutions_and_figures_zoom(book, browser):
     before, during, after, zoom = opened
     assert before > 0 and during == 0 and after == before, opened
     assert zoom > 0, "no figure of chapter 1 opens at full size"
+
+
+def test_the_pdf_reuses_a_notebook_only_if_executed_with_the_same_fricctl(tmp_path, monkeypatch):
+    """``make book-pdf`` takes each chapter's outputs from the notebook the HTML build executed
+    (fricctl_book.read_chapter) only when that build ran the same chapter code *and* the same
+    fricctl: the notebook records the digest of the package (its sources and data files, not
+    bytecode), and one executed with another -- or with none recorded -- is refused."""
+    nbformat = pytest.importorskip("nbformat")
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import fricctl_book
+    from sphinx.errors import ExtensionError
+
+    # the digest follows every source and data file of a package, and nothing else
+    pkg = tmp_path / "pkg"
+    (pkg / "bench").mkdir(parents=True)
+    (pkg / "a.py").write_text("x = 1\n")
+    (pkg / "bench" / "literal.json").write_text('{"k": 1}\n')
+    first = fricctl_book.package_digest(pkg)
+    (pkg / "__pycache__").mkdir()
+    (pkg / "__pycache__" / "a.cpython-311.pyc").write_bytes(b"\0\1")
+    assert fricctl_book.package_digest(pkg) == first
+    (pkg / "bench" / "literal.json").write_text('{"k": 2}\n')
+    second = fricctl_book.package_digest(pkg)
+    (pkg / "a.py").write_text("x = 2\n")
+    assert len({first, second, fricctl_book.package_digest(pkg)}) == 3
+
+    # a notebook "executed" by this build (its digest recorded when it was read) is reused ...
+    text = "# %% [markdown]\n# # Chapter 1 -- A test\n\n# %%\nprint(6 * 7)\n"
+    nb = fricctl_book._read_chapter(text)
+    nb.cells[1].outputs = [nbformat.v4.new_output("stream", name="stdout", text="42\n")]
+    executed = tmp_path / "01_test.ipynb"
+    nbformat.write(nb, executed)
+    monkeypatch.setitem(fricctl_book.EXECUTED, text, executed)
+    assert fricctl_book.read_chapter(text).cells[1].outputs[0]["text"] == "42\n"
+    # ... not once the package it ran differs from the package now
+    monkeypatch.setattr(fricctl_book, "_package_digest", lambda: "another fricctl")
+    with pytest.raises(ExtensionError, match="other fricctl sources"):
+        fricctl_book.read_chapter(text)
+    monkeypatch.undo()
+    # ... nor when it records none (executed before the digest was kept)
+    del nb.metadata[fricctl_book.DIGEST_KEY]
+    nbformat.write(nb, executed)
+    monkeypatch.setitem(fricctl_book.EXECUTED, text, executed)
+    with pytest.raises(ExtensionError, match="other fricctl sources"):
+        fricctl_book.read_chapter(text)

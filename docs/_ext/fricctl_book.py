@@ -18,7 +18,8 @@
 * ``fricctl_book_only = "01,05"`` executes only those chapters (:func:`execute_only`);
   ``fricctl_executed_notebooks = <folder>`` (with ``nb_execution_mode = "off"``: the PDF of
   ``make book-pdf``) takes each chapter's notebook as an earlier build executed it
-  (:func:`read_chapter`).
+  (:func:`read_chapter`), if that build ran the same chapter code on the same fricctl
+  (:func:`package_digest`).
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
@@ -27,6 +28,11 @@
 * With ``math_number_all``, every display equation of a page gets its number, also those
   written as ``$$ ... $$`` (MyST's dollarmath, which the ``math`` directive's numbering does not
   reach): :func:`number_equations`.
+* Numbering: the chapters are the numbered sections of the book (``index.md``'s ``:numbered: 1``
+  toctree; ``numfig``), so a chapter's figures and equations read "Fig. 5.2", "Eq. (5.3)"; its
+  title drops its own "Chapter 5 --", which the number now shows (:func:`chapter_titles`), and
+  the PDF numbers its chapters as the HTML does, not one LaTeX chapter per page
+  (:func:`latex_numbering`).
 * In the API reference, the reST sections of a *module* docstring (``Notes``, ``Modules``)
   become rubrics: a page's sections are its modules, and two modules' ``Notes`` must not
   collide as labels.
@@ -35,6 +41,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 import json
 import math
@@ -197,12 +204,30 @@ def api_links(nb) -> None:
 EXECUTED: dict[str, Path] = {}
 
 
+#: The notebook metadata in which a chapter records the :func:`package_digest` it ran with.
+DIGEST_KEY = "fricctl_package_digest"
+
+
+def package_digest(root: Path | None = None) -> str:
+    """SHA-256 of every file of the fricctl package a chapter runs (``root``; default the
+    package this build imports): its Python sources and the data they read (the paper's
+    actuator, the benches' JSON), not the bytecode caches.  A notebook executed with another
+    digest ran other code than the chapter would run now, even if the chapter's own cells are
+    the same."""
+    from fricctl._cache import PACKAGE_ROOT, source_digest
+
+    root = PACKAGE_ROOT if root is None else Path(root)
+    return source_digest(f for f in root.rglob("*") if f.is_file()
+                         and "__pycache__" not in f.relative_to(root).parts and f.suffix != ".pyc")
+
+
 def read_chapter(text: str):
     """The notebook of a jupytext percent-format chapter, house tags mapped to myst-nb's,
     links to its equations and figures made numbered cross-references -- and, given
     ``fricctl_executed_notebooks`` (the PDF of ``make book-pdf``), the outputs the HTML build
-    computed from this very code, so that no chapter runs twice (a chapter whose code changed
-    since is refused)."""
+    computed from this very code, so that no chapter runs twice: a notebook executed from
+    another version of its chapter's code, or with other fricctl sources
+    (:func:`package_digest`, which the notebook's metadata records), is refused."""
     running = RUNNING.get(text)
     if running is not None:  # executed by start_execution's pool: wait for it here
         return _executed(running)
@@ -218,6 +243,10 @@ def read_chapter(text: str):
     if code[0] != code[1]:
         raise ExtensionError(f"{executed} was executed from another version of its chapter's "
                              f"code: build the HTML book again (make book) before the PDF")
+    if done.metadata.get(DIGEST_KEY) != nb.metadata[DIGEST_KEY]:
+        raise ExtensionError(f"{executed} was executed with other fricctl sources than the "
+                             f"package's now (or records none): build the HTML book again "
+                             f"(make book) before the PDF")
     # the outputs of the code as executed, the prose as the chapter reads now
     for fresh, old in zip(nb.cells, done.cells):
         if fresh.cell_type == "code":
@@ -232,6 +261,8 @@ def _read_chapter(text: str):
     # the kernel fills this in when it runs; set here so that a build without execution
     # (nb_execution_mode=off, an author's quick look) still highlights the code
     nb.metadata.setdefault("language_info", {"name": "python"})
+    # what the chapter runs besides its cells, kept in the executed notebook (read_chapter)
+    nb.metadata[DIGEST_KEY] = _package_digest()
     for cell in nb.cells:
         if cell.cell_type == "markdown":
             cell.source = cross_references(cell.source, figures=text not in UNEXECUTED)
@@ -250,6 +281,12 @@ def _read_chapter(text: str):
         _alt_from_caption(cell.metadata)
     api_links(nb)
     return nb
+
+
+@functools.lru_cache(maxsize=1)
+def _package_digest() -> str:
+    """:func:`package_digest` of the package this build imports, read once per build."""
+    return package_digest()
 
 
 #: TeX commands an alt text spells as the character a reader sees.
@@ -729,10 +766,10 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
 
 def number_equations(app, doctree) -> None:
     """``doctree-read``: an unlabelled display equation gets a label and its number, as
-    Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Chapter 5,
-    Eq. (3)"); equations written with their own environment (``nowrap``) are left as they are.
-    (With ``numfig``, the number shown and cited is numfig's: it runs on through the book's
-    pages, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
+    Sphinx's ``math`` directive does under ``math_number_all`` (a reader can cite "Eq. (5.3)");
+    equations written with their own environment (``nowrap``) are left as they are.  (With
+    ``numfig`` and ``math_numfig``, the number shown and cited is numfig's: the chapter's number
+    and the equation's place in it, the labelled equations, ``$$ ... $$ (eq-x)``, among them.)"""
     from docutils import nodes
 
     # a bare % in TeX starts a comment, in LaTeX and MathJax alike: "(0-100 % rise time)" in a
@@ -761,6 +798,77 @@ def number_equations(app, doctree) -> None:
         doctree.ids[node_id] = node
 
 
+#: A chapter's title as its source writes it, "Chapter 5 -- Open-loop ..." (``--`` typeset as an
+#: en dash by then, or an em dash).
+_CHAPTER_TITLE = re.compile(r"Chapter\s+(\d+)\s*(?:--|\u2013|\u2014|:)\s*")
+
+
+def chapter_titles(app, doctree) -> None:
+    """``doctree-read``, before Sphinx collects the titles: a chapter's title loses its
+    "Chapter 5 --", which its section number shows in the book ("5. Open-loop compensation
+    ..." in the navigation and on the page; "Chapter 5" above the title in the PDF).  Jupyter
+    shows the source's title as it is.  A title whose number is not its file's (``05_...``)
+    fails the build: the number cited would not be the chapter's."""
+    from docutils import nodes
+
+    m = re.fullmatch(r"chapters/(\d\d)_\w+", app.env.docname)
+    section = next(iter(doctree.findall(nodes.section)), None)
+    if m is None or section is None or not section.children:
+        return
+    title = section[0]
+    text = next(iter(title.findall(nodes.Text)), None)
+    head = _CHAPTER_TITLE.match(str(text)) if text is not None else None
+    if head is None:
+        return
+    if int(head.group(1)) != int(m.group(1)):
+        raise ExtensionError(f"{app.env.docname}: its title says Chapter {head.group(1)}, its "
+                             f"file chapter {int(m.group(1))}")
+    text.parent.replace(text, nodes.Text(str(text)[head.end():]))
+
+
+#: numfig's kinds of numbered things -> the LaTeX counter that numbers them in the PDF.
+_LATEX_COUNTERS = {"figure": "figure", "table": "table", "code-block": "literalblock",
+                   "displaymath": "equation"}
+
+
+def latex_numbering(app, doctree, docname) -> None:
+    """``doctree-resolved`` of the PDF's one document: LaTeX numbers every page of the root
+    toctrees as a chapter, so the chapters' numbers (and "Fig. 3.1" with them) would count the
+    pages before them (the chapters' introduction, "Run it yourself").  Before each page, a
+    line of LaTeX makes the PDF number it as the HTML does: a page of the numbered toctree gets
+    its HTML number (``\\setcounter{chapter}``) and its sections are numbered to the toctree's
+    depth; any other page is unnumbered (``secnumdepth`` -1), its figures and equations
+    numbered without a chapter and on from where the HTML's numbers of such pages stand
+    (``Eq. (3)`` on the notation page in both)."""
+    from docutils import nodes
+    from sphinx import addnodes
+
+    if app.builder.format != "latex" or docname != app.config.root_doc:
+        return
+    env = app.env
+    top = set(env.toctree_includes.get(app.config.root_doc, ()))
+    for start in list(doctree.findall(addnodes.start_of_file)):
+        doc = start["docname"]
+        if doc not in top:
+            continue  # a page under another page: numbered as its section, by LaTeX
+        numbers = env.toc_secnumbers.get(doc, {})
+        if numbers.get(""):
+            depth = max(len(n) for n in numbers.values()) - 1  # 0: the chapter's number only
+            tex = (f"\\setcounter{{secnumdepth}}{{{depth}}}"
+                   f"\\setcounter{{chapter}}{{{numbers[''][0] - 1}}}")
+        else:
+            tex = "\\setcounter{secnumdepth}{-1}\\setcounter{chapter}{0}"
+            # the first number of each kind on this page and the pages under it, as the HTML
+            # has it: the counter starts one below
+            docs = [s["docname"] for s in start.findall(addnodes.start_of_file)]
+            for kind, counter in _LATEX_COUNTERS.items():
+                first = [n[-1] for d in docs
+                         for n in env.toc_fignumbers.get(d, {}).get(kind, {}).values() if len(n) == 1]
+                if first:
+                    tex += f"\\setcounter{{{counter}}}{{{min(first) - 1}}}"
+        start.parent.insert(start.parent.index(start), nodes.raw("", tex, format="latex"))
+
+
 def setup(app):
     app.add_config_value("fricctl_reproduce_dir", "", "env", types=[str])
     app.add_config_value("fricctl_reproduce_seeds", "", "env", types=[str])
@@ -776,4 +884,6 @@ def setup(app):
     app.connect("autodoc-process-docstring", module_sections_as_rubrics)
     app.connect("html-page-context", notebook_download, priority=500)
     app.connect("doctree-read", number_equations)
+    app.connect("doctree-read", chapter_titles, priority=400)  # before the title collector
+    app.connect("doctree-resolved", latex_numbering)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
