@@ -12,7 +12,8 @@ import pytest
 from fricctl.compare import (CONTENDERS, EXPERIMENTS, METRICS, PLANTS, REGISTERED, ComparisonResult,
                              check_plant, compare, make_contender, realise)
 from fricctl.compare.experiments import hf_share, limit_cycle, scaled
-from fricctl.compensators import Compensator, CoulombCompensator, NNCompensator, NoCompensation
+from fricctl.compensators import (Compensator, ConfirmedNNCompensator, CoulombCompensator, NNCompensator,
+                                  NoCompensation)
 from fricctl.paper.benches import bench
 from fricctl.paper.common import designs
 from fricctl.params import PAPER_LINK_INERTIA
@@ -51,8 +52,12 @@ def test_network_contender_is_built_from_a_given_network_without_training():
                       input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
                       envelope_low=[-1, -1], envelope_high=[1, 1])
     comp = make_contender("nn", B.model, D, 0.002, seed=3, options={"network": net.to_json()})
-    assert isinstance(comp, NNCompensator) and comp.name == "nn"
-    assert comp.estimator.to_json() == net.to_json()
+    # the fricctl pipeline's network on its velocity, one count of the model's encoder
+    assert isinstance(comp, ConfirmedNNCompensator) and comp.name == "nn"
+    assert comp.estimator.to_json() == net.to_json() and comp.count == B.model.encoder_resolution
+    # the paper's on the backward difference
+    comp = make_contender("nn_paper", B.model, D, 0.002, seed=3, options={"network": net.to_json()})
+    assert type(comp) is NNCompensator and comp.estimator.to_json() == net.to_json()
 
 
 @pytest.mark.parametrize("call, match", [
