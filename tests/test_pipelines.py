@@ -75,7 +75,7 @@ def test_viscous_fit_recovers_the_line():
 def test_pipelines_on_the_fast_bench(name):
     from fricctl.paper import train_paper_network
 
-    net = train_paper_network(fast=True, seed=0, pipeline=name)
+    net = train_paper_network(bench="literal", fast=True, seed=0, pipeline=name)
     assert net.pipeline == name and net.net.metadata["pipeline"] == name
     if name == "fricctl":
         c = net.trained.certificate
@@ -99,7 +99,7 @@ def test_paper_pipeline_trains_what_train_network_trains_from_the_same_seed():
     from fricctl.bench.experiments import train_network
     from fricctl.paper import train_paper_network
 
-    run = train_paper_network(fast=True, seed=0, pipeline="paper")
+    run = train_paper_network(bench="literal", fast=True, seed=0, pipeline="paper")
     assert len(run.train) > 4000  # the subset draw is part of what must agree
     again = train_network(run.train, rng=np.random.default_rng(0))
     assert np.array_equal(again.history.loss, run.trained.history.loss)

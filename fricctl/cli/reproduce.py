@@ -3,9 +3,9 @@
 Trains N networks (seeds 0 .. N-1) with each training pipeline -- "paper" (the paper's
 literal recipe) and "fricctl" (the fix) --, re-runs the experiments of Figs. 4-18 and
 the coast test on every network and checks the paper's claims on each, on one bench:
-"literal" (the default: the paper's numbers with fricctl's first readings) or
-"consistent" (the readings under which every statement of the paper holds,
-docs/paper_consistency.md); claims.md and claims.json name it.  A claim
+"consistent" (the default: the readings under which every statement of the paper holds,
+docs/paper_consistency.md, with the sensing a real bench has) or "literal" (the paper's
+numbers with fricctl's first readings, noise-free); claims.md and claims.json name it.  A claim
 *holds* for a pipeline when it passes in at least 90 % of the seeds; a claim whose
 measurement involves compensation also needs the runaway checks (no wind-up, the
 velocity reversing under a sinusoidal torque, a coast test that decays).  Writes into
