@@ -275,6 +275,48 @@ def test_a_compensated_run_that_winds_up_warns(tmp_path):
     assert sum("warning: the compensated joint winds its torque up" in ln for ln in lines) == 1
 
 
+def _g15_net(tmp_path):
+    """The net of the wind-up test: Tat_hat = 1.5*tanh(Tm), a gain at rest of 1.5."""
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[1.0, 0.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=1.5,
+                      envelope_low=[-2, -50], envelope_high=[2, 50])
+    return save_net(net, tmp_path / "g15.json")
+
+
+def test_a_runaway_under_a_sinusoidal_torque_is_told(tmp_path):
+    # issue 25: simulate runs the runaway checks that apply -- under an open-loop sinusoidal
+    # torque also the reversal check (fricctl.paper.runaway.reversal): the wound-up joint above
+    # runs one way for hundreds of radians, its velocity never reverses after the first period
+    out = _cli("simulate", "--torque", "sinusoid:0.2,1", "--compensation", "nn", "--net",
+               str(_g15_net(tmp_path)), "--duration", "3", "--json")
+    assert out.returncode == 0, out.stderr
+    warns = json.loads(out.stdout)["warnings"]
+    assert any("never reverses in period(s) 2, 3 of 3" in w for w in warns), warns
+    assert any("never reverses" in ln for ln in out.stderr.splitlines())
+    # shorter than two periods: the reversal check does not judge (the first is the start-up)
+    out = _cli("simulate", "--torque", "sinusoid:0.2,1", "--compensation", "nn", "--net",
+               str(_g15_net(tmp_path)), "--duration", "1.5", "--json")
+    assert not any("reverses" in w for w in json.loads(out.stdout)["warnings"])
+
+
+def test_a_disturbance_observer_is_judged_by_its_own_runaway_check():
+    # a DOB is not a friction estimate (its estimates_friction is False): on the link plant it
+    # also supplies the link's inertia torque and, hunting at rest, exceeds the friction bound
+    # |Tc| + Fs + b|omega| by a hair at each breakaway -- the wind-up check called that a wind-up
+    # although the joint ends within one encoder count of its reference.  simulate judges it,
+    # as fricctl.compare does, by torque_check (divergence for such a compensator)
+    out = _cli("simulate", "--link", "--controller", "pd", "--rise-time", "0.4", "--damping",
+               "0.85", "--reference", "step:0.5236", "--compensation", "dob", "--duration", "5",
+               "--json")
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout)
+    count = 2 * math.pi / 2000  # the paper actuator's encoder count (params.encoder_counts)
+    assert abs(got["final_error"]["value"]) < count
+    assert got["warnings"] == []
+
+
 def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):
     import json
 

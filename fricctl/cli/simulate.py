@@ -135,7 +135,10 @@ def register(sub):
                         "A comma list (none,coulomb,nn) runs each on the same plant "
                         "and reference: one figure overlays them, the summary has one entry "
                         "per compensation (--json: runs[...]), --csv is refused.  A "
-                        "compensated run is checked for wind-up (warning)")
+                        "compensated run is checked for a runaway (a warning on stderr and in --json's "
+                        "warnings): wind-up, or divergence for a compensator that is not a "
+                        "friction estimate (observer, integral), and reversal under "
+                        "--torque sinusoid")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--clip", action="store_true",
@@ -377,7 +380,9 @@ def run(args) -> int:
                             friction=params.friction_model().scaled(args.friction_scale))
                    for comp in comps]
         units = None
-    warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res) for res in results]
+    period = _torque_period(args, ctrl)
+    warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res, comp, period)
+             for res, comp in zip(results, comps)]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
         res = results[0]
@@ -426,14 +431,45 @@ def _no_reference(out: dict) -> dict:
             for k, q in x.items() if isinstance(q, dict) and q["value"] is None}
 
 
-def _runaway_warnings(res) -> list[str]:
-    """The wind-up check (:func:`fricctl.paper.runaway.wind_up`) of a compensated run, as warnings."""
+def _torque_period(args, ctrl) -> float | None:
+    """The period [s] of an open-loop ``--torque sinusoid:A,FREQ`` (None for any other run):
+    under it a joint that follows its control torque reverses every period."""
+    if args.controller != "open" or args.torque.partition(":")[0] != "sinusoid":
+        return None
+    return 1.0 / ctrl.feedforward.frequency
+
+
+#: The first words of a failed runaway check's warning, by the check's name.
+_RUNAWAY = {"wind-up": "the compensated joint winds its torque up",
+            "divergence": "the compensated loop runs away",
+            "reversal": "the compensated joint runs away under the sinusoidal torque"}
+
+
+def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
+    """The runaway checks of a compensated run (:mod:`fricctl.paper.runaway`), as warnings.
+
+    The torque check the compensator asks for (:func:`~fricctl.paper.runaway.torque_check`:
+    the wind-up bound for a friction estimate, the divergence check for a disturbance observer
+    or integral action, which may exceed that bound in a transient that dies out), and under an
+    open-loop sinusoidal torque of ``period`` [s] the reversal check (from its second full
+    period on).  A run too short for a check is said so, not judged."""
     if res.info.compensator == "none":
         return []
-    from ..paper.runaway import wind_up
+    from ..paper.runaway import reversal, torque_check
 
-    check = wind_up(res)
-    return [] if check.passed else [f"the compensated joint winds its torque up: {check.reason}"]
+    out = []
+    checks = [("torque", lambda: torque_check(res, comp))]
+    if period is not None and res.t[-1] + res.sample_time >= 2 * period:
+        checks.append(("reversal", lambda: reversal(res, period)))
+    for what, check in checks:
+        try:
+            c = check()
+        except ValueError as exc:
+            out.append(f"the {what} runaway check cannot judge this run: {exc}")
+            continue
+        if not c.passed:
+            out.append(f"{_RUNAWAY[c.name]}: {c.reason}")
+    return out
 
 
 #: Keys of the summary, in order: the same for the paper's actuator and a model file
