@@ -214,13 +214,15 @@ def _check_combination(args) -> None:
 
 
 def _controller(args, plant, kind: str = "rotary"):
+    """The controller of ``args`` and the warnings of its design (a missed specification, a
+    sampled loop off its continuous design: empty for given gains or the open loop)."""
     from ..controllers import open_loop, p_control, pd_control
 
     if args.controller == "open":
-        return open_loop(parse_signal(args.torque, "torque", kind))
+        return open_loop(parse_signal(args.torque, "torque", kind)), ()
     ref = parse_signal(args.reference or "step:0.5236", "position", kind)
     if args.kp is not None:
-        kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
+        kp, kd, design_warnings = args.kp, (args.kd if args.controller == "pd" else 0.0), ()
     else:
         if args.rise_time is None or args.damping is None:
             raise ValueError(f"--controller {args.controller} needs --rise-time and --damping (or --kp)")
@@ -228,8 +230,9 @@ def _controller(args, plant, kind: str = "rotary"):
 
         d = (design_p(plant, rise_time=args.rise_time, damping=args.damping) if args.controller == "p"
              else design_pd(plant, rise_time=args.rise_time, damping=args.damping))
-        kp, kd = d.kp, d.kd
-    return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
+        kp, kd, design_warnings = d.kp, d.kd, d.warnings
+    ctrl = p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
+    return ctrl, design_warnings
 
 
 def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=None):
@@ -365,7 +368,7 @@ def run(args) -> int:
     if args.model is not None:
         model = JointModel.load(args.model)
         fr = model.friction
-        ctrl = _controller(args, model, model.units)
+        ctrl, design_warnings = _controller(args, model, model.units)
         comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
                               fr.scale * fr.coulomb_neg, model, ctrl) for name in args.compensation]
         results = [simulate_model(model, ctrl, comp, duration=args.duration,
@@ -373,7 +376,7 @@ def run(args) -> int:
         units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
-        ctrl = _controller(args, params)
+        ctrl, design_warnings = _controller(args, params)
         comps = [_compensator(name, args, scale, params.coulomb, params.coulomb, params, ctrl)
                  for name in args.compensation]
         results = [simulate(params, ctrl, comp, duration=args.duration, plant=args.plant or "rigid",
@@ -413,7 +416,8 @@ def run(args) -> int:
         for text in texts:
             warnings.warn(f"--compensation {name}: {text}" if several else text, stacklevel=1)
     for summary, texts in zip(summaries, warns):
-        summary["warnings"] = texts
+        # the design's own warnings are on stderr already (DesignWarning, once for all runs)
+        summary["warnings"] = [*design_warnings, *texts]
     if args.json:
         # one compensation: its summary, as before; several: one entry per compensation
         out = {"runs": summaries} if several else summaries[0]
