@@ -95,14 +95,25 @@ def test_the_model_file_page_example_loads_and_lists_every_coefficient():
     assert m.friction.breakaway(1) == pytest.approx(0.13)
     sys.path.insert(0, str(DOCS / "_ext"))
     try:
-        from fricctl_tables import COEFFICIENTS_PLACEHOLDER, coefficients_table
+        from fricctl_tables import coefficients_table, linear_unit, render_coefficients
     finally:
         sys.path.pop(0)
     from fricctl.friction import FIELDS
 
-    assert COEFFICIENTS_PLACEHOLDER in text
     table = coefficients_table()
     assert all(f"`{name}`" in table for name in FIELDS)  # read from the law registry
+    # issue 25: the page itself lists every coefficient with its unit (read on GitHub or in an
+    # editor, not only in the built book), and the committed list is the registry's
+    assert table in text and render_coefficients(text) == text, \
+        "docs/model_file.md's coefficients are stale: run `python docs/_ext/fricctl_tables.py`"
+    assert "| `viscous_pos` | `N*m*s/rad` / `N*s/m` | 0 | `viscous` |" in text
+    # the linear units are fricctl.units' labels of the same quantities
+    from fricctl.units import UNITS
+
+    rot, lin = UNITS["rotary"], UNITS["linear"]
+    for q in ("torque", "position", "velocity", "viscous", "stiffness"):
+        assert linear_unit(getattr(rot, q)) == getattr(lin, q)
+    assert linear_unit("rad", "ripple_phase") == "rad"  # the angle of a sine on both axes
 
 
 def test_model_new_keeps_the_breakaway_it_was_given(tmp_path):
