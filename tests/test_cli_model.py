@@ -123,3 +123,15 @@ def test_model_new_keeps_the_breakaway_it_was_given(tmp_path):
                            "--friction", "coulomb_neg=1.5", "--out", str(tmp_path / "m.json")],
                           capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 2 and "own option" in proc.stderr
+
+
+def test_the_actions_help_says_what_they_do(capsys):
+    # issue 25 item 7, the sub-command's help: `fricctl model new --help` is where a user looks
+    # (an error points there); it had the options alone, not the units a number may carry or
+    # the page of the format
+    assert main(["model", "new", "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "docs/model_file.md" in out and "--sample-time 2ms" in out and "--units linear" in out
+    assert "--units {rotary,linear} rotary joint (default: N*m, rad, kg*m^2)" in out
+    assert main(["model", "show", "--help"]) == 0
+    assert "prints every value with its unit and provenance" in " ".join(capsys.readouterr().out.split())
