@@ -453,7 +453,9 @@ def test_several_compensations_one_entry_each_and_one_overlaid_figure(tmp_path, 
 @pytest.mark.parametrize("argv,words", [
     (["--compensation", "none,coulomb", "--csv", "x.csv"], "--csv writes one record"),
     (["--compensation", "none,none"], "names a compensation twice"),
-    (["--compensation", "none,colomb"], "unknown compensation 'colomb'"),
+    (["--compensation", "none,colomb"], "unknown compensation 'colomb' in 'none,colomb' "
+                                         "(did you mean coulomb?); use one of none, coulomb, nn"),
+    (["--compensation", "xyz"], "unknown compensation 'xyz' in 'xyz'; use one of"),  # none near
 ])
 def test_compensation_list_refusals(argv, words, capsys):
     assert main(["simulate", "--controller", "p", "--kp", "2", *argv]) == 2

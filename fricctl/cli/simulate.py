@@ -94,9 +94,13 @@ def _compensations(text: str) -> tuple[str, ...]:
     known = compensations()
     bad = [n for n in names if n not in known]
     if bad:
+        from difflib import get_close_matches
+
+        near = get_close_matches(bad[0], known, n=1)
         raise argparse.ArgumentTypeError(
-            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(known)} "
-            "or a comma list of them, e.g. none,coulomb")
+            f"unknown compensation {bad[0]!r} in {text!r}"
+            + (f" (did you mean {near[0]}?)" if near else "")
+            + f"; use one of {', '.join(known)} or a comma list of them, e.g. none,coulomb")
     if len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f"{text!r} names a compensation twice")
     return names
