@@ -534,3 +534,19 @@ def test_a_stuck_joint_record_is_written_and_identify_refuses_it(tmp_path, capsy
         assert main(["identify", str(csv), "--recipe", recipe]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "stuck.csv: position: no motion" in err, err
+
+
+def test_the_rise_time_help_names_the_definition_the_design_uses(capsys):
+    # issue 25 item 1: which rise time simulate designs for was said nowhere in its help.  What
+    # the help says is checked against design: the same gains as the definition it names
+    assert main(["simulate", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "design rise time [s] (P/PD): 0-100 % for damping < 1, 10-90 % from 1" in text
+    for damping, definition in (("0.9", "0-100"), ("1.2", "10-90")):
+        assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", damping,
+                     "--duration", "0.1", "--json"]) == 0
+        sim = json.loads(capsys.readouterr().out)
+        assert main(["design", "pd", "--rise-time", "0.3", "--damping", damping,
+                     "--rise-time-definition", definition, "--json"]) == 0
+        des = json.loads(capsys.readouterr().out)
+        assert sim["kp"] == des["kp"] and sim["kd"] == des["kd"]

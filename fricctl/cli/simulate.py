@@ -110,7 +110,10 @@ def register(sub):
     p = sub.add_parser("simulate", help="simulate the actuator (virtual bench) and save the record",
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--controller", choices=("open", "p", "pd"), default="open")
-    p.add_argument("--rise-time", type=float, help="design rise time [s] (P/PD)")
+    p.add_argument("--rise-time", type=float,
+                   help="design rise time [s] (P/PD): 0-100 %% for damping < 1, 10-90 %% from 1 "
+                        "(fricctl design's default; design --rise-time-definition shows others "
+                        "and their gains, which --kp/--kd then take)")
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")
     p.add_argument("--kp", type=float, help="proportional gain [N*m/rad] instead of a design")
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
