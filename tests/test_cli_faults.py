@@ -559,3 +559,20 @@ def test_diagnose_at_its_sample_limit_stays_within_its_memory_budget(tmp_path):
     over = subprocess.run([sys.executable, "-m", "fricctl", "diagnose",
                            str(tmp_path / "over.csv")], capture_output=True, text=True)
     assert over.returncode == 2 and f"more than the {MAX_SAMPLES}" in over.stderr
+
+
+def test_a_reader_that_closes_stdout_is_not_an_error():
+    # `fricctl simulate ... | head -3`: the reader leaves, the next write fails with EPIPE.  That
+    # printed 'fricctl simulate: error: Broken pipe' and exit 2; now the command ends quietly with
+    # 141 (128 + SIGPIPE, as a program stopped by the signal), its warnings still on stderr
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "fricctl", "simulate", "--controller", "pd",
+                             "--rise-time", "0.3", "--damping", "0.9", "--duration", "0.2"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.close()  # the reader is gone before the command writes
+    err = proc.stderr.read()
+    assert proc.wait() == 141, err
+    assert "error" not in err and "Traceback" not in err and "Exception ignored" not in err
+    assert "fricctl simulate: warning: sampled loop" in err  # the design's warning (0.3 s / 0.9)

@@ -95,14 +95,25 @@ def test_the_model_file_page_example_loads_and_lists_every_coefficient():
     assert m.friction.breakaway(1) == pytest.approx(0.13)
     sys.path.insert(0, str(DOCS / "_ext"))
     try:
-        from fricctl_tables import COEFFICIENTS_PLACEHOLDER, coefficients_table
+        from fricctl_tables import coefficients_table, linear_unit, render_coefficients
     finally:
         sys.path.pop(0)
     from fricctl.friction import FIELDS
 
-    assert COEFFICIENTS_PLACEHOLDER in text
     table = coefficients_table()
     assert all(f"`{name}`" in table for name in FIELDS)  # read from the law registry
+    # issue 25: the page itself lists every coefficient with its unit (read on GitHub or in an
+    # editor, not only in the built book), and the committed list is the registry's
+    assert table in text and render_coefficients(text) == text, \
+        "docs/model_file.md's coefficients are stale: run `python docs/_ext/fricctl_tables.py`"
+    assert "| `viscous_pos` | `N*m*s/rad` / `N*s/m` | 0 | `viscous` |" in text
+    # the linear units are fricctl.units' labels of the same quantities
+    from fricctl.units import UNITS
+
+    rot, lin = UNITS["rotary"], UNITS["linear"]
+    for q in ("torque", "position", "velocity", "viscous", "stiffness"):
+        assert linear_unit(getattr(rot, q)) == getattr(lin, q)
+    assert linear_unit("rad", "ripple_phase") == "rad"  # the angle of a sine on both axes
 
 
 def test_model_new_keeps_the_breakaway_it_was_given(tmp_path):
@@ -112,3 +123,15 @@ def test_model_new_keeps_the_breakaway_it_was_given(tmp_path):
                            "--friction", "coulomb_neg=1.5", "--out", str(tmp_path / "m.json")],
                           capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 2 and "own option" in proc.stderr
+
+
+def test_the_actions_help_says_what_they_do(capsys):
+    # issue 25 item 7, the sub-command's help: `fricctl model new --help` is where a user looks
+    # (an error points there); it had the options alone, not the units a number may carry or
+    # the page of the format
+    assert main(["model", "new", "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "docs/model_file.md" in out and "--sample-time 2ms" in out and "--units linear" in out
+    assert "--units {rotary,linear} rotary joint (default: N*m, rad, kg*m^2)" in out
+    assert main(["model", "show", "--help"]) == 0
+    assert "prints every value with its unit and provenance" in " ".join(capsys.readouterr().out.split())

@@ -314,3 +314,20 @@ def test_reproduce_refuses_a_manifest_it_did_not_write(tmp_path, monkeypatch, ca
     err = capsys.readouterr().err
     assert "not a manifest fricctl reproduce wrote" in err and err.count("\n") == 1
     assert sorted(p.name for p in out.iterdir()) == ["fricctl-manifest.json"]
+
+
+def test_the_printed_claims_table_keeps_its_columns():
+    # a claim id longer than the first column (fig16-coulomb-fs, 16 characters) pushed its row's
+    # cells one character right of the others'
+    from types import SimpleNamespace
+
+    from fricctl.cli.reproduce import claims_table
+
+    stats = [SimpleNamespace(id=cid, pipeline=p, holds=ok, n_passed=n, n_seeds=10)
+             for cid, ok, n in (("fig4-filter", True, 10), ("fig16-coulomb-fs", False, 0))
+             for p in ("paper", "fricctl")]
+    lines = claims_table(stats, ("paper", "fricctl")).splitlines()
+    assert len(lines) == 3 and len({len(ln) for ln in lines[1:]}) == 1
+    # the first column is the longest id (16) and a space; each cell is 18 wide, right-aligned
+    assert lines[1].index("holds") == lines[2].index("FAILS") == 17 + 18 - len("holds  10/10 ")
+    assert lines[0].index("paper") + len("paper") == 17 + 18  # the header over its cells

@@ -43,6 +43,14 @@ def test_train_casadi_writes_net_and_prints_fit(patterns_csv, tmp_path, capsys):
     assert report["hidden"] == 4 and report["n_patterns"] == tm.size
     assert net.metadata["seed"] == 1 and net.metadata["trainer"] == "casadi"
     assert report["envelope"]["tm"] == [tm.min(), tm.max()]
+    # the keys are the ones the command's help lists (it had left out warnings)
+    import re
+
+    import fricctl.cli.train as train_cli
+
+    listed = " ".join(train_cli.__doc__.split()).split("prints one JSON object instead: ``")[1]
+    listed = re.sub(r"\{[^}]*\}", "", listed.split("``")[0])
+    assert set(report) == {k.strip() for k in listed.split(",")}
     assert "double fricctl_friction_net(double tm, double omega, int clip)" in csrc.read_text()
     assert (tmp_path / "net.h").is_file()
 

@@ -121,6 +121,27 @@ def test_bad_content_names_the_key(changes, match):
         JointModel.from_json(json.dumps(_v2(**changes)))
 
 
+@pytest.mark.parametrize("changes,match", [
+    # issue 25 item 3: the four failed tries of a first model file, each told what to write
+    (dict(format=_DROP), r"missing key 'format': a model file starts \{\"format\": "
+                         r"\"fricctl.joint_model\", \"version\": 2, .*docs/model_file.md"),
+    (dict(version=_DROP), "missing key 'version' \\(2 for"),
+    (dict(viscous=0.05), "'viscous' \\(per direction, two positive magnitudes: friction.viscous_pos "
+                         "and friction.viscous_neg\\) in a version 2"),
+    (dict(coulomb_pos=0.1), "'coulomb_pos' \\(a friction coefficient: it belongs under 'friction'\\)"),
+    (dict(sampletime=0.002), "'sampletime' \\(did you mean 'sample_time'\\?\\)"),
+    (dict(sample_time="none"), "sample_time must be a real number, got 'none' \\(or null when unknown\\)"),
+    (dict(friction={"coulomb": 0.1}), "friction: unknown field\\(s\\) 'coulomb' \\(per direction, "
+                                      "two positive magnitudes: coulomb_pos and coulomb_neg\\)"),
+    (dict(friction={"static": 0.2}), "friction: unknown field.*'static' \\(the breakaway level Fs "
+                                     "is stored as its excess over the Coulomb level: stribeck_pos"),
+    (dict(friction={"viscus_pos": 1.0}), "'viscus_pos' \\(did you mean 'viscous_pos'\\?\\)"),
+])
+def test_bad_keys_say_where_they_belong(changes, match):
+    with pytest.raises(ValueError, match=match):
+        JointModel.from_json(json.dumps(_v2(**changes)))
+
+
 @pytest.mark.parametrize("text,match", [
     ('{"format": "fricctl.joint_model", "version": 2, "version": 2}', "duplicate key 'version'"),
     ('{"inertia": NaN}', "NaN is not a number"),

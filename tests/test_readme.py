@@ -35,6 +35,22 @@ def test_quick_start_commands_exist():
     assert "make test" in ci and "FRICCTL_DATA" in ci
 
 
+def test_quick_start_says_how_the_command_becomes_available():
+    # issue 25 item 2: 'fricctl: command not found' after the quick start.  The quick start
+    # says where make installs the command, and every pip install of the READMEs names the
+    # environment it installs into (the quick start's .venv, the Makefile's VENV)
+    text = (ROOT / "README.md").read_text()
+    quick = text.split("## Quick start", 1)[1].split("\n## ", 1)[0]
+    venv = re.search(r"^VENV := (\S+)$", (ROOT / "Makefile").read_text(), re.M)[1]
+    assert f"`{venv}/bin/fricctl`" in quick and f"`source {venv}/bin/activate`" in quick
+    for readme in (ROOT / "README.md", ROOT / "chapters" / "README.md"):
+        for line in readme.read_text().splitlines():
+            if "pip install -e" in line:
+                assert f"{venv}/bin/python -m pip install -e" in line, (readme.name, line)
+        text = " ".join(readme.read_text().split())  # a command may wrap over two lines
+        assert not re.search(r"(?<![/\w])jupyter lab", text), readme.name  # .venv/bin/jupyter lab
+
+
 @pytest.mark.slow
 def test_quick_start_claim_counts_are_the_main_commands():
     # The README's sentence on the claims ("with the fricctl pipeline N of the 16 claims hold; the

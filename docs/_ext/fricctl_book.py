@@ -57,7 +57,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
-from fricctl_tables import COEFFICIENTS_PLACEHOLDER, coefficients_table
+from fricctl_tables import COEFFICIENTS_BEGIN, render_coefficients
 from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
@@ -707,8 +707,8 @@ def on_source_read(app, docname, source) -> None:
     sections of the page) and the friction coefficients' table; a page that starts at ``##``
     is read one level up."""
     text = source[0]
-    if COEFFICIENTS_PLACEHOLDER in text:
-        text = text.replace(COEFFICIENTS_PLACEHOLDER, coefficients_table())
+    if COEFFICIENTS_BEGIN in text:  # the registry's table, also when the page's copy is stale
+        text = render_coefficients(text)
     if PLACEHOLDER in text:
         wait_for_reproduce()
         here = Path(app.env.doc2path(docname)).parent

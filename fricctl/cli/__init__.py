@@ -206,6 +206,16 @@ def _main(argv: list[str] | None) -> int:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"fricctl {args.command}: error: {msg}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader of stdout closed it (`fricctl simulate ... | head -3`): not an error of the
+        # command; end quietly as a program stopped by SIGPIPE does (128 + 13), with stdout
+        # pointed at /dev/null so that the interpreter's last flush does not fail again
+        with contextlib.suppress(OSError, ValueError):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        for text in shown:  # stderr is still the user's
+            print(f"fricctl {args.command}: warning: {text}", file=sys.stderr)
+        return 141
     except OSError as exc:  # missing input, output path that is a directory, no permission, ...
         if interrupt_of(exc) is not None:
             raise

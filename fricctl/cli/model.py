@@ -31,7 +31,9 @@ def register(subparsers) -> None:
                               description=__doc__.split("\n\n", 1)[1],
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=type(p))
-    new = sub.add_parser("new", help="write a model file from numbers")
+    parts = __doc__.split("\n\n")  # [title, new, show]
+    new = sub.add_parser("new", help="write a model file from numbers", description=parts[1],
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
     new.add_argument("--inertia", type=str, required=True,
                      help="total inertia I [kg*m^2] (linear: mass [kg])")
     new.add_argument("--viscous", type=str, default=0.0, help="viscous coefficient b [N*m*s/rad]")
@@ -53,14 +55,17 @@ def register(subparsers) -> None:
     new.add_argument("--encoder-counts", type=float, default=None,
                      help="counts per revolution on the load side (instead of the resolution)")
     new.add_argument("--max-torque", type=str, default=None, help="torque limit +-Tmax [N*m]")
-    new.add_argument("--units", choices=("rotary", "linear"), default="rotary")
+    new.add_argument("--units", choices=("rotary", "linear"), default="rotary",
+                     help="rotary joint (default: N*m, rad, kg*m^2) or linear axis (N, m, kg): "
+                          "the SI unit of a bare number")
     new.add_argument("--source-of", choices=("datasheet", "measured", "identified", "assumption"),
                      default="datasheet", help="where the numbers come from (provenance)")
     new.add_argument("--source", default="", help="free text: which actuator, which document")
     new.add_argument("--out", required=True, help="the model file to write (.json)")
     new.add_argument("--force", action="store_true", help="overwrite an existing file")
     new.set_defaults(func=run_new)
-    show = sub.add_parser("show", help="print a model file's values with units and provenance")
+    show = sub.add_parser("show", help="print a model file's values with units and provenance",
+                          description=parts[2], formatter_class=argparse.RawDescriptionHelpFormatter)
     show.add_argument("file", help="model file (.json)")
     show.add_argument("--json", action="store_true", help="print the file's content as JSON")
     show.set_defaults(func=run_show)

@@ -379,6 +379,21 @@ def _comparison_json(cmp, digests: dict) -> str:
     return json.dumps(d, indent=1, allow_nan=False)
 
 
+def claims_table(stats, pipelines) -> str:
+    """The claims as printed: one line per claim, ``holds k/n`` or ``FAILS k/n`` per pipeline,
+    the first column as wide as the longest claim id (``fig16-coulomb-fs`` pushed its row one
+    column right of the others at a fixed 15)."""
+    ids = list(dict.fromkeys(s.id for s in stats))
+    by = {(s.id, s.pipeline): s for s in stats}
+    width = max([len("claim"), *map(len, ids)])
+    lines = [f"{'claim':<{width}s} " + " ".join(f"{p:>18s}" for p in pipelines)]
+    for cid in ids:
+        cells = [f"{'holds' if s.holds else 'FAILS'} {s.n_passed:>3d}/{s.n_seeds:<3d}".rjust(18)
+                 for s in (by[(cid, p)] for p in pipelines)]
+        lines.append(f"{cid:<{width}s} " + " ".join(cells))
+    return "\n".join(lines)
+
+
 def run(args) -> int:
     from ..paper.reproduce import MAX_SEEDS
 
@@ -431,16 +446,8 @@ def run(args) -> int:
         print(f"the compensators compared on the nominal plant in {time.perf_counter() - t0:.1f} s",
               file=sys.stderr)
         _write_manifest(new)
-    ids = list(dict.fromkeys(s.id for s in res.stats))
-    by = {(s.id, s.pipeline): s for s in res.stats}
     print(f"bench {bench}")
-    print(f"{'claim':<15s} " + " ".join(f"{p:>18s}" for p in pipelines))
-    for cid in ids:
-        cells = []
-        for p in pipelines:
-            s = by[(cid, p)]
-            cells.append(f"{'holds' if s.holds else 'FAILS'} {s.n_passed:>3d}/{s.n_seeds:<3d}".rjust(18))
-        print(f"{cid:<15s} " + " ".join(cells))
+    print(claims_table(res.stats, pipelines))
     where = (scheduler if scheduler is not None else
              f"{workers} worker{'s' if workers != 1 else ''}{', dask' if kind == 'dask' else ''}")
     print(f"wrote {len(res.runs)} networks, {len(figures)} figures, claims.md, claims.json and the "

@@ -99,9 +99,13 @@ def _compensations(text: str) -> tuple[str, ...]:
     known = compensations()
     bad = [n for n in names if n not in known]
     if bad:
+        from difflib import get_close_matches
+
+        near = get_close_matches(bad[0], known, n=1)
         raise argparse.ArgumentTypeError(
-            f"unknown compensation {bad[0]!r} in {text!r}; use one of {', '.join(known)} "
-            "or a comma list of them, e.g. none,coulomb")
+            f"unknown compensation {bad[0]!r} in {text!r}"
+            + (f" (did you mean {near[0]}?)" if near else "")
+            + f"; use one of {', '.join(known)} or a comma list of them, e.g. none,coulomb")
     if len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f"{text!r} names a compensation twice")
     return names
@@ -111,7 +115,10 @@ def register(sub):
     p = sub.add_parser("simulate", help="simulate the actuator (virtual bench) and save the record",
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--controller", choices=("open", "p", "pd"), default="open")
-    p.add_argument("--rise-time", type=float, help="design rise time [s] (P/PD)")
+    p.add_argument("--rise-time", type=float,
+                   help="design rise time [s] (P/PD): 0-100 %% for damping < 1, 10-90 %% from 1 "
+                        "(fricctl design's default; design --rise-time-definition shows others "
+                        "and their gains, which --kp/--kd then take)")
     p.add_argument("--damping", type=float, help="design damping ratio [-] (P/PD)")
     p.add_argument("--kp", type=float, help="proportional gain [N*m/rad] instead of a design")
     p.add_argument("--kd", type=float, default=None, help="rate gain [N*m*s/rad] instead of a design")
@@ -140,7 +147,10 @@ def register(sub):
                         "A comma list (none,coulomb,nn) runs each on the same plant "
                         "and reference: one figure overlays them, the summary has one entry "
                         "per compensation (--json: runs[...]), --csv is refused.  A "
-                        "compensated run is checked for wind-up (warning)")
+                        "compensated run is checked for a runaway (a warning on stderr and in --json's "
+                        "warnings): wind-up, or divergence for a compensator that is not a "
+                        "friction estimate (observer, integral), and reversal under "
+                        "--torque sinusoid")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn or nn_confirmed)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--sigma0", default=None, metavar="S",
@@ -225,13 +235,15 @@ def _check_combination(args) -> None:
 
 
 def _controller(args, plant, kind: str = "rotary"):
+    """The controller of ``args`` and the warnings of its design (a missed specification, a
+    sampled loop off its continuous design: empty for given gains or the open loop)."""
     from ..controllers import open_loop, p_control, pd_control
 
     if args.controller == "open":
-        return open_loop(parse_signal(args.torque, "torque", kind))
+        return open_loop(parse_signal(args.torque, "torque", kind)), ()
     ref = parse_signal(args.reference or "step:0.5236", "position", kind)
     if args.kp is not None:
-        kp, kd = args.kp, (args.kd if args.controller == "pd" else 0.0)
+        kp, kd, design_warnings = args.kp, (args.kd if args.controller == "pd" else 0.0), ()
     else:
         if args.rise_time is None or args.damping is None:
             raise ValueError(f"--controller {args.controller} needs --rise-time and --damping (or --kp)")
@@ -239,8 +251,9 @@ def _controller(args, plant, kind: str = "rotary"):
 
         d = (design_p(plant, rise_time=args.rise_time, damping=args.damping) if args.controller == "p"
              else design_pd(plant, rise_time=args.rise_time, damping=args.damping))
-        kp, kd = d.kp, d.kd
-    return p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
+        kp, kd, design_warnings = d.kp, d.kd, d.warnings
+    ctrl = p_control(kp, ref) if args.controller == "p" else pd_control(kp, kd, ref)
+    return ctrl, design_warnings
 
 
 def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=None):
@@ -413,7 +426,7 @@ def run(args) -> int:
     if args.model is not None:
         model = JointModel.load(args.model)
         fr = model.friction
-        ctrl = _controller(args, model, model.units)
+        ctrl, design_warnings = _controller(args, model, model.units)
         comps = [_compensator(name, args, scale, fr.scale * fr.coulomb_pos,
                               fr.scale * fr.coulomb_neg, model, ctrl) for name in args.compensation]
         results = [simulate_model(model, ctrl, comp, duration=args.duration,
@@ -421,14 +434,16 @@ def run(args) -> int:
         units = model.units
     else:
         params = paper_actuator().with_link() if args.link else paper_actuator()
-        ctrl = _controller(args, params)
+        ctrl, design_warnings = _controller(args, params)
         comps = [_compensator(name, args, scale, params.coulomb, params.coulomb, params, ctrl)
                  for name in args.compensation]
         results = [simulate(params, ctrl, comp, duration=args.duration, plant=args.plant or "rigid",
                             friction=params.friction_model().scaled(args.friction_scale))
                    for comp in comps]
         units = None
-    warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res) for res in results]
+    period = _torque_period(args, ctrl)
+    warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res, comp, period)
+             for res, comp in zip(results, comps)]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
         res = results[0]
@@ -459,7 +474,8 @@ def run(args) -> int:
         for text in texts:
             warnings.warn(f"--compensation {name}: {text}" if several else text, stacklevel=1)
     for summary, texts in zip(summaries, warns):
-        summary["warnings"] = texts
+        # the design's own warnings are on stderr already (DesignWarning, once for all runs)
+        summary["warnings"] = [*design_warnings, *texts]
     if args.json:
         # one compensation: its summary, as before; several: one entry per compensation
         out = {"runs": summaries} if several else summaries[0]
@@ -477,14 +493,45 @@ def _no_reference(out: dict) -> dict:
             for k, q in x.items() if isinstance(q, dict) and q["value"] is None}
 
 
-def _runaway_warnings(res) -> list[str]:
-    """The wind-up check (:func:`fricctl.paper.runaway.wind_up`) of a compensated run, as warnings."""
+def _torque_period(args, ctrl) -> float | None:
+    """The period [s] of an open-loop ``--torque sinusoid:A,FREQ`` (None for any other run):
+    under it a joint that follows its control torque reverses every period."""
+    if args.controller != "open" or args.torque.partition(":")[0] != "sinusoid":
+        return None
+    return 1.0 / ctrl.feedforward.frequency
+
+
+#: The first words of a failed runaway check's warning, by the check's name.
+_RUNAWAY = {"wind-up": "the compensated joint winds its torque up",
+            "divergence": "the compensated loop runs away",
+            "reversal": "the compensated joint runs away under the sinusoidal torque"}
+
+
+def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
+    """The runaway checks of a compensated run (:mod:`fricctl.paper.runaway`), as warnings.
+
+    The torque check the compensator asks for (:func:`~fricctl.paper.runaway.torque_check`:
+    the wind-up bound for a friction estimate, the divergence check for a disturbance observer
+    or integral action, which may exceed that bound in a transient that dies out), and under an
+    open-loop sinusoidal torque of ``period`` [s] the reversal check (from its second full
+    period on).  A run too short for a check is said so, not judged."""
     if res.info.compensator == "none":
         return []
-    from ..paper.runaway import wind_up
+    from ..paper.runaway import reversal, torque_check
 
-    check = wind_up(res)
-    return [] if check.passed else [f"the compensated joint winds its torque up: {check.reason}"]
+    out = []
+    checks = [("torque", lambda: torque_check(res, comp))]
+    if period is not None and res.t[-1] + res.sample_time >= 2 * period:
+        checks.append(("reversal", lambda: reversal(res, period)))
+    for what, check in checks:
+        try:
+            c = check()
+        except ValueError as exc:
+            out.append(f"the {what} runaway check cannot judge this run: {exc}")
+            continue
+        if not c.passed:
+            out.append(f"{_RUNAWAY[c.name]}: {c.reason}")
+    return out
 
 
 #: Keys of the summary, in order: the same for the paper's actuator and a model file

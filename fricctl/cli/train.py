@@ -15,7 +15,8 @@ The trained net is written as JSON (:func:`fricctl.nn.save_net`) and its fit pri
 (for the fricctl pipeline, of the full estimate ``net + b_hat*omega``).  ``--json``
 prints one JSON object instead: ``out, trainer, pipeline, units, hidden, seed,
 n_patterns, fit{...}, train_mse, gain_at_rest, viscous_removed, certificate,
-envelope{tm[lo, hi], omega[lo, hi]}, c_source``.  Outputs never overwrite an input or
+envelope{tm[lo, hi], omega[lo, hi]}, c_source, warnings`` (each warning also on stderr:
+a gain at rest >= 1).  Outputs never overwrite an input or
 an existing file without ``--force``; every output is checked (its folder exists and is
 writable) before training starts.  A progress bar is shown on stderr when stderr is a
 terminal (``--progress on|off`` to choose).

@@ -447,16 +447,22 @@ class JointModel:
         if not isinstance(d, dict):
             raise ValueError("model file: expected a JSON object")
         if d.get("format") != MODEL_FORMAT:
-            raise ValueError(f"format: must be {MODEL_FORMAT!r}, got {d.get('format')!r}")
+            start = (f"missing key 'format'" if "format" not in d
+                     else f"format: must be {MODEL_FORMAT!r}, got {d['format']!r}")
+            raise ValueError(f"{start}: a model file starts {{\"format\": \"{MODEL_FORMAT}\", "
+                             f"\"version\": {MODEL_VERSION}, \"units\": ...}} ({_WHERE})")
         version = d.get("version")
+        if "version" not in d:
+            raise ValueError(f"missing key 'version' ({MODEL_VERSION} for the format this "
+                             f"fricctl writes; {_WHERE})")
         if type(version) is not int or version not in READ_VERSIONS:
             raise ValueError(f"version: unsupported {version!r} (this fricctl reads versions "
                              f"{', '.join(map(str, READ_VERSIONS))})")
         allowed = _KEYS_V1 if version == 1 else _KEYS_V2
         unknown = sorted(set(d) - set(allowed))
         if unknown:
-            raise ValueError(f"unknown key(s) {', '.join(map(repr, unknown))} in a version "
-                             f"{version} model file")
+            raise ValueError(f"unknown key(s) {_with_hints(unknown, allowed, top=True)} in a "
+                             f"version {version} model file ({_WHERE})")
         required = ("format", "version", "inertia", "friction") if version == 1 else _REQUIRED
         for req in required:
             if req not in d:
@@ -470,7 +476,10 @@ class JointModel:
                 kw[name] = v.real(name, d[name])
         for name, _ in _OPTIONAL:
             if d.get(name) is not None:
-                kw[name] = v.real(name, d[name])
+                try:
+                    kw[name] = v.real(name, d[name])
+                except ValueError as exc:
+                    raise ValueError(f"{exc} (or null when unknown)") from None
         if "source" in d:
             kw["source"] = _text("source", d["source"])
         kw["friction"] = _friction(d["friction"])
@@ -498,6 +507,36 @@ def _text(name, x) -> str:
     return x
 
 
+#: Where a reader of an error finds every key of the file.
+_WHERE = "every key: docs/model_file.md; `fricctl model new` writes a file from numbers"
+
+
+def _with_hints(keys, known, *, top: bool) -> str:
+    """``'viscous' (...), 'sampletime' (did you mean 'sample_time'?)``: each unknown key with
+    where it belongs, or the known key it is close to.  A friction coefficient given at the top
+    level belongs under ``friction``; a direction-dependent one is two magnitudes
+    (``viscous_pos``, ``viscous_neg``); ``static``, the breakaway level, is stored as the excess
+    over the Coulomb level."""
+    from difflib import get_close_matches
+
+    where = "friction." if top else ""
+    out = []
+    for key in keys:
+        if key in ("static", "breakaway", "static_pos", "static_neg"):
+            hint = (f"the breakaway level Fs is stored as its excess over the Coulomb level: "
+                    f"{where}stribeck_pos and stribeck_neg = Fs - Fc, with stribeck_velocity")
+        elif f"{key}_pos" in FRICTION_FIELDS and f"{key}_neg" in FRICTION_FIELDS:
+            hint = (f"per direction, two positive magnitudes: {where}{key}_pos and "
+                    f"{where}{key}_neg")
+        elif top and key in FRICTION_FIELDS:
+            hint = f"a friction coefficient: it belongs under 'friction'"
+        else:
+            near = get_close_matches(key, known, n=1)
+            hint = f"did you mean {near[0]!r}?" if near else ""
+        out.append(f"{key!r}" + (f" ({hint})" if hint else ""))
+    return ", ".join(out)
+
+
 #: Friction fields renamed since the first model files (old name -> name now).
 _RENAMED = {"static_pos": "static_excess_pos", "static_neg": "static_excess_neg"}
 
@@ -512,7 +551,8 @@ def _friction(fr) -> FrictionModel:
     fr = {_RENAMED.get(k, k): x for k, x in fr.items()}
     unknown = sorted(set(fr) - set(FRICTION_FIELDS))
     if unknown:
-        raise ValueError(f"friction: unknown field(s) {', '.join(map(repr, unknown))}")
+        raise ValueError(f"friction: unknown field(s) "
+                         f"{_with_hints(unknown, FRICTION_FIELDS, top=False)}")
     values = {k: v.real(f"friction.{k}", x) for k, x in fr.items()}
     try:
         return FrictionModel(**values)
