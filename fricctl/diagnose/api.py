@@ -228,7 +228,7 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
         # second core of a small machine); diagnose() waits for it before reporting
         pool = futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="fricctl-baseline")
         ident = pool.submit(identify_record, run, model="coulomb_viscous", offset=False,
-                            validate=False, stops=stops)
+                            validate=False, stops=stops, start=fit0)  # its step 1 is fit0
         pool.shutdown(wait=False)
     core, held = (None, ()) if model is None else judged_by_removal(model)
     base = Baseline(sig, core, None if fit0 is None else fit0.estimates.copy())
