@@ -30,8 +30,14 @@ above the line and all expected.
 ``issue21``: the causes issue 21 added hidden alone, end stops, effects that are not causes
 (``foreign=``) and no effect, on seeds ``[12201..12204, ...]``; not in the default run.
 
+``records DIR``: writes the seven CSV records the time changes are checked on (runs 11-13 of
+``benchmarks/README.md``): ``r40.csv``, the two-cause 40 s record at 1 kHz of ``timing``, and six
+20 s, 500 Hz records (``[12105, 100 + i]``: backlash, compliance, position load, position
+ripple, Stribeck, one drawn); ``fricctl diagnose FILE --json --report DIR`` on each before and
+after a change must give the same bytes.
+
 Run:  .venv/bin/python benchmarks/bench_diagnose.py [timing|singles|pairs|none|line|independent|issue21 ...]
-(all sets by default; nice it on a shared machine).
+(all sets by default; nice it on a shared machine), or ``... bench_diagnose.py records DIR``.
 """
 
 from __future__ import annotations
@@ -284,7 +290,26 @@ def timing():
               f"baseline fit (identify_run) {t4 - t3:.2f} s")
 
 
+def records(folder: Path) -> None:
+    """The seven records of the time changes' byte-for-byte check (module notes)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    rec = hidden_effect_record(np.random.default_rng([12105, 1]),
+                               cause=("asymmetry", "position_ripple"), sample_time=0.001,
+                               duration=40.0)
+    rec.run.to_csv(folder / "r40.csv")
+    for i, cause in enumerate(("backlash", "compliance", "position_load", "position_ripple",
+                               "stribeck", None)):
+        rec = hidden_effect_record(np.random.default_rng([12105, 100 + i]), cause=cause,
+                                   duration=20.0)
+        rec.run.to_csv(folder / f"g{i}-{cause or 'drawn'}.csv")
+
+
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["records"]:
+        if len(sys.argv) != 3:
+            raise SystemExit("usage: bench_diagnose.py records DIR")
+        records(Path(sys.argv[2]))
+        raise SystemExit(0)
     chosen = sys.argv[1:] or ["timing", "singles", "pairs", "none", "line", "independent"]
     if "timing" in chosen:
         timing()

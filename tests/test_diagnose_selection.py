@@ -177,6 +177,26 @@ def test_twin_reproduces_the_measuring_chain():
     assert 0.5 < twin.rms / record_rms < 2.0
 
 
+def test_twin_from_a_given_noise_free_twin_is_the_same():
+    # a diagnosis hands the noise-free twin it already made to every later search for a
+    # floor's noise (issue 21's time): the twins must be those made from scratch, to the
+    # bit (reference: effect_free_twin without it), and the noise-free one itself where
+    # the chain alone leaves the floor
+    rec = _record("stribeck", 4, duration=10.0, sample_time=0.001)
+    sig = estimate_signals(rec.run, 8)
+    base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
+    still = effect_free_twin(base)
+    sse0 = float(np.sum(still.test))
+    assert effect_free_twin(base, 1.01 * sse0, still=still) is still
+    for target in (3.0 * sse0, 10.0 * sse0):  # noise added: two probes, then the twin
+        fresh, given = effect_free_twin(base, target), effect_free_twin(base, target, still=still)
+        assert given is not still
+        np.testing.assert_array_equal(given.test, fresh.test)
+        np.testing.assert_array_equal(given.run.position, fresh.run.position)
+    with pytest.raises(ValueError, match="still"):
+        effect_free_twin(base, 2.0 * sse0, still=still.run)
+
+
 # ----------------------------------------------------------------------------- hidden effects
 def test_bench_pairs():
     assert ("asymmetry", "position_ripple") in PAIRS

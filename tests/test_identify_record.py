@@ -233,6 +233,19 @@ def test_bad_input():
         I.identify_record(run, model="stribeck", validate=False)
     with pytest.raises(ValueError, match="refine"):
         I.identify_record(run, refine="yes")
+    # a given equation error (the diagnosis hands over its own) of another model or record
+    from fricctl.identify.signals import estimate_signals
+
+    sig = estimate_signals(run, 1)
+    with pytest.raises(ValueError, match="start: a IDIM-LS fit of"):
+        I.identify_record(run, offset=False, validate=False,
+                          start=I.equation_error(sig, "asymmetric", offset=False))
+    other = Run(t=run.t[:6000], torque=run.torque[:6000], position=run.position[:6000])
+    with pytest.raises(ValueError, match="the equation error of another record"):
+        I.identify_record(other, offset=False, validate=False,
+                          start=I.equation_error(sig, offset=False))
+    with pytest.raises(ValueError, match="start"):
+        I.identify_record(run, start=sig)
     still = Run(t=run.t, torque=0 * run.torque + 0.01,
                 position=np.where(np.arange(run.n_samples) < 100, 0.0, 1e-3))
     with pytest.raises(ValueError, match="motion"):

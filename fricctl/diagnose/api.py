@@ -132,10 +132,11 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     req = _request(run, model, window, folds, progress)
     setup = _setup(run, model, req)  # the reported baseline is fitted in a thread meanwhile
     bar = _ProgressBar(req.show, run.n_samples)
+    chain = _ChainShares(setup.base)
     try:
         sel = forward_selection(setup.problem, setup.base,
                                 causes.candidates(nominal=model is not None),
-                                _ChainShares(setup.base), _HeldOutSimulation.of(setup),
+                                chain, _HeldOutSimulation.of(setup),
                                 progress=bar.step if req.show else None)
     finally:
         bar.close()
@@ -143,7 +144,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     # fit, which cannot be cancelled once running (it ends in its thread, unused)
     if setup.ident is not None:
         setup = replace(setup, ident=setup.ident.result())
-    return _diagnosis(run, model, setup, sel, _extension(setup, sel))
+    return _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms())
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -227,7 +228,7 @@ def _setup(run: Run, model: JointModel | None, req: _Request) -> _Setup:
         # second core of a small machine); diagnose() waits for it before reporting
         pool = futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="fricctl-baseline")
         ident = pool.submit(identify_record, run, model="coulomb_viscous", offset=False,
-                            validate=False, stops=stops)
+                            validate=False, stops=stops, start=fit0)  # its step 1 is fit0
         pool.shutdown(wait=False)
     core, held = (None, ()) if model is None else judged_by_removal(model)
     base = Baseline(sig, core, None if fit0 is None else fit0.estimates.copy())
@@ -263,19 +264,40 @@ class _ChainShares:
 
     Twins are kept by the names of the causes named (within one diagnosis they say which
     model stands) and the floor to within 10 %; a step's twins are freed when the next step
-    asks (they are never asked again)."""
+    asks (they are never asked again).  The noise-free twin of the model as it stands, which
+    starts every search for a floor's noise and is the twin itself where the chain alone
+    leaves the floor, is made once per step (it was made again for each floor, and once
+    more for the diagnosis's own floor, :meth:`floor_rms`); floors that end on one twin share
+    its shares."""
 
     def __init__(self, base: Baseline):
         self.base = base
         self.twins: dict = {}
+        #: ``(model, twin)``: the noise-free twin of the model asked last
+        self.still: tuple | None = None
+        #: the held-out residual RMS of the baseline's noise-free twin, once made [N*m]
+        self.fitted_rms: float | None = None
 
     def __call__(self, floor: float, named: tuple, model: JointModel):
         names = tuple(c.name for c in named)
         key = (names, round(math.log(max(floor, 1e-300)) / math.log(1.1)))
         if key not in self.twins:
             self.twins = {k: t for k, t in self.twins.items() if k[0] == names}
-            self.twins[key] = chain_shares(_twin(self.base, floor, model), named)
-        return self.twins[key]
+            if self.still is None or self.still[0] is not model:
+                self.still = (model, _twin(self.base, None, model))
+                if model is self.base.fitted:
+                    self.fitted_rms = self.still[1].rms
+            twin = _twin(self.base, floor, model, still=self.still[1])
+            # the same twin (the noise-free one, for floors the chain alone leaves): the
+            # same shares
+            same = next((share for t, share in self.twins.values() if t is twin), None)
+            self.twins[key] = (twin, same or chain_shares(twin, named))
+        return self.twins[key][1]
+
+    def floor_rms(self) -> float:
+        """The measuring chain's held-out residual RMS on the record: the baseline's
+        noise-free twin's (:attr:`Twin.rms`; made here unless a step made it) [N*m]."""
+        return _twin(self.base).rms if self.fitted_rms is None else self.fitted_rms
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -353,8 +375,9 @@ def _other_shape(setup: _Setup, sel: Selection) -> float:
 
 
 def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection,
-               ext: _Extension) -> Diagnosis:
-    """The result: models with their provenance, held-out gain, evidence and report data."""
+               ext: _Extension, chain_rms: float) -> Diagnosis:
+    """The result: models with their provenance, held-out gain, evidence and report data;
+    ``chain_rms`` is the measuring chain's floor (:meth:`_ChainShares.floor_rms`)."""
     sig, base = setup.sig, setup.base
     gain = _gain(sig, sel)
     bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model)
@@ -369,7 +392,6 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     extended = (baseline_model if not sel.selected and not setup.held else
                 _diagnosed(_record_fields(ext.model, run, sig, model),
                            supplied or baseline_model, named, unsupported))
-    chain_rms = _twin(base).rms
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
@@ -491,11 +513,12 @@ def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple,
                    source=source if named != (causes.NONE,) or removed else extended.source)
 
 
-def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None):
+def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None, *,
+          still=None):
     """The record's effect-free twin; a model that cannot make one (it does not move on the
     recorded torque, or cannot be simulated) is refused naming the model."""
     try:
-        return effect_free_twin(base, floor, model=model)
+        return effect_free_twin(base, floor, model=model, still=still)
     except ValueError as err:
         what = "model" if base.nominal is not None else "the fitted baseline"
         raise ValueError(f"{what}: its effect-free twin (the model driven by the recorded "

@@ -130,16 +130,23 @@ def feedback_gains(sig: Signals, inertia: float, window: float = 0.5) -> Feedbac
 
 
 def effect_free_twin(base: Baseline, target_sse: float | None = None, *,
-                     model: JointModel | None = None) -> Twin:
+                     model: JointModel | None = None, still: Twin | None = None) -> Twin:
     """The record re-made by ``model`` (default: the baseline fitted on all data, or the
     nominal model), through the record's encoder, with the joint torque noise that gives it
     the held-out residual ``target_sse`` (sum of squares) when that exceeds what the chain
-    alone leaves (module notes)."""
+    alone leaves (module notes).
+
+    ``still`` is the twin this function returns for the same ``base`` and ``model`` without
+    ``target_sse`` (no noise), when the caller has it: it starts every search for the noise,
+    so a diagnosis that asks several residuals of one model makes it once (it is returned
+    itself when the chain alone leaves ``target_sse``)."""
     sig = base.sig
     model = base.fitted if model is None else model
+    if still is not None:
+        v.instance("still", still, Twin, "the noise-free Twin of this model (or None)")
     xi = np.random.default_rng(TWIN_SEED).standard_normal(sig.t.size)
     gains = feedback_gains(sig, model.inertia)
-    twin = _make_twin(base, model, np.zeros(sig.t.size), gains)
+    twin = still if still is not None else _make_twin(base, model, np.zeros(sig.t.size), gains)
     sse0 = float(np.sum(twin.test))
     if target_sse is None or not target_sse > sse0 * 1.02:
         return twin

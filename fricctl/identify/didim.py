@@ -237,7 +237,7 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     max_substeps, refused = MAX_REPLAY_COST * substeps0, []
     step_solver = _StepSolver(len(names))
     for iteration in range(1, max_iterations + 1):
-        J = prob.jacobian(theta, r, 1e-4 * mag)
+        J, J_at = prob.jacobian(theta, r, 1e-4 * mag), theta
         D = np.sqrt(np.sum(J * J, axis=0))
         while True:
             step = step_solver(J, r, D, lam, lower - theta, mag)
@@ -275,7 +275,8 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     if not converged:
         warnings.append(f"DIDIM did not converge in {max_iterations} iterations (last relative "
                         f"step {change:.2g}): the estimate is the last iterate")
-    J = prob.jacobian(theta, r, 1e-4 * mag)
+    if theta is not J_at:  # else the last iteration took no step: its Jacobian is this one
+        J = prob.jacobian(theta, r, 1e-4 * mag)  # (r is theta's; three replays saved)
     measured = prob.measured()
     predicted = measured - r
     bc = block_covariance(J, r)

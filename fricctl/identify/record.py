@@ -267,7 +267,7 @@ class _Fit:
 
 
 def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None,
-         masks=None) -> _Fit:
+         masks=None, start: IdentificationResult | None = None) -> _Fit:
     """Steps 1 and 2 on the segments of one record (one segment, or the pieces left by a
     deleted block, read through the whole record's filter ``cutoff``).  A jackknife fit
     starts from its own equation error, never from the whole record's optimum: started
@@ -276,11 +276,16 @@ def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None
 
     ``masks`` (per segment, bool per sample, or None) are an end stop's contacts: left out
     of the equation error (with the filter's reach) and of the replay, which runs the
-    stretches between them (a rigid replay cannot pass a stop)."""
+    stretches between them (a rigid replay cannot pass a stop).  ``start``: the equation
+    error of the one segment, when the caller has fitted it (checked against its signals'
+    sliding samples)."""
     masks = [None] * len(segments) if masks is None else list(masks)
     sigs = [estimate_signals(r, 1, cutoff=cutoff, exclude=m) for r, m in zip(segments, masks)]
     cutoff = sigs[0].cutoff
-    start = equation_error(sigs, model, offset)
+    if start is None:
+        start = equation_error(sigs, model, offset)
+    else:
+        _check_start(start, sigs, model, offset)
     refined, why = None, ""
     if refine:
         recipe = _didim_recipe(sigs[0])
@@ -295,6 +300,21 @@ def _fit(segments, model: str, offset, refine: bool, cutoff: float | None = None
         except ValueError as err:
             why = str(err)
     return _Fit(cutoff=cutoff, start=start, refined=refined, why_not=why)
+
+
+def _check_start(start, sigs, model: str, offset) -> None:
+    """Refuse a given equation error that is not of this model on these signals' sliding
+    samples (another model, another record, or another exclusion of its contacts)."""
+    v.instance("start", start, IdentificationResult, "the record's equation error "
+               "(fricctl.identify.equation_error) or None")
+    names = model_names(model, offset)
+    if tuple(start.names) != names or start.method != "IDIM-LS":
+        raise ValueError(f"start: a {start.method} fit of {tuple(start.names)}, not the equation "
+                         f"error of {names}")
+    n = sum(int(s_.moving.sum()) for s_ in sigs)
+    if start.measured.size != n:
+        raise ValueError(f"start: fitted on {start.measured.size} sliding samples, the record "
+                         f"has {n}: the equation error of another record")
 
 
 def _min_piece(recipe: IdimRecipe) -> int:
@@ -322,7 +342,8 @@ JACKKNIFE_BLOCKS = 4
 
 def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
                     refine: bool = True, validate: bool = True,
-                    stops: EndStops | None = None) -> RecordIdentification:
+                    stops: EndStops | None = None,
+                    start: IdentificationResult | None = None) -> RecordIdentification:
     """Identify a record's rigid-joint model: equation error, DIDIM, validation, jackknife.
 
     Parameters
@@ -345,6 +366,11 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
         :func:`~fricctl.identify.stops.end_stops` of ``run``).  Their contacts are left out
         of the equation error, the replay (DIDIM and the validation) runs the stretches
         clear of them, and :attr:`RecordIdentification.notes` says so.
+    start : IdentificationResult, optional
+        The record's equation error (:func:`equation_error` of ``model`` and ``offset`` on
+        its signals, the stops' contacts left out), when already fitted (``fricctl
+        diagnose`` fits it for its own baseline): step 1 is not fitted again.  One of another
+        model or with another number of sliding samples is refused.
 
     Returns
     -------
@@ -374,7 +400,7 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
             raise ValueError(f"stops: a mask of {stops.mask.size} samples for a record of "
                              f"{run.n_samples}: the end stops of another record")
     mask = stops.mask if stops.found else None
-    fit = _fit([run], model, offset, refine, masks=[mask])
+    fit = _fit([run], model, offset, refine, masks=[mask], start=start)
     chosen = fit.chosen
     held, std, extra = None, chosen.std, []
     if stops.found:
