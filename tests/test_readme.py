@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from fricctl import _readme, paper
+from fricctl.paper.benches import DEFAULT_BENCH
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,29 +54,39 @@ def test_quick_start_says_how_the_command_becomes_available():
 
 @pytest.mark.slow
 def test_quick_start_claim_counts_are_the_main_commands():
-    # The README's sentence on the claims ("with the fricctl pipeline N of the 16 claims hold; the
-    # paper's literal recipe ... (gain at rest ~ G) and M hold") is what `make reproduce` computes:
-    # the full run over 10 seeds of both pipelines.
+    # The README's sentences on the claims are what `make reproduce` computes -- the full run over
+    # 10 seeds of both pipelines -- on the default bench (consistent) and with --bench literal.
     text = " ".join((ROOT / "README.md").read_text().split())
-    m = re.search(r"with the fricctl pipeline (\d+) of the (\d+) claims hold; the paper's literal recipe "
-                  r"winds the torque up \(gain at rest ≈ ([\d.]+)\) and (\d+) hold", text)
-    assert m, "the README's claims sentence changed: update this test with it"
-    n_fricctl, n_claims, g_paper, n_paper = int(m[1]), int(m[2]), float(m[3]), int(m[4])
+    c = re.search(r"That reading is the default bench, `consistent`.*? On it, with the fricctl pipeline "
+                  r"(\d+) of the (\d+) claims hold and with the paper's literal recipe (\d+); the claim "
+                  r"the fricctl pipeline misses is the network's \"98 %\" fit", text)
+    assert c, "the README's sentence on the consistent bench changed: update this test with it"
+    m = re.search(r"On the `literal` bench .*? with the fricctl pipeline (\d+) of the (\d+) claims hold; "
+                  r"the paper's literal recipe winds the torque up \(gain at rest ≈ ([\d.]+)\) and (\d+) "
+                  r"hold", text)
+    assert m, "the README's sentence on the literal bench changed: update this test with it"
+    b = re.search(r"Fig\. 17 with the aged actuator in (\d+) of the (\d+) seeds, Fig\. 18's "
+                  r"tracking in (\d+)\)", text)
+    assert b, "the README's borderline sentence changed: update this test with it"
     makefile = (ROOT / "Makefile").read_text()
     seeds = int(re.search(r"fricctl reproduce --seeds (\d+)", makefile)[1])
+    assert "--bench" not in re.search(r"fricctl reproduce[^\n]*", makefile)[0]  # the default bench
+    assert DEFAULT_BENCH == "consistent"
     with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
-        res = paper.reproduce_paper(seeds=seeds, executor=ex, figures=False)
-    paper_claims = [s for s in res.stats if not s.extra and s.pipeline == "paper"]
-    fricctl_claims = [s for s in res.stats if not s.extra and s.pipeline == "fricctl"]
-    assert len(paper_claims) == len(fricctl_claims) == n_claims
-    assert sum(s.holds for s in fricctl_claims) == n_fricctl
-    assert sum(s.holds for s in paper_claims) == n_paper
-    g = np.median([res.runs[("paper", s)].gain_at_rest for s in res.seeds])
-    assert round(g, 1) == g_paper
+        res = {name: paper.reproduce_paper(bench=name, seeds=seeds, executor=ex, figures=False)
+               for name in ("consistent", "literal")}
+    claims = {(name, pipe): [s for s in r.stats if not s.extra and s.pipeline == pipe]
+              for name, r in res.items() for pipe in ("paper", "fricctl")}
+    assert {len(x) for x in claims.values()} == {int(c[2])} == {int(m[2])}
+    holds = {k: sum(s.holds for s in x) for k, x in claims.items()}
+    assert (holds[("consistent", "fricctl")], holds[("consistent", "paper")]) == (int(c[1]), int(c[3]))
+    missed = [s.id for s in claims[("consistent", "fricctl")] if not s.holds]
+    assert int(c[2]) - int(c[1]) != 1 or missed == ["nn-fit"]
+    assert (holds[("literal", "fricctl")], holds[("literal", "paper")]) == (int(m[1]), int(m[4]))
+    lit = res["literal"]
+    g = np.median([lit.runs[("paper", s)].gain_at_rest for s in lit.seeds])
+    assert round(g, 1) == float(m[3])
     # the two misses the README names as just below the 90 % line, with their seed counts
-    b = re.search(r"Fig\. 17 with the aged actuator in (\d+) of the (\d+) seeds, Fig\. 12's "
-                  r"linear-model match in (\d+)\)", text)
-    assert b, "the README's borderline sentence changed: update this test with it"
-    rate = {s.id: s.pass_rate for s in fricctl_claims}
+    rate = {s.id: s.pass_rate for s in claims[("literal", "fricctl")]}
     assert int(b[2]) == seeds
-    assert round(rate["fig17-nn"] * seeds) == int(b[1]) and round(rate["fig12-linear"] * seeds) == int(b[3])
+    assert round(rate["fig17-nn"] * seeds) == int(b[1]) and round(rate["fig18-with"] * seeds) == int(b[3])
