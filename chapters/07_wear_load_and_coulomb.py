@@ -531,12 +531,15 @@ assert 0.003 < 0.1 * phi * p.static  # the noise is a small fraction of the brea
 # the torque up.  Where the joint ends at rest, its error is inside the predicted band
 # phi Fs (1 - s g)/Kp (checked); where the compensation does not match the friction the
 # joint hunts (stick-slip in the last 0.5 s) and the "steady-state" error is a mean over
-# that motion.  No s between 0.9 and 1 restores 0.3 deg at friction x 1.2 in every seed
-# (checked): the band grows with the friction (phi Fs) and s cannot go past 1/g to make up
-# for it.  Retraining, not rescaling, is the answer to that much wear.
+# that motion.  The band grows with the friction (phi Fs) and shrinks as s approaches 1/g
+# (checked, seed by seed), so the largest s is the one that can keep 0.3 deg at friction
+# x 1.2 -- whether its widest band over the seeds is inside 0.3 deg, and the errors measured,
+# are printed below -- and s cannot go past 1/g to make up for more wear.  The same s at
+# friction x 0.8 over-compensates: read the "at rest" count there (a joint that is not at rest
+# hunts).  Retraining, not rescaling, is the answer to wear that s cannot reach.
 S_VALUES = (0.9, 0.95, 1.0)
 pl = p.with_link()
-table = {}
+table, bands = {}, {}
 for k in SEEDS:
     net_k = nets[("fricctl", k)]
     assert max(S_VALUES) < 1.0 / g[("fricctl", k)] < 1.025  # "about 1.01"
@@ -549,16 +552,23 @@ for k in SEEDS:
             dz = predicted_dead_zone(net_k.trained.net, fr * p.static, scale=scale).largest / kp
             at_rest = bool(run.stuck[w].all())
             table[(k, scale, fr)] = (e, at_rest)
+            bands[(k, scale, fr)] = dz
             if at_rest:
                 assert e <= dz + p.encoder_resolution  # a joint at rest is inside its band
-assert not any(all(table[(k, scale, 1.2)][0] < LIMIT for k in SEEDS) for scale in S_VALUES)
+for k in SEEDS:
+    for fr in (0.8, 1.2):
+        assert bands[(k, 0.9, fr)] > bands[(k, 0.95, fr)] > bands[(k, 1.0, fr)]  # shrinks with s
+    for scale in S_VALUES:
+        assert bands[(k, scale, 1.2)] > bands[(k, scale, 0.8)]  # grows with the friction
 for scale in S_VALUES:
     for fr in (0.8, 1.2):
         es = [table[(k, scale, fr)][0] for k in SEEDS]
         rest = sum(table[(k, scale, fr)][1] for k in SEEDS)
         ok = sum(e < LIMIT for e in es)
+        band = max(bands[(k, scale, fr)] for k in SEEDS)
         print(f"s = {scale:4.2f}, friction x {fr}: |e_ss| {np.round(np.rad2deg(es), 3)} deg, at rest in "
-              f"{rest}/{len(SEEDS)} seeds, < 0.3 deg in {ok}/{len(SEEDS)}")
+              f"{rest}/{len(SEEDS)} seeds, < 0.3 deg in {ok}/{len(SEEDS)}; widest predicted band "
+              f"+-{np.rad2deg(band):.2f} deg")
 
 # %% tags=["solution"]
 # Exercise 3.  Redesign the PD (0.4 s, 0.85) for each link inertia and sweep again.  At the

@@ -30,6 +30,7 @@ from fricctl.compensators import NNCompensator, NoCompensation
 from fricctl.figures import paper as fp
 from fricctl.friction import Viscous
 from fricctl.nn import r_squared
+from fricctl.paper.common import designs
 from fricctl.params import paper_actuator
 from fricctl.simulate import simulate
 
@@ -715,7 +716,6 @@ def test_divergence_fails_the_integral_limit_cycle_above_the_routh_limit():
     # steady amplitude (a limit cycle); the check must say so
     from fricctl.compensators import IntegralAction
     from fricctl.paper.benches import bench
-    from fricctl.paper.common import designs
 
     b = bench("literal")
     d = designs(b)["fig13-14"]
@@ -1133,6 +1133,10 @@ def test_reproduce_paper_one_seed(fclaims):
     assert res.summary().startswith("fricctl: ")
     md = res.markdown()
     assert "figures from seed 0" in md and "Fs*(1 - g)/Kp" in md and "paper_consistency.md" in md
+    # the g that a 0.3 deg band needs at s = 0.95, by hand: 0.95*Fs*(1 - 0.95*g)/Kp = 0.3 deg
+    kp = designs(P)["fig16-17"].kp
+    g_aged = (1 - np.deg2rad(0.3) * kp / (0.95 * P.static)) / 0.95
+    assert g_aged > 1 and f"g >= {g_aged:.3f}, above 1" in md and "no certificate of g" in md
     json.loads(res.json())
     with pytest.raises(ValueError, match="pipelines"):
         paper.reproduce_paper(P, fast=True, seeds=1, pipelines=("paper", "paper"))

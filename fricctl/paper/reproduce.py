@@ -198,13 +198,18 @@ class PaperResults:
             if gm < 1:
                 sg = AGED_SCALE * gm
                 band = AGED_SCALE * fs * (1 - sg) / kp16
+                # the g whose band AGED_SCALE*Fs*(1 - s*g)/Kp is the paper's 0.3 deg
+                g_aged = (1 - np.deg2rad(0.3) * kp16 / (AGED_SCALE * fs)) / AGED_SCALE
                 out.append(
                     f"**{name} pipeline, Figs. 16-17 (s = {AGED_SCALE:g}, friction x {AGED_SCALE:g}):** "
                     f"the stuck loop's gain is s*g = {sg:.3f}, which leaves "
                     f"+-{AGED_SCALE:g}*Fs*(1 - s*g)/Kp = +-{np.rad2deg(band):.2f} deg with the link "
                     f"design's Kp = {kp16:.3f} N*m/rad in the worst case: the 0.3 deg of fig16-nn and "
                     "fig17-nn is not guaranteed for every approach; it holds where the joint happens to "
-                    "stop closer to the reference.")
+                    "stop closer to the reference. A band under 0.3 deg at this s would need "
+                    f"g >= {g_aged:.3f}" + (", above 1, where the same network at s = 1 winds the torque "
+                    "up: no certificate of g can give these two claims, only where the joint's approach "
+                    "ends." if g_aged >= 1 else "."))
         out.append(self._statements())
         return out
 
