@@ -11,14 +11,15 @@ no code branches on a bench's name.
 
 The shipped benches are the JSON files of this package (read with :mod:`importlib.resources`):
 
-* ``literal`` -- today's bench: the paper's numbers with fricctl's first readings (0-100 % rise
-  time, Fig. 18 from 0 to 0.1 rad over 1 s, Fc/Fs 0.8); the table of ``fricctl reproduce``;
-* ``consistent`` -- the proposal of ``docs/paper_consistency.md``: the one reading under which
-  every statement of the paper holds on a noise-free bench (rise time as the time of the first
-  peak, Fig. 18 as +-0.1 rad over 2 s, Fc/Fs 0.6, the bench's true b 0.019 that the paper's
-  decay analysis reads as 0.0169), with the sensing a real bench has (encoder edge jitter,
-  current-loop noise).  With that sensing on, the claims have not yet been rated over seeds
-  (``benchmarks/README.md``, the sensing section): what holds there is measured, not implied.
+* ``consistent`` (:data:`DEFAULT_BENCH`) -- the proposal of ``docs/paper_consistency.md``: the
+  one reading under which every statement of the paper can hold (rise time as the time of the
+  first peak, Fig. 18 as +-0.1 rad over 2 s, Fc/Fs 0.6, the bench's true b 0.019 that the
+  paper's decay analysis reads as 0.0169), with the sensing a real bench has (encoder edge
+  jitter, current-loop noise).  Its claims are rated with that sensing on: the README's
+  counts, recomputed by ``tests/test_readme.py``, and ``benchmarks/bench_sensing.py`` for each
+  item's effect;
+* ``literal`` -- the paper's numbers with fricctl's first readings (0-100 % rise time, Fig. 18
+  from 0 to 0.1 rad over 1 s, Fc/Fs 0.8), noise-free; ``fricctl reproduce --bench literal``.
 
 A bench's ``sensing`` (:data:`SENSING`, :class:`Sensing`) is what its closed loops measure and
 receive besides the plant: the encoder's edge jitter at rest (position noise before
