@@ -73,6 +73,29 @@ assert all(g[("paper", k)] > 1 for k in SEEDS)
 assert all(DEFAULT_GAIN_BAND[0] <= g[("fricctl", k)] <= DEFAULT_GAIN_BAND[1] for k in SEEDS)
 
 # %% [markdown]
+#
+# **Which bench, which sensing, which velocity.**  This chapter runs on the `literal` bench:
+# the paper's numbers with fricctl's first readings (0-100 % rise time), noise-free -- an
+# encoder that reads exactly, no current-loop noise -- so that every difference below is the
+# compensation's.  `fricctl reproduce` judges the paper on the `consistent` bench by default,
+# with the sensing a real bench has; both benches' counts are on the
+# [reproduction page](../reproduction).  The paper's pipeline feeds its network the
+# backward-difference velocity; the fricctl pipeline the direction-confirmed one
+# ([`nn_confirmed`](#fricctl.compensators.ConfirmedNNCompensator)), which reads an encoder count
+# that flickers against the last one as rest -- on this noise-free bench it differs from the
+# backward difference only where one count follows rest: the first count of each start, and
+# motion slower than one count per sample.
+
+# %%
+for pipe in PIPELINES:
+    n0 = nets[(pipe, SEEDS[0])]
+    print(f"{pipe:8s}: bench {n0.bench.name}, sensing {'noise-free' if n0.bench.sensing.noise_free else 'on'}, "
+          f"velocity {n0.velocity}, compensator {type(n0.compensator()).__name__}")
+    assert n0.bench.name == "literal" and n0.bench.sensing.noise_free
+assert {pipe: nets[(pipe, SEEDS[0])].velocity for pipe in PIPELINES} == {
+    "paper": "backward-difference", "fricctl": "confirmed"}
+
+# %% [markdown]
 # ## 1. The compensated loop (paper Eq. 3)
 #
 # At sample $k$ the controller computes a control torque $T_c(k)$ [N m]; the compensator
