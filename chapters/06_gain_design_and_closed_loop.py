@@ -379,9 +379,9 @@ assert np.isclose(p.viscous, 0.0169)  # the paper's b, as the prose quotes it
 # the [reproduction page](../reproduction).  The paper's pipeline feeds its network the
 # backward-difference velocity; the fricctl pipeline the direction-confirmed one
 # ([`nn_confirmed`](#fricctl.compensators.ConfirmedNNCompensator)), which reads an encoder count
-# that flickers against the last one as rest -- on this noise-free bench it differs from the
-# backward difference only where one count follows rest: the first count of each start, and
-# motion slower than one count per sample.
+# that goes against the last one as rest (a flicker goes back and forth; motion, however slow,
+# goes on the way it went) -- on this noise-free bench it differs from the backward difference
+# only on the first count after a reversal.
 
 # %%
 for pipe in PIPELINES:

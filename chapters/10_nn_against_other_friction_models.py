@@ -45,7 +45,7 @@ from fricctl.compare import CONTENDERS, EXPERIMENTS, METRICS, PLANTS, compare, m
 from fricctl.compare.contenders import BRISTLE_COUNTS
 from fricctl.controllers import pd_control, step
 from fricctl.figures import plot_comparison
-from fricctl.paper.benches import DEFAULT_BENCH, bench
+from fricctl.paper.benches import bench
 from fricctl.paper.common import designs
 from fricctl.paper.fig14 import STEPS_DEG
 from fricctl.plant import JointModel
@@ -57,7 +57,10 @@ WORKERS = 1 if FAST else 2  # processes the comparison's jobs run on (full mode,
 # the plants: fast mode keeps the nominal plant and two perturbations; full mode all of PLANTS
 PLANT_NAMES = ("nominal", "friction_0.8", "link") if FAST else tuple(PLANTS)
 
-b = bench(DEFAULT_BENCH)
+# The literal bench, noise-free, as chapters 5-7: the comparison does not apply a bench's sensing
+# (its table says so), so every difference below is the compensators'.  `fricctl reproduce`'s
+# default bench is the consistent one; `compare(bench="consistent")` runs this table there.
+b = bench("literal")
 p = b.design_actuator  # the identified (design) model the compensators are made from
 model = JointModel.from_params(p, source="the bench's design model")
 d14 = designs(b)["fig13-14"]  # the PD (0.3 s, 0.9) of Fig. 14

@@ -1,26 +1,29 @@
 r"""The friction network fed a **direction-confirmed velocity**: ``s * T^at(Tm, omega_c)``, where
-``omega_c`` is the backward-difference velocity when the encoder's last two differences agree
-in direction (or the last moved two counts or more), and 0 otherwise.
+``omega_c`` is the backward-difference velocity when the encoder's difference goes the way of its
+last nonzero difference (or moves two counts or more), and 0 otherwise.
 
 Why: at rest an encoder edge flickers (the state-width tolerance of an optical encoder, the
 rotor's vibration under the current loop). The backward difference then reads
 ``+1, -1, +1 ...`` counts per sample, and a network whose estimate turns from ``g*Tm`` at rest
 to ``+-Fc`` at one count per sample switches its torque with it: the joint's compensation
-chatters like Coulomb compensation does. A flicker never moves the same way twice in a row;
-motion does. So the rule rejects a single count against the previous difference's direction
-and passes everything else:
+chatters like Coulomb compensation does. An edge that flickers between two counts moves back
+and forth: each of its counts goes against the one before it. Motion, however slow, goes on
+the way it went. So the rule rejects a single count against the last nonzero difference's
+direction and passes everything else:
 
 .. math::
 
    \omega_{c,k} = \begin{cases} \hat\omega_k & |\Delta y_k| \ge 2\,\delta
-   \ \text{or}\ \Delta y_k\,\Delta y_{k-1} > 0 \\ 0 & \text{otherwise} \end{cases}
+   \ \text{or}\ \Delta y_k\,d_{k-1} > 0 \\ 0 & \text{otherwise} \end{cases}
 
-with ``Delta y_k = y_k - y_{k-1}`` and ``delta`` one encoder count. The cost is one sample
-of delay on the first count of a start (the start is confirmed by the second) and motion
-slower than one count per sample read as rest -- where the network gives its rest estimate
-``g*Tm``. The threshold is the encoder's count, a property of the record, not a tuned value.
+with ``Delta y_k = y_k - y_{k-1}``, ``d_{k-1}`` the last nonzero difference before sample k
+and ``delta`` one encoder count. Motion slower than one count per sample (counts with zeros
+between) is passed count by count, as the backward difference passes it. The cost is one
+sample of delay on the first count after a reversal, or of a start against the last motion's
+direction (the second count confirms it). The threshold is the encoder's count, a property
+of the record, not a tuned value.
 
-State: ``(Delta y_{k-1})`` [rad]. Parameters: the network's compiled vector
+State: ``(d_{k-1})`` [rad], 0 before the first count. Parameters: the network's compiled vector
 (:func:`fricctl.netlayout.pack_compiled`) followed by one count [rad].
 """
 
@@ -69,6 +72,7 @@ class ConfirmedNNCompensator(Compensator):
     clip: bool = False
     name: str = "NN (confirmed velocity)"
     stateful = True
+    velocity_lag = 1  # the first count after a reversal waits for the second
 
     def __post_init__(self):
         if not all(hasattr(self.estimator, a) for a in NET_ATTRIBUTES):
@@ -90,11 +94,12 @@ class ConfirmedNNCompensator(Compensator):
 
 
 def step(p, x, tm, wh, ts):
-    """The network at (Tm_k, omega_c_k); ``x[0]`` holds the previous encoder difference."""
+    """The network at (Tm_k, omega_c_k); ``x[0]`` holds the last nonzero encoder difference."""
     count = p[p.size - 1]
     dy = wh * ts
     prev = x[X_DY_PREV]
-    x[X_DY_PREV] = dy
+    if dy != 0.0:
+        x[X_DY_PREV] = dy
     if abs(dy) >= 1.5 * count or dy * prev > 0.0:
         return forward_packed(p, tm, wh)
     return forward_packed(p, tm, 0.0)
@@ -113,4 +118,4 @@ def _make(model, design, sample_time, *, net, clip: bool = False, scale: float =
 
 ENTRY = Entry(name="nn_confirmed", kind=KIND, cls=ConfirmedNNCompensator, make=_make, step=step,
               description="the friction network on the direction-confirmed velocity (a count "
-                          "against the last difference's direction is read as rest)")
+                          "against the last nonzero difference's direction is read as rest)")

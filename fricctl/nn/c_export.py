@@ -83,9 +83,10 @@ double {name}(double tm, double omega, int clip);
 double {name}_compensation(double tm, double omega_hat, double s, int clip);
 
 /* The direction-confirmed velocity of the fricctl pipeline (fricctl.compensators.nn_confirmed)
- * [{u.velocity}]: omega_hat when the encoder's last two differences agree in direction or the
- * last moved two counts or more, else 0 (a count that flickers against the last is rest).
- * dy_prev: the controller's state, 0 at start; ts the sample time [s]; count one encoder count
+ * [{u.velocity}]: omega_hat when the encoder's difference goes the way of its last nonzero
+ * difference or moves two counts or more, else 0 (a count that flickers against the last is
+ * rest). dy_prev: the controller's state (the last nonzero difference [{u.position}]), 0 at
+ * start; ts the sample time [s]; count one encoder count
  * [{u.position}]. Its compensation: NAME_compensation(tm, NAME_confirmed_velocity(&dy_prev,
  * omega_hat, ts, count), s, clip). */
 double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, double count);
@@ -196,7 +197,7 @@ double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, d
 {{
     const double dy = omega_hat * ts;
     const double prev = *dy_prev;
-    *dy_prev = dy;
+    if (dy != 0.0) *dy_prev = dy;
     return (fabs(dy) >= 1.5 * count || dy * prev > 0.0) ? omega_hat : 0.0;
 }}
 
