@@ -25,9 +25,10 @@ the PD steady-state error below 0.3 deg over friction scale and link inertia.
 aggregates the claims (:mod:`~fricctl.paper.table`; ``fricctl reproduce``).
 
 Everything runs on a *bench* (:mod:`~fricctl.paper.benches`: a model file of the plant plus
-the experiments' settings, each value with its provenance): ``literal`` (the default, today's)
-or ``consistent`` (the readings under which every statement of the paper holds,
-``docs/paper_consistency.md``); the network carries it (``network.bench``) and the figures
+the experiments' settings, each value with its provenance): ``consistent`` (the default: the
+readings under which every statement of the paper can hold, ``docs/paper_consistency.md``, with
+the sensing a real bench has) or ``literal`` (the paper's numbers with fricctl's first readings,
+noise-free; what an ActuatorParams given alone is judged with); the network carries it (``network.bench``) and the figures
 read their designs, Fig. 18's sawtooth and Fig. 11's reading from it.
 
 Assumptions (the paper does not give these; labelled as such in the results):
