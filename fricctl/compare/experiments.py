@@ -252,7 +252,7 @@ def oscillation(run: SimResult, *, periods: int = LC_PERIODS, steady: float = ST
         Least ratio of the last two half-cycles' swing to the first two's that counts as
         sustained (> 0; :data:`fricctl.paper.runaway.STEADY`) [-].
     held : float
-        Share of the largest |Tm| up to which the motor torque counts as held (>= 0;
+        Share of the largest ``|Tm|`` up to which the motor torque counts as held (>= 0;
         :data:`TORQUE_HELD`) [-].
 
     Returns
