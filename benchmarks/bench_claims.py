@@ -84,10 +84,10 @@ def main() -> None:
                        ("fig14-accuracy", "Fig. 14 |e_ss| [deg]"),
                        ("fig14-steps", "eight PD steps, largest |e_ss| [deg]"),
                        ("dead-zone", "dead-zone reduction factor [x]")):
-        a, b = stats[("paper", cid)], stats[("fricctl", cid)]
-        print(f"| {label}: passed; median [min, max] | {a.n_passed}/{a.n_seeds}; "
-              f"{a.median:.3g} [{a.minimum:.3g}, {a.maximum:.3g}] | {b.n_passed}/{b.n_seeds}; "
-              f"{b.median:.3g} [{b.minimum:.3g}, {b.maximum:.3g}] |")
+        sp, sf = stats[("paper", cid)], stats[("fricctl", cid)]
+        print(f"| {label}: passed; median [min, max] | {sp.n_passed}/{sp.n_seeds}; "
+              f"{sp.median:.3g} [{sp.minimum:.3g}, {sp.maximum:.3g}] | {sf.n_passed}/{sf.n_seeds}; "
+              f"{sf.median:.3g} [{sf.minimum:.3g}, {sf.maximum:.3g}] |")
     for name in ("paper", "fricctl"):
         paper_claims = [s for (pl, _), s in stats.items() if pl == name and not s.extra]
         print(f"\n{name}: {sum(s.holds for s in paper_claims)} of {len(paper_claims)} paper claims hold "

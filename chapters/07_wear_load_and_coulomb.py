@@ -430,7 +430,8 @@ sweeps = {}
 with ThreadPoolExecutor(max_workers=2) as pool:
     for k in SEEDS:
         sweeps[k] = paper.robustness_sweep(nets[("fricctl", k)].trained.net, p, friction_scales=SCALES,
-                                           link_inertias=LINKS, executor=pool)
+                                           link_inertias=LINKS, executor=pool,
+                                           velocity=nets[("fricctl", k)].velocity)
 print(sweeps[SEEDS[0]].report())
 within = np.mean([sw.within for sw in sweeps.values()], axis=0)  # share of seeds < 0.3 deg
 err = np.array([sw.error_nn for sw in sweeps.values()])            # (seed, link, scale) [rad]
@@ -585,7 +586,7 @@ for k in SEEDS:
     for link in LINKS:
         d_link = design_pd(p.with_link(link), rise_time=0.4, damping=0.85)
         rows.append(paper.robustness_sweep(net_k, p, friction_scales=SCALES, link_inertias=(link,),
-                                           design=d_link).error_nn[0])
+                                           design=d_link, velocity=nets[("fricctl", k)].velocity).error_nn[0])
     redesigned = np.array(rows)
     i_nom = list(LINKS).index(PAPER_LINK_INERTIA)
     np.testing.assert_allclose(redesigned[i_nom], sweeps[k].error_nn[i_nom], atol=1e-9)

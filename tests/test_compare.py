@@ -52,9 +52,9 @@ def test_network_contender_is_built_from_a_given_network_without_training():
                       input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
                       envelope_low=[-1, -1], envelope_high=[1, 1])
     comp = make_contender("nn", B.model, D, 0.002, seed=3, options={"network": net.to_json()})
-    # the fricctl pipeline's network on its velocity, one count of the model's encoder
+    # the fricctl pipeline's network on its velocity (the direction-confirmed one)
     assert isinstance(comp, ConfirmedNNCompensator) and comp.name == "nn"
-    assert comp.estimator.to_json() == net.to_json() and comp.count == B.model.encoder_resolution
+    assert comp.estimator.to_json() == net.to_json()
     # the paper's on the backward difference
     comp = make_contender("nn_paper", B.model, D, 0.002, seed=3, options={"network": net.to_json()})
     assert type(comp) is NNCompensator and comp.estimator.to_json() == net.to_json()

@@ -16,7 +16,8 @@ DIR:
   claims.json  one object per (claim, pipeline): id, claim, paper, measured, passed,
                figure, note, pipeline, n_seeds, pass_rate, measured_median/min/max, ...;
   nets/<pipeline>-seed<K>.json   every trained network (re-run one with
-               `fricctl simulate --compensation nn --net ...`);
+               `fricctl simulate --compensation nn_confirmed --net ...` for
+               the fricctl pipeline's, `--compensation nn` for the paper's);
   figures/<pipeline>-seed<K>/    one PNG per figure of the representative seed (the
                seed whose number of claims passed is the median), the coast test and a
                robustness sweep;

@@ -19,7 +19,8 @@ overlaid figure.  Besides none, coulomb and nn, ``--compensation`` takes every c
 of the registry (:func:`fricctl.compensators.available`: the static-model feedforward, the
 LuGre observer, the disturbance observer, integral action ...), built from the model by
 :func:`fricctl.compensators.make` (integral action from the P/PD gains on the model's
-inertia and viscous coefficient).  ``--c-source NAME.c`` (with ``--compensation nn``, or one
+inertia and viscous coefficient).  ``--c-source NAME.c`` (with ``--compensation nn`` or
+``nn_confirmed`` -- the network's C, whose header also gives the confirmed velocity --, or one
 compensation that has a C export: :func:`fricctl.compensators.c_export.exportable`) also
 writes the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 (:func:`fricctl.nn.c_export.c_source`, :func:`fricctl.compensators.c_export.c_source`;
@@ -168,7 +169,8 @@ def register(sub):
                         ".pdf or .svg (a folder or a bare name is refused: nothing is written "
                         "beside it)")
     p.add_argument("--c-source", metavar="NAME.c", default=None,
-                   help="with --compensation nn (or one compensation with a C export: "
+                   help="with --compensation nn or nn_confirmed (the network's C; its header gives "
+                        "the confirmed velocity too), or one compensation with a C export ("
                         "feedforward, lugre_observer, dob, integral): write the compensator "
                         "as C (NAME.c, NAME.h)")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -259,8 +261,8 @@ def _controller(args, plant, kind: str = "rotary"):
 def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=None):
     """The compensator ``name`` (one of :func:`compensations`); ``plant`` (the model or the
     paper's actuator) and ``ctrl`` (the controller: its gains) build the registry's others."""
-    from ..compensators import (ConfirmedNNCompensator, CoulombCompensator, NNCompensator,
-                                NoCompensation, make)
+    from ..compensators import CoulombCompensator, NoCompensation, make
+    from ..compensators.nn_confirmed import network_compensator
 
     if name not in ("none", "coulomb", *_NETS):
         from ..design import LinearLoop
@@ -285,14 +287,8 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=N
         return CoulombCompensator(coulomb_pos=coulomb_pos, coulomb_neg=coulomb_neg, scale=scale)
     from ..nn import load_net
 
-    net = load_net(args.net)
-    if name == "nn_confirmed":
-        count = getattr(plant, "encoder_resolution", None)
-        if count is None or not count > 0:
-            raise ValueError("--compensation nn_confirmed: the model has no encoder_resolution "
-                             "(one count) to confirm a direction with")
-        return ConfirmedNNCompensator(net, count=float(count), scale=scale, clip=args.clip)
-    return NNCompensator(net, scale=scale, clip=args.clip)
+    return network_compensator(load_net(args.net), "confirmed" if name == "nn_confirmed"
+                               else "backward-difference", scale=scale, clip=args.clip)
 
 
 def _bristle(args, plant) -> dict:

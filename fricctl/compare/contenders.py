@@ -33,8 +33,8 @@ from types import MappingProxyType
 from typing import Callable, Mapping
 
 from .. import _validate as v
-from ..compensators import (Compensator, ConfirmedNNCompensator, CoulombCompensator, NNCompensator,
-                           NoCompensation)
+from ..compensators import Compensator, CoulombCompensator, NoCompensation
+from ..compensators.nn_confirmed import network_compensator
 
 __all__ = ["Contender", "CONTENDERS", "REGISTERED", "contender", "contender_names", "make_contender"]
 
@@ -172,10 +172,10 @@ def _network(pipeline: str, name: str):
         text = options["network"] if "network" in options else _given(options, seed)
         if text is None:
             text = _trained(pipeline, bench, seed, fast)
-        net = FrictionNet.from_json(text)
-        if pipeline == "fricctl":  # the pipeline's velocity (fricctl.paper.PaperNetwork.compensator)
-            return ConfirmedNNCompensator(net, count=model.encoder_resolution, name=name)
-        return NNCompensator(net, name=name)
+        from ..paper.network import pipeline_velocity
+
+        # the pipeline's velocity, as its figures run it (fricctl.paper.PaperNetwork.compensator)
+        return network_compensator(FrictionNet.from_json(text), pipeline_velocity(pipeline), name=name)
 
     return factory, prepare
 

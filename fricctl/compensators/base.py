@@ -67,10 +67,6 @@ class Compensator:
     units: str | None = None
     #: True when it has a state (it runs in the compiled loop only; no ``__call__``).
     stateful: bool = False
-    #: Samples by which the velocity it reads reports a start later than the loop's backward
-    #: difference (0; 1 for the direction-confirmed velocity, which waits for a second count):
-    #: the runaway check :func:`fricctl.paper.runaway.wind_up` allows for it [samples].
-    velocity_lag: int = 0
 
     @property
     def needs_reference(self) -> bool:

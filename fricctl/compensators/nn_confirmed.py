@@ -1,6 +1,6 @@
 r"""The friction network fed a **direction-confirmed velocity**: ``s * T^at(Tm, omega_c)``, where
 ``omega_c`` is the backward-difference velocity when the encoder's difference goes the way of its
-last nonzero difference (or moves two counts or more), and 0 otherwise.
+last nonzero difference, and 0 otherwise.
 
 Why: at rest an encoder edge flickers (the state-width tolerance of an optical encoder, the
 rotor's vibration under the current loop). The backward difference then reads
@@ -8,23 +8,25 @@ rotor's vibration under the current loop). The backward difference then reads
 to ``+-Fc`` at one count per sample switches its torque with it: the joint's compensation
 chatters like Coulomb compensation does. An edge that flickers between two counts moves back
 and forth: each of its counts goes against the one before it. Motion, however slow, goes on
-the way it went. So the rule rejects a single count against the last nonzero difference's
-direction and passes everything else:
+the way it went. So the rule reads a difference against the last nonzero difference's
+direction as rest and passes everything else:
 
 .. math::
 
-   \omega_{c,k} = \begin{cases} \hat\omega_k & |\Delta y_k| \ge 2\,\delta
-   \ \text{or}\ \Delta y_k\,d_{k-1} > 0 \\ 0 & \text{otherwise} \end{cases}
+   \omega_{c,k} = \begin{cases} \hat\omega_k & \Delta y_k\,d_{k-1} > 0 \\
+   0 & \text{otherwise} \end{cases}
 
-with ``Delta y_k = y_k - y_{k-1}``, ``d_{k-1}`` the last nonzero difference before sample k
-and ``delta`` one encoder count. Motion slower than one count per sample (counts with zeros
-between) is passed count by count, as the backward difference passes it. The cost is one
-sample of delay on the first count after a reversal, or of a start against the last motion's
-direction (the second count confirms it). The threshold is the encoder's count, a property
-of the record, not a tuned value.
+with ``Delta y_k = y_k - y_{k-1}`` and ``d_{k-1}`` the last nonzero difference before sample k.
+The rule has no parameter (it compares directions, not sizes), so it cannot be set for another
+encoder than the loop's. Motion slower than one count per sample (counts with zeros between)
+is passed count by count, as the backward difference passes it. The cost: after a reversal,
+or at a start against the last motion's direction, the network sees rest until the second
+count confirms the direction -- one count interval, several samples at a slow breakaway. The
+runaway check :func:`fricctl.paper.runaway.wind_up` does not allow for it: a torque beyond the
+friction bound in that interval counts as it does for any compensator.
 
-State: ``(d_{k-1})`` [rad], 0 before the first count. Parameters: the network's compiled vector
-(:func:`fricctl.netlayout.pack_compiled`) followed by one count [rad].
+State: ``(d_{k-1})`` [rad], 0 before the first count (the first count is read as rest).
+Parameters: the network's compiled vector (:func:`fricctl.netlayout.pack_compiled`).
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from .. import _validate as v
 from ..netlayout import NET_ATTRIBUTES, forward_packed, pack_compiled
 from .base import Compensator, CompiledCompensator, Entry
 
-__all__ = ["ConfirmedNNCompensator", "ENTRY", "VELOCITIES"]
+__all__ = ["ConfirmedNNCompensator", "ENTRY", "VELOCITIES", "network_compensator"]
 
 #: Kind id in the compiled loop.
 KIND = 7
@@ -57,8 +59,6 @@ class ConfirmedNNCompensator(Compensator):
     estimator : FrictionNet
         A trained :class:`fricctl.nn.FrictionNet` (compiled loop only). The only positional
         argument.
-    count : float
-        One encoder count [rad] (> 0): the joint model's encoder resolution.
     scale : float
         s [-].
     clip : bool
@@ -67,18 +67,15 @@ class ConfirmedNNCompensator(Compensator):
 
     estimator: Callable
     _: KW_ONLY
-    count: float
     scale: float = 1.0
     clip: bool = False
     name: str = "NN (confirmed velocity)"
     stateful = True
-    velocity_lag = 1  # the first count after a reversal waits for the second
 
     def __post_init__(self):
         if not all(hasattr(self.estimator, a) for a in NET_ATTRIBUTES):
             raise ValueError("estimator must be a trained fricctl.nn.FrictionNet, got "
                              f"{type(self.estimator).__name__}")
-        v.real("count", self.count, positive=True, unit="rad")
         v.real("scale", self.scale, nonneg=True)
         v.flag("clip", self.clip)
         v.text("name", self.name)
@@ -89,31 +86,38 @@ class ConfirmedNNCompensator(Compensator):
         return kind if isinstance(kind, str) else None
 
     def compiled(self):
-        p = np.append(pack_compiled(self.estimator, self.clip), float(self.count))
-        return CompiledCompensator(kind=KIND, params=p, state=np.zeros(1))
+        return CompiledCompensator(kind=KIND, params=pack_compiled(self.estimator, self.clip),
+                                   state=np.zeros(1))
 
 
 def step(p, x, tm, wh, ts):
     """The network at (Tm_k, omega_c_k); ``x[0]`` holds the last nonzero encoder difference."""
-    count = p[p.size - 1]
     dy = wh * ts
     prev = x[X_DY_PREV]
     if dy != 0.0:
         x[X_DY_PREV] = dy
-    if abs(dy) >= 1.5 * count or dy * prev > 0.0:
+    if dy * prev > 0.0:
         return forward_packed(p, tm, wh)
     return forward_packed(p, tm, 0.0)
 
 
-def _make(model, design, sample_time, *, net, clip: bool = False, scale: float = 1.0):
-    """``net``: a trained FrictionNet; one count is the model's encoder resolution."""
-    from .base import joint_model
+def network_compensator(net, velocity: str, *, scale: float = 1.0, **options) -> Compensator:
+    """The compensator that feeds ``net`` the velocity ``velocity`` (one of :data:`VELOCITIES`):
+    an :class:`~fricctl.compensators.NNCompensator` on the backward difference, or a
+    :class:`ConfirmedNNCompensator`; ``options`` (``clip``, ``name``) go to it."""
+    from .network import NNCompensator
 
-    count = joint_model(model).encoder_resolution
-    if count is None or not count > 0:
-        raise ValueError("nn_confirmed: the model has no encoder resolution (one count [rad]) "
-                         "to confirm a direction with")
-    return ConfirmedNNCompensator(net, count=float(count), clip=clip, scale=scale)
+    if v.choice("velocity", velocity, VELOCITIES) == "confirmed":
+        return ConfirmedNNCompensator(net, scale=scale, **options)
+    return NNCompensator(net, scale=scale, **options)
+
+
+def _make(model, design, sample_time, *, net=None, clip: bool = False, scale: float = 1.0):
+    """``net``: a trained FrictionNet (``fricctl.nn.load_net(path)`` reads one)."""
+    if net is None or not all(hasattr(net, a) for a in NET_ATTRIBUTES):
+        raise ValueError("nn_confirmed: net must be a trained fricctl.nn.FrictionNet (fricctl.nn.load_net "
+                         f"reads one from its JSON file), got {type(net).__name__}")
+    return ConfirmedNNCompensator(net, clip=clip, scale=scale)
 
 
 ENTRY = Entry(name="nn_confirmed", kind=KIND, cls=ConfirmedNNCompensator, make=_make, step=step,

@@ -84,12 +84,12 @@ double {name}_compensation(double tm, double omega_hat, double s, int clip);
 
 /* The direction-confirmed velocity of the fricctl pipeline (fricctl.compensators.nn_confirmed)
  * [{u.velocity}]: omega_hat when the encoder's difference goes the way of its last nonzero
- * difference or moves two counts or more, else 0 (a count that flickers against the last is
- * rest). dy_prev: the controller's state (the last nonzero difference [{u.position}]), 0 at
- * start; ts the sample time [s]; count one encoder count
- * [{u.position}]. Its compensation: NAME_compensation(tm, NAME_confirmed_velocity(&dy_prev,
- * omega_hat, ts, count), s, clip). */
-double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, double count);
+ * difference, else 0 (a count that flickers against the last is rest). omega_hat must be the
+ * raw backward difference of the encoder over ts (not a filtered velocity): the direction is
+ * read from omega_hat*ts. dy_prev: the controller's state (the last nonzero difference
+ * [{u.position}]), 0 at start; ts the sample time [s]. Its compensation:
+ * NAME_compensation(tm, NAME_confirmed_velocity(&dy_prev, omega_hat, ts), s, clip). */
+double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts);
 
 /* out[i] = {name}(tm[i], omega[i], clip) for i < n. */
 void {name}_batch(const double *tm, const double *omega, double *out, long n, int clip);
@@ -112,8 +112,7 @@ def c_source(net: FrictionNet, *, name: str = "fricctl_friction_net", units: str
 
         double NAME(double tm, double omega, int clip);
         double NAME_compensation(double tm, double omega_hat, double s, int clip);
-        double NAME_confirmed_velocity(double *dy_prev, double omega_hat, double ts,
-                                       double count);
+        double NAME_confirmed_velocity(double *dy_prev, double omega_hat, double ts);
         void NAME_batch(const double *tm, const double *omega, double *out,
                         long n, int clip);
         int NAME_outside(double tm, double omega);
@@ -193,12 +192,12 @@ double {name}_compensation(double tm, double omega_hat, double s, int clip)
     return s * {name}(tm, omega_hat, clip);
 }}
 
-double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts, double count)
+double {name}_confirmed_velocity(double *dy_prev, double omega_hat, double ts)
 {{
     const double dy = omega_hat * ts;
     const double prev = *dy_prev;
     if (dy != 0.0) *dy_prev = dy;
-    return (fabs(dy) >= 1.5 * count || dy * prev > 0.0) ? omega_hat : 0.0;
+    return dy * prev > 0.0 ? omega_hat : 0.0;
 }}
 
 void {name}_batch(const double *tm, const double *omega, double *out, long n, int clip)

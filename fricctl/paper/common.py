@@ -120,9 +120,11 @@ def stick_intervals_after_motion(result: SimResult, min_duration: float = STICK_
 
 
 def periods_with_motion(result: SimResult, period: float, periods: int) -> int:
-    """Of the ``periods`` periods of ``period`` [s] a run spans, those in which the encoder moves
-    by more than one count (a joint that stick-slips keeps moving in every period; one parked
-    after a start-up transient does not)."""
+    """Of the ``periods`` periods of ``period`` [s] a run spans, those in which the joint (its true
+    position) moves by more than one encoder count (a joint that stick-slips keeps moving in every
+    period; one parked after a start-up transient does not)."""
+    period = v.real("period", period, positive=True, unit="s")
+    periods = v.integer("periods", periods, low=1)
     res = result.info.encoder_resolution
     k = np.minimum((result.t / period).astype(int), periods - 1)
     return int(sum(np.ptp(result.q[k == j]) > res for j in range(periods) if np.any(k == j)))

@@ -20,6 +20,7 @@ import numpy as np
 from .. import _validate as v
 from ..bench.experiments import BenchPatterns, Experiment, friction_patterns, training_experiments
 from ..compensators import ConfirmedNNCompensator, NNCompensator
+from ..compensators.nn_confirmed import network_compensator
 from ..design import DesignWarning
 from ..nn import FitReport, FrictionNet, fit_report
 from ..nn.cache import cached_pipeline_net
@@ -122,9 +123,7 @@ class PaperNetwork:
         is read as rest, so encoder jitter at rest does not switch the estimate between its rest
         and its sliding branch.
         """
-        if self.velocity == "confirmed":
-            return ConfirmedNNCompensator(self.net, count=self.params.encoder_resolution, scale=scale)
-        return NNCompensator(self.net, scale=scale)
+        return network_compensator(self.net, self.velocity, scale=scale)
 
     def experiment(self, name: str) -> Experiment:
         """The training experiment called ``name`` (e.g. ``"open-loop steps"``)."""

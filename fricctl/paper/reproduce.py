@@ -236,7 +236,9 @@ class PaperResults:
                f"seed{'s' if n != 1 else ''} (0-{n - 1}) per pipeline. Assumptions of the experiments "
                "are listed in `fricctl.paper`'s module docstring. Every network is in "
                "`nets/<pipeline>-seed<K>.json` (re-run one with "
-               "`fricctl simulate --compensation nn --net nets/<pipeline>-seed<K>.json`).\n\n"
+               "`fricctl simulate --compensation nn_confirmed --net nets/fricctl-seed<K>.json`, the "
+               "fricctl pipeline's direction-confirmed velocity; `--compensation nn --net "
+               "nets/paper-seed<K>.json`, the paper's backward difference).\n\n"
                "| pipeline | seed | gain at rest g | held-out fit [%] | held-out R^2 | claims passed | "
                "certified |\n"
                "|---|---|---|---|---|---|---|\n")

@@ -44,9 +44,9 @@ __all__ = ["RunawayCheck", "wind_up", "divergence", "torque_check", "reversal", 
 #: sample k acts from k+1 on (one-sample delay), and the backward-difference velocity
 #: reports a motion one sample after it starts.  5 samples leaves that margin twice over
 #: and is still 10 ms, far shorter than any wind-up the paper pipeline shows (hundreds
-#: of samples).  A compensator whose velocity reports a start later still
-#: (``run.info.velocity_lag`` samples: the direction-confirmed velocity's one) is allowed
-#: twice that lag more, by the same rule.
+#: of samples).  A compensator whose velocity reports a start later still (the
+#: direction-confirmed velocity after a reversal: a count interval) gets no more: its excess
+#: in that interval counts.
 WIND_UP_SAMPLES = 5
 #: Share of a run, at its end, in which the torque beyond the friction bound must have died
 #: out for a compensator that is not a friction estimate (:func:`divergence`) [-].  The
@@ -155,7 +155,7 @@ def _true_runs(mask: np.ndarray, longer_than: int) -> list:
     return [(int(a), int(e - a)) for a, e in zip(starts, ends) if e - a > longer_than]
 
 
-def wind_up(run: SimResult, *, max_samples: int | None = None) -> RunawayCheck:
+def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayCheck:
     """Does the motor torque exceed the control torque by more than any friction could explain?
 
     The compensated loop commands ``Tm(k+1) = Tc(k) + s*T^at(k)``.  The friction of
@@ -169,10 +169,9 @@ def wind_up(run: SimResult, *, max_samples: int | None = None) -> RunawayCheck:
     ----------
     run : SimResult
         The compensated run.
-    max_samples : int, optional
-        Longest run of samples allowed beyond the bound [samples]; default
-        :data:`WIND_UP_SAMPLES` plus twice the compensator's velocity lag
-        (``run.info.velocity_lag``; see :data:`WIND_UP_SAMPLES` for why).
+    max_samples : int
+        Longest run of samples allowed beyond the bound [samples] (see
+        :data:`WIND_UP_SAMPLES` for why 5).
 
     Returns
     -------
@@ -188,8 +187,7 @@ def wind_up(run: SimResult, *, max_samples: int | None = None) -> RunawayCheck:
     in bounded transients: :func:`divergence` judges those.
     """
     r = _run(run)
-    max_samples = (WIND_UP_SAMPLES + 2 * r.info.velocity_lag if max_samples is None
-                   else v.integer("max_samples", max_samples, low=0))
+    max_samples = v.integer("max_samples", max_samples, low=0)
     t, excess = _excess(r)
     n, start = _longest_true_run(excess > 1e-12)
     ok = n <= max_samples

@@ -9,8 +9,8 @@ import numpy as np
 
 from .. import _validate as v
 from .. import controllers as ctl
-from ..compensators import ConfirmedNNCompensator, NNCompensator, NoCompensation
-from ..compensators.nn_confirmed import VELOCITIES
+from ..compensators import NoCompensation
+from ..compensators.nn_confirmed import VELOCITIES, network_compensator
 from ..design import Design
 from ..nn import FrictionNet
 from ..params import ActuatorParams, paper_actuator
@@ -90,9 +90,8 @@ def _sweep_row(params: ActuatorParams, net_json: str, scales: tuple, kp: float, 
     base = params.friction_model()
     frs = [base.scaled(float(s)) for s in scales]
     c = ctl.pd_control(kp, kd, ctl.step(step))
-    comp = (ConfirmedNNCompensator(net, count=params.encoder_resolution, scale=comp_scale)
-            if velocity == "confirmed" else NNCompensator(net, scale=comp_scale))
-    nn = simulator(params, c, comp, duration=duration, friction=frs)
+    nn = simulator(params, c, network_compensator(net, velocity, scale=comp_scale), duration=duration,
+                   friction=frs)
     none = simulator(params, c, NoCompensation(), duration=duration, friction=frs)
     last = nn.t >= nn.t[-1] - SS_WINDOW + 1e-12   # the window steady_state_error averages over
     return _Row(error_nn=np.abs(nn.steady_state_error(SS_WINDOW)),

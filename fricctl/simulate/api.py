@@ -315,7 +315,7 @@ def simulate_batch(params, controller, compensator=None, *, duration: float,
         kd=clist[i].kd, compensator=comps[i].name, compensation_scale=comps[i].scale,
         plant=plant_label(kind, frs[i]), substeps=int(substeps),
         delay=int(delay), noise_std=float(noise_std), encoder_resolution=float(res[i]), loop=path,
-        position_noise_std=float(pos_std), velocity_lag=int(comps[i].velocity_lag))
+        position_noise_std=float(pos_std))
         for i in range(n))
     return BatchResult(t=t, infos=infos, **_arrays(out, stuck))
 
@@ -508,8 +508,7 @@ def simulate_model(model: JointModel, controller: Controller,
                        kp=controller.kp, kd=controller.kd, compensator=comp.name,
                        compensation_scale=comp.scale, plant=plant_label(a.kind, fr),
                        substeps=int(substeps), delay=int(loop.delay), noise_std=float(noise_std),
-                       encoder_resolution=float(res), loop=path, position_noise_std=float(pos_std),
-                       velocity_lag=int(comp.velocity_lag))
+                       encoder_resolution=float(res), loop=path, position_noise_std=float(pos_std))
 
 
 class Schedule:

@@ -46,9 +46,6 @@ class SimInfo:
     """``"compiled"`` or ``"python"`` (a compensator only Python can evaluate)."""
     position_noise_std: float = 0.0
     """White position noise added before the encoder quantises (edge jitter) [rad]."""
-    velocity_lag: int = 0
-    """Samples by which the compensator's velocity reports a start later than the backward
-    difference (:attr:`fricctl.compensators.Compensator.velocity_lag`) [samples]."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
