@@ -157,3 +157,25 @@ def test_cli_runs_it_with_a_net_and_refuses_it_without(tmp_path, capsys):
     assert main([*common, "--compensation", "nn_confirmed"]) == 2
     err = capsys.readouterr().err
     assert "--compensation nn_confirmed needs --net" in err and err.count("\n") == 1
+
+
+def test_cli_tells_when_a_net_runs_on_another_velocity_than_its_pipeline_s(tmp_path, capsys):
+    import json
+    from dataclasses import replace
+
+    from fricctl.cli import main
+    from fricctl.nn import save_net
+
+    common = ["simulate", "--controller", "pd", "--kp", "2", "--kd", "0.05", "--reference", "step:0.2",
+              "--duration", "1", "--json"]
+    for pipeline, right, wrong in (("fricctl", "nn_confirmed", "nn"), ("paper", "nn", "nn_confirmed")):
+        path = save_net(replace(NET, metadata={"pipeline": pipeline}), tmp_path / f"{pipeline}.json")
+        assert main([*common, "--compensation", f"{right},{wrong}", "--net", str(path)]) == 0
+        runs = json.loads(capsys.readouterr().out)["runs"]
+        notes = [[w for w in r["warnings"] if "pipeline" in w] for r in runs]
+        assert notes[0] == [] and len(notes[1]) == 1
+        assert f"trained by the {pipeline} pipeline" in notes[1][0] and f"--compensation {right} runs" in notes[1][0]
+    # a net that does not say its pipeline gets no note
+    path = save_net(NET, tmp_path / "plain.json")
+    assert main([*common, "--compensation", "nn", "--net", str(path)]) == 0
+    assert not [w for w in json.loads(capsys.readouterr().out)["warnings"] if "pipeline" in w]

@@ -319,6 +319,26 @@ def _bristle(args, plant) -> dict:
     return out
 
 
+def _velocity_note(name: str, comp) -> list:
+    """A warning when a network is run on another velocity than its pipeline's claims fed it
+    (its file's ``metadata["pipeline"]``; :func:`fricctl.paper.network.pipeline_velocity`)."""
+    if name not in _NETS:
+        return []
+    pipeline = comp.estimator.metadata.get("pipeline")
+    if pipeline not in ("paper", "fricctl"):
+        return []
+    from ..paper.network import pipeline_velocity
+
+    want = pipeline_velocity(pipeline)
+    have = "confirmed" if name == "nn_confirmed" else "backward-difference"
+    if want == have:
+        return []
+    other = "nn_confirmed" if want == "confirmed" else "nn"
+    return [f"this network was trained by the {pipeline} pipeline, whose claims feed it the {want} "
+            f"velocity; --compensation {name} feeds it the {have} one (--compensation {other} runs "
+            "it as the claims did)"]
+
+
 def _outputs(args) -> dict:
     outs = {"--csv": args.csv, "--figure": args.figure, "--c-source": args.c_source}
     if args.c_source is not None:
@@ -439,7 +459,7 @@ def run(args) -> int:
         units = None
     period = _torque_period(args, ctrl)
     warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res, comp, period)
-             for res, comp in zip(results, comps)]
+             + _velocity_note(name, comp) for res, comp, name in zip(results, comps, args.compensation)]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
         res = results[0]
