@@ -259,7 +259,7 @@ def test_a_plant_with_noise_runs_every_compensator_over_the_seeds():
     (dict(seeds=0), "seeds"),
     (dict(bench="bogus"), "bench"),
     (dict(compensators=("none",), options={"nn": {}}), "not compared"),
-    (dict(compensators=("nn",), options={"nn": {"bench": "consistent"}}), "not the compared bench"),
+    (dict(compensators=("nn",), options={"nn": {"bench": "literal"}}), "not the compared bench"),
     (dict(executor=object()), "Executor"),
 ])
 def test_bad_compare_arguments_raise(kwargs, match):
