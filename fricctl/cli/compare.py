@@ -155,22 +155,13 @@ def bristle(args, compared) -> dict:
     """The LuGre observer's options of ``--sigma0`` / ``--sigma1`` (``{}`` without them), each a
     finite number > 0 (>= 0 for the damping) in its unit; refused when ``compared`` (the
     compensators run) leaves the observer out."""
-    from .. import _validate as v
-    from ..units import parse_quantity
+    from .simulate import bristle_options
 
-    given = {k: getattr(args, k) for k in ("sigma0", "sigma1") if getattr(args, k) is not None}
+    given = [k for k in ("sigma0", "sigma1") if getattr(args, k) is not None]
     if given and "lugre_observer" not in compared:
-        raise ValueError(f"--{next(iter(given))} has no effect: it is lugre_observer's, which --compensators "
+        raise ValueError(f"--{given[0]} has no effect: it is lugre_observer's, which --compensators "
                          "leaves out")
-    out = {}
-    for key, text in given.items():
-        unit = "N*m/rad" if key == "sigma0" else "N*m*s/rad"
-        try:
-            x = parse_quantity(str(text).strip(), "stiffness" if key == "sigma0" else "viscous")
-        except ValueError as exc:
-            raise ValueError(f"--{key}: {exc}") from None
-        out[key] = v.real(f"--{key}", x, positive=key == "sigma0", nonneg=True, unit=unit)
-    return out
+    return bristle_options(args)  # the benches are rotary
 
 
 def run(args) -> int:

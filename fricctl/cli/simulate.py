@@ -291,15 +291,13 @@ def _compensator(name, args, scale, coulomb_pos, coulomb_neg, plant=None, ctrl=N
                                else "backward-difference", scale=scale, clip=args.clip)
 
 
-def _bristle(args, plant) -> dict:
-    """``sigma0`` / ``sigma1`` of ``--sigma0`` / ``--sigma1`` in the plant's units (checked: a
-    finite stiffness > 0, a damping >= 0); a model without a LuGre law and no ``--sigma0`` is
-    refused here, naming the option."""
+def bristle_options(args, kind: str = "rotary") -> dict:
+    """``sigma0`` / ``sigma1`` of the options ``--sigma0`` / ``--sigma1`` that were given, in the
+    axis's units (a unit suffix accepted), checked: a finite stiffness > 0, a damping >= 0.
+    Shared by ``fricctl simulate`` and ``fricctl compare``."""
     from .. import _validate as v
-    from ..compensators.base import friction_of
     from ..units import parse_quantity, units
 
-    kind = getattr(plant, "units", "rotary")
     u = units(kind)
     out = {}
     for key, quantity in (("sigma0", "stiffness"), ("sigma1", "viscous")):
@@ -312,6 +310,18 @@ def _bristle(args, plant) -> dict:
         except ValueError as exc:
             raise ValueError(f"--{key}: {exc}") from None
         out[key] = v.real(f"--{key}", x, positive=key == "sigma0", nonneg=True, unit=unit)
+    return out
+
+
+def _bristle(args, plant) -> dict:
+    """:func:`bristle_options` in the plant's units; a model without a LuGre law and no
+    ``--sigma0`` is refused here, naming the option."""
+    from ..compensators.base import friction_of
+    from ..units import units
+
+    kind = getattr(plant, "units", "rotary")
+    u = units(kind)
+    out = bristle_options(args, kind)
     if "sigma0" not in out and not friction_of(plant).lugre_sigma0 > 0.0:
         raise ValueError("--compensation lugre_observer: the model has no LuGre law (lugre_sigma0 = 0): "
                          f"give the bristle stiffness with --sigma0 [{u.stiffness}] (and its "
