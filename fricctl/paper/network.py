@@ -118,10 +118,9 @@ class PaperNetwork:
 
         The paper's pipeline feeds the network the backward-difference velocity, as the paper's
         controller computes it. The fricctl pipeline compensates the nonlinear part and feeds
-        the direction-confirmed velocity of :mod:`fricctl.compensators.nn_confirmed` (one count
-        of the bench's encoder): a count that flickers against the last difference's direction
-        is read as rest, so encoder jitter at rest does not switch the estimate between its rest
-        and its sliding branch.
+        the direction-confirmed velocity of :mod:`fricctl.compensators.nn_confirmed`: a
+        difference against the last nonzero difference's direction is read as rest, so encoder
+        jitter at rest does not switch the estimate between its rest and its sliding branch.
         """
         return network_compensator(self.net, self.velocity, scale=scale)
 
