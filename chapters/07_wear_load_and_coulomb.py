@@ -262,13 +262,14 @@ assert cyc_p.sustained and abs(amp_p / cyc_p.amplitude - 1) < 0.03
 JITTERS = (0.0, 0.1, 0.25, 0.5) if FAST else (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5)  # [counts]
 NOISE_SEEDS = range(3 if FAST else 5)  # seeds of the sensing noise [-]
 net0 = nets[("fricctl", SEEDS[0])]
-pair, cycles = {}, {}
+pair, cycles, rest = {}, {}, {}
 for sigma in JITTERS:
     b = net0.bench.with_sensing("chapter 7: edge jitter alone", encoder_jitter=sigma)
     rs = [paper.fig16.run(net0.sensed_on(b, k)) for k in NOISE_SEEDS]
     pair[sigma] = (sum(paper.fig16.claim_fig16_coulomb_fs(r, b).passed for r in rs),
                    sum(paper.fig16.claim_fig16_coulomb_fc(r, b).passed for r in rs))
     cycles[sigma] = [r.cycles[COULOMB_AT_FS] for r in rs]
+    rest[sigma] = [r.cycles[COULOMB_AT_FC].counts for r in rs]  # the smaller level's reading
     print(f"sigma {sigma:4.2f} count: breakaway level oscillates in {pair[sigma][0]}/{len(NOISE_SEEDS)} seeds, "
           f"the pair (oscillates, then disappears at s*Fc^) holds in {pair[sigma][1]}/{len(NOISE_SEEDS)}")
 held = [sig for sig in JITTERS if pair[sig] == (len(NOISE_SEEDS),) * 2]
@@ -280,7 +281,13 @@ assert pair[0.0] == (0, 0)  # noise-free: neither level oscillates, nothing to d
 assert pair[0.1][0] < len(NOISE_SEEDS)  # a tenth of a count: too rare a flicker on this bench
 assert 0.25 in held and 0.0 not in held and 0.1 not in held  # the consistent bench's jitter holds the pair
 assert FAST or {0.2, 0.25, 0.3} <= set(held)  # the full grid: more than one sigma, not a knife edge
-assert pair[0.5][0] == len(NOISE_SEEDS) and pair[0.5][1] < len(NOISE_SEEDS)  # the criterion reads jitter
+assert pair[0.5][0] == len(NOISE_SEEDS)  # half a count: the breakaway level still oscillates
+rest_fc = rest[0.5]
+print(f"sigma 0.50 count: at the smaller level the resting joint reads {min(rest_fc)}-{max(rest_fc)} counts peak "
+      f"to peak over the last second (the claims read more than {paper.runaway.MOTION_COUNTS} as motion); "
+      f"the pair holds in {pair[0.5][1]}/{len(NOISE_SEEDS)} seeds")
+# where the pair fails at half a count, the resting joint's reading is past the criterion
+assert pair[0.5][1] == len(NOISE_SEEDS) or max(rest_fc) > paper.runaway.MOTION_COUNTS
 assert all(10 <= c < 100 for c in creep)  # tens of counts: hundredths of a degree
 
 # %% [markdown]
@@ -295,10 +302,12 @@ assert all(10 <= c < 100 for c in creep)  # tens of counts: hundredths of a degr
 # (hundredths of a degree, one reference crossing): each flicker breaks the joint loose for
 # a step and it sticks again.  On the consistent bench (Fc/Fs 0.6, the peak-time gains) the
 # same jitter sustains a cycle of degrees across the reference (`benchmarks/README.md`).
-# At a tenth of a count the flicker is too rare here.  At half a count the claims' own
-# criterion starts to read the jitter itself as motion (its peak-to-peak exceeds the 3 counts
-# a resting joint may show): the smaller level "oscillates" in some seeds, which says more
-# about the criterion than about the joint.  Torque noise alone at the consistent bench's level
+# At a tenth of a count the flicker is too rare here.  At half a count the jitter itself nears
+# the claims' own criterion (a resting joint may show 3 counts peak to peak): where a seed's
+# resting reading exceeds it, the smaller level "oscillates", which says more about the
+# criterion than about the joint -- in some seeds of the fast run's network; how many in this
+# run is printed above, with the resting joint's reading (checked: where the pair fails at half a
+# count, that reading exceeds the criterion).  Torque noise alone at the consistent bench's level
 # moves no edge: it leaves both claims as they are (`tests/test_paper_sensing.py`).
 #
 # ## 3. A small step (Fig. 17)
