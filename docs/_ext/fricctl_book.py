@@ -23,8 +23,8 @@
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
-  build, outputs included) beside its jupytext ``.py`` in the theme's download menu
-  (:func:`notebook_download`).
+  build, outputs included, its markdown as plain Jupyter renders it: :mod:`fricctl_jupyter`)
+  beside its jupytext ``.py`` in the theme's download menu (:func:`notebook_download`).
 * With ``math_number_all``, every display equation of a page gets its number, also those
   written as ``$$ ... $$`` (MyST's dollarmath, which the ``math`` directive's numbering does not
   reach): :func:`number_equations`.
@@ -57,6 +57,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
+from fricctl_jupyter import ADDED
 from fricctl_tables import COEFFICIENTS_BEGIN, render_coefficients
 from sphinx.errors import ExtensionError
 from sphinx.util import logging
@@ -238,6 +239,8 @@ def read_chapter(text: str):
     import nbformat
 
     done = nbformat.read(executed, as_version=4)
+    # the cells the download adds for Jupyter (captions, works cited): not the chapter's
+    done.cells = [c for c in done.cells if ADDED not in c.metadata.get("tags", [])]
     code = [[(c.cell_type, c.source if c.cell_type == "code" else "") for c in n.cells]
             for n in (done, nb)]
     if code[0] != code[1]:
@@ -748,10 +751,15 @@ def module_sections_as_rubrics(app, what, name, obj, options, lines) -> None:
 def notebook_download(app, pagename, templatename, context, doctree) -> None:
     """``html-page-context``, before the theme's download menu (which runs at priority 501;
     this at 500): a chapter's
-    executed notebook, written by myst-nb into its output folder, is copied beside the page's
-    source in ``_sources/`` and named in ``ipynb_source``, which sphinx-book-theme offers as
-    ".ipynb".  A chapter without its notebook fails the build (the reader would get a dead
-    link)."""
+    executed notebook, written by myst-nb into its output folder, is written beside the page's
+    source in ``_sources/`` as plain Jupyter shows it (:func:`fricctl_jupyter.jupyter_notebook`:
+    the equations and figures numbered as on the page, citations and references in Markdown,
+    no MyST markup left; :func:`jupyter_numbers` gathers the numbers) and named in
+    ``ipynb_source``, which sphinx-book-theme offers as ".ipynb".  A chapter without its
+    notebook fails the build (the reader would get a dead link)."""
+    import nbformat
+    from fricctl_jupyter import jupyter_notebook
+
     if not pagename.startswith("chapters/") or context.get("page_source_suffix") != ".py":
         return
     src = Path(app.env.mystnb_config.output_folder) / f"{pagename}.ipynb"
@@ -760,8 +768,71 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
                              f".ipynb download would be a dead link")
     dest = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     dest.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(src, dest)
+    numbers, equations, figures = jupyter_numbers(app.env, pagename, doctree)
+    try:
+        nb = jupyter_notebook(nbformat.read(src, as_version=4), numbers=numbers,
+                              equations=equations, figures=figures, cites=_citations(app))
+    except ValueError as exc:
+        raise ExtensionError(f"{pagename}: its notebook for Jupyter: {exc}") from None
+    nbformat.write(nb, dest)
     context["ipynb_source"] = f"{pagename}.ipynb"
+
+
+def _citations(app) -> dict:
+    """:func:`fricctl_jupyter.citations` of the book's ``bibtex_bibfiles``, read once per build."""
+    from fricctl_jupyter import citations
+
+    files = tuple(str(Path(app.srcdir, f)) for f in app.config.bibtex_bibfiles)
+    if _CITES.get("files") != files:
+        _CITES.clear()
+        _CITES.update(files=files, cites=citations(files))
+    return _CITES["cites"]
+
+
+_CITES: dict = {}
+
+
+def jupyter_numbers(env, docname: str, doctree):
+    """The numbers :func:`fricctl_jupyter.jupyter_notebook` gives a notebook, as the book
+    shows them (numfig's, ``env.toc_fignumbers``): every labelled equation's and figure's
+    (``"eq-motion" -> "Eq. (5.3)"``, ``"fig-loop" -> "Fig. 5.2"``), this page's display
+    equations in page order (those of the markdown, not of cell outputs; None for one
+    without a number) and, for each code cell, the numbers of its captioned figures."""
+    from docutils import nodes
+
+    def number(doc, kind, node_id):
+        n = env.toc_fignumbers.get(doc, {}).get(kind, {}).get(node_id)
+        return ".".join(map(str, n)) if n else None
+
+    numbers = {}
+    for label, (doc, _) in env.get_domain("math").data["objects"].items():
+        n = number(doc, "displaymath", nodes.make_id(f"equation-{label}"))
+        if n:
+            numbers[label] = env.config.math_eqref_format.format(number=n)
+    for label, (doc, label_id, _) in env.get_domain("std").labels.items():
+        n = number(doc, "figure", label_id)
+        if n:
+            numbers[label] = env.config.numfig_format["figure"] % n
+
+    def in_output(node):
+        parent = node.parent
+        while parent is not None:
+            if parent.get("nb_element") == "cell_code_output":
+                return True
+            parent = parent.parent
+        return False
+
+    equations = [next((number(docname, "displaymath", i) for i in node["ids"]
+                       if number(docname, "displaymath", i)), None)
+                 for node in doctree.findall(nodes.math_block) if not in_output(node)]
+    figures = {}
+    for cell in doctree.findall(lambda n: isinstance(n, nodes.container)
+                                and n.get("nb_element") == "cell_code"):
+        shown = [n for fig in cell.findall(nodes.figure) for i in fig["ids"]
+                 if (n := number(docname, "figure", i))]
+        if shown:
+            figures[cell["cell_index"]] = shown
+    return numbers, equations, figures
 
 
 def number_equations(app, doctree) -> None:
