@@ -559,13 +559,43 @@ def test_claims_details_are_folded_after_the_summary_table(book):
     html = (book / "reproduction.html").read_text(encoding="utf-8")
     folds = [m.start() for m in re.finditer(r'<details class="fricctl-details"', html)]
     assert len(folds) >= 4, f"{len(folds)} folded sections"
-    glance = html.find(">At a glance<")
+    glance = html.find('<section id="at-a-glance">')  # the section, not the page's contents
     assert 0 <= glance < html.find("<table", glance) < folds[0], "the summary table is not first"
     for start in folds:
         end = html.find("</details>", start)
         block = html[start:end]
         assert "<summary>" in block and " open" not in block[:60], block[:120]
         assert "<section" not in block and "</section>" not in block, "a fold cuts a section"
+
+
+def test_the_claims_page_shows_every_bench_side_by_side(book):
+    """The summary table of the claims page has a column per bench and pipeline (issue 22),
+    each cell what that bench's own ``fricctl reproduce --bench NAME`` wrote in its
+    ``claims.json`` (beside the book: ``reproduce/``, ``reproduce-<bench>/``), not typed."""
+    import json
+
+    from fricctl.paper.benches import BENCHES, DEFAULT_BENCH
+
+    html = (book / "reproduction.html").read_text(encoding="utf-8")
+    glance = html.find('<section id="at-a-glance">')
+    assert glance >= 0, "no section At a glance"
+    table = html[html.find("<table", glance):html.find("</table>", glance)]
+    head = [re.sub(r"<[^>]+>", "", h).strip() for h in re.findall(r"<th[^>]*>(.*?)</th>", table, re.S)]
+    rows = [[re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", r, re.S)]
+            for r in re.findall(r"<tr[^>]*>(.*?)</tr>", table, re.S)]
+    rows = {r[0].removesuffix(" (extra)"): r for r in rows if r}
+    checked = 0
+    for bench in BENCHES:
+        folder = book.parent / ("reproduce" if bench == DEFAULT_BENCH else f"reproduce-{bench}")
+        claims = json.loads((folder / "claims.json").read_text(encoding="utf-8"))
+        for c in claims:
+            assert c["bench"] == bench
+            column = head.index(f"{bench} bench, {c['pipeline']} pipeline")
+            verdict = "reproduced" if c["passed"] else "not reproduced"
+            assert rows[c["id"]][column].startswith(f"{verdict}, {c['n_passed']} of {c['n_seeds']}"), (
+                bench, c["id"], rows[c["id"]][column])
+            checked += 1
+    assert checked >= 2 * len(BENCHES) * 16, checked
 
 
 # -- the PDF ---------------------------------------------------------------------------------

@@ -370,24 +370,39 @@ def reproduce_dir(app) -> Path:
     return Path(folder).resolve() if folder else Path(app.outdir) / "_reproduce"
 
 
-def reproduce_command(app) -> list[str] | None:
-    """``fricctl reproduce --seeds N --force [--fast]`` (``--fast`` when FRICCTL_FAST=1), or
-    None when ``fricctl_reproduce = "reuse"`` keeps what an earlier build wrote (for an author
-    who is rebuilding a chapter, not the claims)."""
+def bench_dirs(app) -> dict[str, Path]:
+    """Every bench of :data:`fricctl.paper.benches.BENCHES` -> where ``fricctl reproduce
+    --bench NAME`` writes for the book, the default bench first: :func:`reproduce_dir` for
+    the default (its claims and figures are the page's), ``<that folder>-<name>`` beside it
+    for each other (its claims are a column of the summary table, issue 22)."""
+    from fricctl.paper.benches import BENCHES, DEFAULT_BENCH
+
     out = reproduce_dir(app)
-    if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
-        logger.info("fricctl reproduce: reusing %s", out)
-        return None
+    names = [DEFAULT_BENCH] + [b for b in BENCHES if b != DEFAULT_BENCH]
+    return {b: out if b == DEFAULT_BENCH else out.with_name(f"{out.name}-{b}") for b in names}
+
+
+def reproduce_commands(app) -> list[list[str]]:
+    """``fricctl reproduce --bench NAME --seeds N --force [--fast]`` (``--fast`` when
+    FRICCTL_FAST=1) for each bench (:func:`bench_dirs`), but those whose folder an earlier build
+    wrote when ``fricctl_reproduce = "reuse"`` keeps it (for an author who is rebuilding a
+    chapter, not the claims)."""
     seeds = app.config.fricctl_reproduce_seeds or ("2" if _fast() else "10")
-    return [sys.executable, "-m", "fricctl", "reproduce", "--out", str(out), "--seeds", str(seeds),
-            "--force"] + (["--fast"] if _fast() else [])
+    cmds = []
+    for bench, out in bench_dirs(app).items():
+        if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
+            logger.info("fricctl reproduce: reusing %s", out)
+            continue
+        cmds.append([sys.executable, "-m", "fricctl", "reproduce", "--bench", bench, "--out", str(out),
+                     "--seeds", str(seeds), "--force"] + (["--fast"] if _fast() else []))
+    return cmds
 
 
 def _reproduce(cmd: list[str]) -> tuple[float, float | None, str]:
-    """Run ``fricctl reproduce`` (:func:`reproduce_command`) through :mod:`fricctl_execute`:
+    """Run ``fricctl reproduce`` (:func:`reproduce_commands`) through :mod:`fricctl_execute`:
     its wall and CPU time [s] and last lines; a failure fails the build."""
     t0 = time.perf_counter()
-    proc = _run([sys.executable, str(RUNNER), "--run"] + cmd, what="fricctl reproduce",
+    proc = _run([sys.executable, str(RUNNER), "--run"] + cmd, what=" ".join(["fricctl"] + cmd[3:6]),
                 env=dict(os.environ, MPLBACKEND="Agg"))
     cpu, stdout = _cpu(proc.stdout)
     if proc.returncode != 0:
@@ -411,7 +426,7 @@ def _took(wall: float, cpu: float | None) -> str:
 def wait_for_reproduce() -> None:
     """The claims are needed now: wait for ``fricctl reproduce`` if it is running in the pool."""
     while REPRODUCING:
-        wall, cpu, tail = _result(REPRODUCING.pop())
+        wall, cpu, tail = _result(REPRODUCING.pop(0))
         logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
 
 
@@ -520,7 +535,8 @@ def start_execution(app) -> None:
     networks are the ones Chapters 4-7 and 10 train again, read back from the disk cache,
     :mod:`fricctl.nn.cache`, which makes a process wait while another trains the same one),
     then the chapters, the longest of the previous build first (its times are kept in the
-    doctree folder; a chapter without one first, in file order).  Sphinx reads the other pages meanwhile; a chapter's
+    doctree folder; a chapter without one first, in file order), then reproduce on the other
+    benches (:func:`bench_dirs`).  Sphinx reads the other pages meanwhile; a chapter's
     page waits for its notebook (:func:`read_chapter`), the claims' page for reproduce
     (:func:`wait_for_reproduce`).
 
@@ -531,7 +547,7 @@ def start_execution(app) -> None:
     wait for this pool), or another execution mode: reproduce runs first and myst-nb executes
     the chapters one after the other, as it would without this extension.
     """
-    cmd = reproduce_command(app)
+    cmds = reproduce_commands(app)
     config = app.config
     jobs = book_jobs(config)
     chapters = []
@@ -540,10 +556,10 @@ def start_execution(app) -> None:
         chapters = [c for c in sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
                     if c.read_text(encoding="utf-8") not in UNEXECUTED]
     if not chapters:
-        if cmd is not None:
+        for cmd in cmds:
             logger.info("running fricctl %s", " ".join(cmd[3:]))
             wall, cpu, tail = _reproduce(cmd)
-            logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
+            logger.info("fricctl %s took %s:\n%s", " ".join(cmd[3:6]), _took(wall, cpu), tail)
         return
     try:
         last = json.loads((Path(app.doctreedir) / SECONDS).read_text(encoding="utf-8"))
@@ -557,15 +573,23 @@ def start_execution(app) -> None:
     _STOP.clear()
     pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
     _POOL.append(pool)
+    # the default bench's first (the chapters read its networks back from the disk cache);
+    # the other benches' last: no chapter waits for them, and they fill the CPUs the last
+    # chapters leave idle
+    default = [c for c in cmds if c[5] == next(iter(bench_dirs(app)))]
     logger.info("executing %d chapters%s, %d at a time: %s", len(chapters),
-                " and running fricctl reproduce" if cmd else "", jobs,
-                ", ".join((["reproduce"] if cmd else []) + [c.stem[:2] for c in chapters]))
-    if cmd is not None:
+                f" and running fricctl reproduce ({len(cmds)} benches)" if cmds else "", jobs,
+                ", ".join([f"reproduce {c[5]}" for c in default] + [c.stem[:2] for c in chapters]
+                          + [f"reproduce {c[5]}" for c in cmds if c not in default]))
+    for cmd in default:
         REPRODUCING.append(pool.submit(_reproduce, cmd))
     for c in chapters:
         text = c.read_text(encoding="utf-8")
         RUNNING[text] = (c.stem, pool.submit(_execute_chapter, c.stem, _read_chapter(text), folder,
                                              config.nb_execution_timeout, cwd))
+    for cmd in cmds:
+        if cmd not in default:
+            REPRODUCING.append(pool.submit(_reproduce, cmd))
 
 
 def hand_over_execution(app) -> None:
@@ -665,15 +689,52 @@ def fold_details(text: str, level: int, keep: tuple[str, ...] = ()) -> str:
     return "\n".join(out)
 
 
-def claims_markdown(out: Path, srcdir: Path, here: Path) -> str:
+def claims_markdown(out: Path, srcdir: Path, here: Path, benches: dict | None = None) -> str:
     """MyST text: ``claims.md`` of ``out``, headings one level down, every section after the
     at-a-glance table folded (:func:`fold_details`): the table is what a reader reads first,
-    the details are one click away (issue 24)."""
+    the details are one click away (issue 24).  Given ``benches`` (bench -> the folder of its
+    ``fricctl reproduce``, ``out``'s bench first: :func:`bench_dirs`), the at-a-glance table
+    is every bench's side by side (:func:`fricctl.paper.benches_glance`, from each folder's
+    ``claims.json``; issue 22)."""
     claims = out / "claims.md"
     if not claims.is_file():
         raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
     text = shift_headings(claims.read_text(encoding="utf-8"), 1)
+    if benches and len(benches) > 1:
+        text = _glance_of_benches(text, benches)
     return fold_details(_repo_links(text, srcdir, here), 3, keep=("At a glance",)) + "\n"
+
+
+#: The at-a-glance section of ``claims.md`` (headings one level down): its heading, its table.
+_GLANCE = re.compile(r"^(### At a glance\n\n)((?:\|.*\n)+)", re.M)
+
+
+def _glance_of_benches(text: str, benches: dict) -> str:
+    """``text`` (a ``claims.md``) with its at-a-glance table replaced by every bench's
+    (:func:`claims_markdown`)."""
+    from fricctl.paper import benches_glance
+
+    rows = {}
+    for bench, folder in benches.items():
+        path = folder / "claims.json"
+        if not path.is_file():
+            raise ExtensionError(f"no {path}: `fricctl reproduce --bench {bench}` did not run "
+                                 f"(see the build log)")
+        rows[bench] = json.loads(path.read_text(encoding="utf-8"))
+    try:
+        table = benches_glance(rows)
+    except ValueError as exc:
+        raise ExtensionError(f"the claims of the benches side by side: {exc}") from None
+    first, *others = benches
+    intro = (f"Every bench side by side, each rated by its own `fricctl reproduce --bench NAME` "
+             f"(the same method); the sections below are the **{first}** bench's (the "
+             f"default); the details of " + ", ".join(f"**{b}**" for b in others) + " are in the "
+             f"`claims.md` that " + ", ".join(f"`fricctl reproduce --bench {b}`" for b in others)
+             + " writes.")
+    m = _GLANCE.search(text)
+    if m is None:
+        raise ExtensionError("claims.md has no \"At a glance\" table to put the benches' beside")
+    return text[:m.start()] + m.group(1) + intro + "\n\n" + table + "\n" + text[m.end():]
 
 
 def figures_markdown(out: Path, here: Path) -> str:
@@ -717,7 +778,8 @@ def on_source_read(app, docname, source) -> None:
         here = Path(app.env.doc2path(docname)).parent
         out = reproduce_dir(app)
         if FIGURES_PLACEHOLDER in text:
-            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here))
+            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here,
+                                                             bench_dirs(app)))
             text = text.replace(FIGURES_PLACEHOLDER, figures_markdown(out, here))
         else:
             text = text.replace(PLACEHOLDER, reproduce_markdown(out, Path(app.srcdir), here))
