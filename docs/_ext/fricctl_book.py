@@ -10,7 +10,9 @@
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
   page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
   first, every detail section folded: :func:`fold_details`) and the PNGs of the
-  representative seeds at :data:`FIGURES_PLACEHOLDER`.
+  representative seeds at :data:`FIGURES_PLACEHOLDER`.  ``fricctl reproduce --bench NAME``
+  runs on every other bench too (:func:`bench_dirs`): the summary table shows every bench's
+  verdicts side by side (:func:`claims_markdown`).
 * The chapters and ``fricctl reproduce`` run side by side, ``fricctl_book_jobs`` at a time
   (default: the CPUs available), each chapter in its own kernel started the way myst-nb's
   ``force`` mode starts it (:mod:`fricctl_execute`); myst-nb then renders the notebooks as
