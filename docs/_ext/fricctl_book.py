@@ -428,7 +428,10 @@ def _took(wall: float, cpu: float | None) -> str:
 def wait_for_reproduce() -> None:
     """The claims are needed now: wait for ``fricctl reproduce`` if it is running in the pool."""
     while REPRODUCING:
-        wall, cpu, tail = _result(REPRODUCING.pop(0))
+        name, future = REPRODUCING.pop(0)
+        wall, cpu, tail = _result(future)
+        if name:
+            TIMES[name] = wall
         logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
 
 
@@ -437,8 +440,9 @@ def wait_for_reproduce() -> None:
 #: A chapter's text -> (its name, the Future of (its executed notebook, wall and CPU
 #: seconds)), for the chapters :func:`start_execution` gave to its pool.
 RUNNING: dict[str, tuple[str, Future]] = {}
-#: The Future of ``fricctl reproduce`` while it runs in the pool.
-REPRODUCING: list[Future] = []
+#: (its name in :data:`TIMES`, or "" for the default bench's, which runs first anyway; the
+#: Future) of each ``fricctl reproduce`` while it runs in the pool.
+REPRODUCING: list[tuple[str, Future]] = []
 _POOL: list[ThreadPoolExecutor] = []
 _PROCS: set[subprocess.Popen] = set()
 _PROCS_LOCK = threading.Lock()
@@ -536,9 +540,10 @@ def start_execution(app) -> None:
     a pool of :func:`book_jobs` threads, each running its own process: reproduce first (its
     networks are the ones Chapters 4-7 and 10 train again, read back from the disk cache,
     :mod:`fricctl.nn.cache`, which makes a process wait while another trains the same one),
-    then the chapters, the longest of the previous build first (its times are kept in the
-    doctree folder; a chapter without one first, in file order), then reproduce on the other
-    benches (:func:`bench_dirs`).  Sphinx reads the other pages meanwhile; a chapter's
+    then the chapters and reproduce on the other benches (:func:`bench_dirs`; no chapter
+    waits for those), the longest of the previous build first (its times are kept in the
+    doctree folder; one without a time first, in file order).  Sphinx reads the other pages
+    meanwhile; a chapter's
     page waits for its notebook (:func:`read_chapter`), the claims' page for reproduce
     (:func:`wait_for_reproduce`).
 
@@ -567,7 +572,6 @@ def start_execution(app) -> None:
         last = json.loads((Path(app.doctreedir) / SECONDS).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         last = {}
-    chapters.sort(key=lambda c: -float(last.get(c.stem, math.inf)))  # stable: file order otherwise
     folder = Path(app.doctreedir) / EXECUTING
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
@@ -576,22 +580,25 @@ def start_execution(app) -> None:
     pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
     _POOL.append(pool)
     # the default bench's first (the chapters read its networks back from the disk cache);
-    # the other benches' last: no chapter waits for them, and they fill the CPUs the last
-    # chapters leave idle
+    # then the chapters and the other benches' runs (which no chapter waits for), the longest
+    # of the previous build first, as the chapters alone were
     default = [c for c in cmds if c[5] == next(iter(bench_dirs(app)))]
+    queue = [(c.stem, c) for c in chapters] + [(f"reproduce-{c[5]}", c) for c in cmds
+                                               if c not in default]
+    queue.sort(key=lambda j: -float(last.get(j[0], math.inf)))  # stable: file order otherwise
     logger.info("executing %d chapters%s, %d at a time: %s", len(chapters),
                 f" and running fricctl reproduce ({len(cmds)} benches)" if cmds else "", jobs,
-                ", ".join([f"reproduce {c[5]}" for c in default] + [c.stem[:2] for c in chapters]
-                          + [f"reproduce {c[5]}" for c in cmds if c not in default]))
+                ", ".join([f"reproduce {c[5]}" for c in default]
+                          + [n[:2] if isinstance(j, Path) else n for n, j in queue]))
     for cmd in default:
-        REPRODUCING.append(pool.submit(_reproduce, cmd))
-    for c in chapters:
-        text = c.read_text(encoding="utf-8")
-        RUNNING[text] = (c.stem, pool.submit(_execute_chapter, c.stem, _read_chapter(text), folder,
-                                             config.nb_execution_timeout, cwd))
-    for cmd in cmds:
-        if cmd not in default:
-            REPRODUCING.append(pool.submit(_reproduce, cmd))
+        REPRODUCING.append(("", pool.submit(_reproduce, cmd)))
+    for name, job in queue:
+        if isinstance(job, Path):
+            text = job.read_text(encoding="utf-8")
+            RUNNING[text] = (name, pool.submit(_execute_chapter, name, _read_chapter(text), folder,
+                                               config.nb_execution_timeout, cwd))
+        else:
+            REPRODUCING.append((name, pool.submit(_reproduce, job)))
 
 
 def hand_over_execution(app) -> None:
