@@ -32,7 +32,9 @@ clean:
 
 # `make book`: the book as a static site in $(BOOK)/html (docs/conf.py; FRICCTL_FAST=1 make book
 # for the short version).  Every build executes the chapters afresh (-E) and runs
-# `fricctl reproduce` into $(BOOK)/reproduce; a cell error or a Sphinx warning fails it.
+# `fricctl reproduce` into $(BOOK)/reproduce (the default bench: the claims page) and
+# `fricctl reproduce --bench literal` into $(BOOK)/reproduce-literal (the literal bench's columns
+# of its summary table); a cell error or a Sphinx warning fails it.
 # BOOK_SEEDS=N: training seeds of the claims (default 10, fast 2); BOOK_ONLY=01,05: execute only
 # those chapters (a quick look); BOOK_REPRODUCE=reuse: keep the claims of the previous build.
 # BOOK_JOBS=N: how many chapters (and the reproduce step) execute at once (default: the CPUs

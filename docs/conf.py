@@ -9,7 +9,8 @@ nothing fetched at build or reading time: MathJax is served from the site itself
   (``FRICCTL_FAST=1`` in the environment gives their short version), several at a time
   beside ``fricctl reproduce`` (``fricctl_book_jobs``, ``_ext/fricctl_book.start_execution``);
 * ``reproduction.md``: the README's tables (included from README.md) and the output of
-  ``fricctl reproduce``, run into ``fricctl_reproduce_dir`` at the start of the build;
+  ``fricctl reproduce``, run into ``fricctl_reproduce_dir`` at the start of the build (and on
+  every other bench beside it, whose verdicts are columns of the page's summary table);
 * ``api/``: the reference, from the numpydoc docstrings.
 
 A cell error or any Sphinx warning fails the build (``-W --keep-going`` in the Makefile).

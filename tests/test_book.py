@@ -158,6 +158,109 @@ def test_every_chapter_downloads_as_an_executed_notebook(book):
         assert nb["nbformat"] == 4 and code and sum(bool(c.get("outputs")) for c in code) > 0
 
 
+#: What Jupyter would show raw in a markdown cell: a MyST role (``{eq}`x```, ``{py:func}`f```,
+#: not a code span that mentions one), a directive's fence, a MyST equation label, a link to the
+#: API or the bibliography by an anchor the notebook does not have.
+_RAW_MYST = re.compile(r"(?<!`)\{[A-Za-z][\w:.+-]*\}`|^[ \t]*(?:`{3,}|~{3,}|:{3,})\{|\$\$[ \t]*\([\w-]+\)",
+                       re.M)
+
+
+def _without_code_fences(text: str) -> str:
+    return re.sub(r"^[ \t]*(`{3,}|~{3,})(?!\{)[^\n]*\n.*?^[ \t]*\1[ \t]*$", "", text, flags=re.S | re.M)
+
+
+def test_the_downloaded_notebooks_read_in_jupyter_as_the_page_reads(book):
+    """Each chapter's ``.ipynb`` is a valid notebook (nbformat) with the page's code and
+    outputs, and its markdown is what plain Jupyter renders (issue 24): no MyST role, directive
+    or equation label left; its display equations carry the page's numbers (``\\tag``), in
+    page order; each figure's caption follows it with the page's number; every in-notebook link
+    (``#eq-``, ``#fig-``, a citation) has its anchor; the works cited are listed."""
+    nbformat = pytest.importorskip("nbformat")
+    figures_total = 0
+    for chapter in CHAPTERS:
+        path = book / "_sources" / "chapters" / f"{chapter.stem}.ipynb"
+        nb = nbformat.read(path, as_version=4)
+        nbformat.validate(nb)
+        markdown = [c.source for c in nb.cells if c.cell_type == "markdown"]
+        for source in markdown:
+            raw = _RAW_MYST.findall(_without_code_fences(source))
+            assert not raw, f"{path.name}: MyST markup left in a markdown cell: {raw[:3]}"
+        text = "\n".join(markdown)
+        page = book / "chapters" / f"{chapter.stem}.html"
+        assert re.findall(r"\\tag\{([^}]*)\}", text) == _eqnos(page), f"{path.name}: equation numbers"
+        captions = re.findall(r"^(?:<a id=\"[^\"]+\"></a>)?\*\*Figs?\. ([\d., and]+)\.\*\*", text, re.M)
+        numbers = [n for c in captions for n in re.split(r", | and ", c)]
+        shown = [re.match(r"\s*Fig\. (\d+\.\d+)", parse(page).captions[f]).group(1)
+                 for _, f in parse(page).images if f is not None]
+        assert numbers == list(dict.fromkeys(shown)), f"{path.name}: figure numbers {numbers} vs {shown}"
+        figures_total += len(numbers)
+        anchors = set(re.findall(r'<a id="([^"]+)"></a>', text))
+        for target in re.findall(r"\]\(#([^)\s]+)\)", text):
+            if target.startswith(("eq-", "fig-")) or target[0].islower() and "-" not in target:
+                assert target in anchors, f"{path.name}: a link to #{target}, which it lacks"
+        assert "](#fricctl" not in text, f"{path.name}: a link to the API by an anchor"
+        if "bibtex-citation" in page.read_text(encoding="utf-8"):
+            assert "## Works cited" in text, f"{path.name}: cites, lists no works"
+        # the code is the chapter's, cell for cell (the added cells are markdown)
+        chapter_code = [c.source for c in _chapter_notebook(chapter).cells if c.cell_type == "code"]
+        assert [c.source for c in nb.cells if c.cell_type == "code"] == chapter_code, path.name
+    assert figures_total > 20
+
+
+def _chapter_notebook(chapter: Path):
+    jupytext = pytest.importorskip("jupytext")
+    return jupytext.read(chapter, fmt="py:percent")
+
+
+def test_a_notebook_for_jupyter_keeps_code_and_outputs_and_drops_the_markup():
+    """fricctl_jupyter.jupyter_notebook on a made-up notebook: every kind of MyST markup the
+    book reads becomes what Jupyter renders, with the numbers given; code, outputs and a role
+    quoted in code are left as they are; an equation more or fewer than numbered is an error."""
+    nbformat = pytest.importorskip("nbformat")
+    pytest.importorskip("pybtex")
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import fricctl_jupyter as fj
+
+    cites = fj.citations([ROOT / "docs" / "references.bib"])
+    md = ("As {eq}`eq-x` and {numref}`fig-a` show ([Gervini, Gomes & da Rosa 2003](#gervini2003); "
+          "{cite}`ljung1999`), [`simulate`](#fricctl.simulate.simulate)`(...)` in "
+          "[Chapter 6](06_gain_design_and_closed_loop) and on the [notation page](../notation); "
+          "{py:func}`fricctl.design.design_p`; `{eq}` quoted.\n\n"
+          "$$ I\\,\\ddot q = T_m $$ (eq-x)\n\n$$\nb = 0\n$$\n\n"
+          "```{admonition} Careful\n:class: tip\nSee {eq}`eq-x`.\n```\n\n"
+          ":::{dropdown} Solution\nThe answer.\n:::\n\n```python\nx = 1  # {eq}`kept`\n```\n")
+    plot = nbformat.v4.new_code_cell("plot()  # {eq}`not-markdown`")
+    plot.outputs = [nbformat.v4.new_output("stream", name="stdout", text="{numref}`out`\n")]
+    plot.metadata["mystnb"] = {"figure": {"caption": "The loop of $T_m$.", "name": "fig-a"}}
+    plot.metadata["tags"] = ["hide-input"]
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_markdown_cell(md), plot])
+    numbers = {"eq-x": "Eq. (5.1)", "fig-a": "Fig. 5.1"}
+    out = fj.jupyter_notebook(nb, numbers=numbers, equations=["5.1", "5.2"], figures={1: ["5.1"]},
+                              cites=cites)
+    nbformat.validate(out)
+    text = out.cells[0].source
+    assert "[Eq. (5.1)](#eq-x) and [Fig. 5.1](#fig-a) show" in text
+    assert "([Gervini et al., 2003](#gervini2003); ([Ljung, 1999](#ljung1999)))" in text
+    assert "`simulate(...)` in [Chapter 6](06_gain_design_and_closed_loop.ipynb) and on the notation page" in text
+    assert "`fricctl.design.design_p`; `{eq}` quoted." in text
+    assert '<a id="eq-x"></a>\n\n$$ I\\,\\ddot q = T_m \\tag{5.1} $$' in text
+    assert "$$\nb = 0 \\tag{5.2}\n$$" in text
+    assert "> **Careful**\n>\n> See [Eq. (5.1)](#eq-x)." in text
+    assert "**Solution**\n\nThe answer." in text and ":::" not in text
+    assert "```python\nx = 1  # {eq}`kept`\n```" in text  # code in the prose is code
+    assert not _RAW_MYST.findall(_without_code_fences(text)), text
+    assert out.cells[1] == {**plot, "metadata": {**plot.metadata, "jupyter": {"source_hidden": True}}}
+    assert out.cells[2].source == '<a id="fig-a"></a>**Fig. 5.1.** The loop of $T_m$.'
+    assert out.cells[3].source.startswith("## Works cited\n\n* <a id=\"gervini2003\"></a>Gervini, Gomes")
+    assert all(fj.ADDED in c.metadata["tags"] for c in out.cells[2:])
+    assert nb.cells[0].source == md, "the notebook given is not changed"
+    for wrong in (["5.1"], ["5.1", "5.2", "5.3"]):
+        with pytest.raises(ValueError, match="display equation"):
+            fj.jupyter_notebook(nb, numbers=numbers, equations=wrong, figures={}, cites=cites)
+    with pytest.raises(ValueError, match="no number for 'eq-x'"):
+        fj.jupyter_notebook(nb, numbers={}, equations=["5.1", "5.2"], figures={}, cites=cites)
+
+
 def _eqnos(path: Path) -> list[str]:
     """The numbers of a page's display equations, in page order ("5.3" of "(5.3)")."""
     return re.findall(r'<span class="eqno">\(([^)<]*)\)', path.read_text(encoding="utf-8"))
@@ -456,13 +559,43 @@ def test_claims_details_are_folded_after_the_summary_table(book):
     html = (book / "reproduction.html").read_text(encoding="utf-8")
     folds = [m.start() for m in re.finditer(r'<details class="fricctl-details"', html)]
     assert len(folds) >= 4, f"{len(folds)} folded sections"
-    glance = html.find(">At a glance<")
+    glance = html.find('<section id="at-a-glance">')  # the section, not the page's contents
     assert 0 <= glance < html.find("<table", glance) < folds[0], "the summary table is not first"
     for start in folds:
         end = html.find("</details>", start)
         block = html[start:end]
         assert "<summary>" in block and " open" not in block[:60], block[:120]
         assert "<section" not in block and "</section>" not in block, "a fold cuts a section"
+
+
+def test_the_claims_page_shows_every_bench_side_by_side(book):
+    """The summary table of the claims page has a column per bench and pipeline (issue 22),
+    each cell what that bench's own ``fricctl reproduce --bench NAME`` wrote in its
+    ``claims.json`` (beside the book: ``reproduce/``, ``reproduce-<bench>/``), not typed."""
+    import json
+
+    from fricctl.paper.benches import BENCHES, DEFAULT_BENCH
+
+    html = (book / "reproduction.html").read_text(encoding="utf-8")
+    glance = html.find('<section id="at-a-glance">')
+    assert glance >= 0, "no section At a glance"
+    table = html[html.find("<table", glance):html.find("</table>", glance)]
+    head = [re.sub(r"<[^>]+>", "", h).strip() for h in re.findall(r"<th[^>]*>(.*?)</th>", table, re.S)]
+    rows = [[re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", r, re.S)]
+            for r in re.findall(r"<tr[^>]*>(.*?)</tr>", table, re.S)]
+    rows = {r[0].removesuffix(" (extra)"): r for r in rows if r}
+    checked = 0
+    for bench in BENCHES:
+        folder = book.parent / ("reproduce" if bench == DEFAULT_BENCH else f"reproduce-{bench}")
+        claims = json.loads((folder / "claims.json").read_text(encoding="utf-8"))
+        for c in claims:
+            assert c["bench"] == bench
+            column = head.index(f"{bench} bench, {c['pipeline']} pipeline")
+            verdict = "reproduced" if c["passed"] else "not reproduced"
+            assert rows[c["id"]][column].startswith(f"{verdict}, {c['n_passed']} of {c['n_seeds']}"), (
+                bench, c["id"], rows[c["id"]][column])
+            checked += 1
+    assert checked >= 2 * len(BENCHES) * 16, checked
 
 
 # -- the PDF ---------------------------------------------------------------------------------

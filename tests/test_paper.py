@@ -869,6 +869,40 @@ def test_claims_markdown_reads_as_text():
     assert "- **n** (Fig. 8; met in 0 of 2 seeds; median 0.5 deg): (seed 0) |e_ss| too large" in md
 
 
+def test_benches_glance_puts_each_bench_and_pipeline_in_a_column():
+    # issue 22: the book's summary table, from each bench's claims.json (claims_json's objects)
+    def stats(passed_a):
+        per_seed = {(p, s): [_claim("a", passed=passed_a[p][s], value=1.0),
+                             _claim("b", passed=True, value=0.0, paper_value=paper.EXTRA)]
+                    for p in ("paper", "fricctl") for s in range(3)}
+        return paper.aggregate_claims(per_seed, {"paper": 0, "fricctl": 0})
+
+    consistent = json.loads(paper.claims_json(stats({"paper": [True] * 3, "fricctl": [True] * 3}),
+                                              bench="consistent"))
+    literal = json.loads(paper.claims_json(stats({"paper": [True, False, False],
+                                                  "fricctl": [True, True, False]}), bench="literal"))
+    md = paper.benches_glance({"consistent": consistent, "literal": literal})
+    lines = md.splitlines()
+    assert lines[0] == ("| claim | figure | consistent bench, paper pipeline | consistent bench, fricctl "
+                        "pipeline | literal bench, paper pipeline | literal bench, fricctl pipeline |")
+    # by hand: literal paper 1 of 3, fricctl 2 of 3 -- neither reaches 90 %
+    assert lines[2] == ("| a | Fig. 9 | reproduced, 3 of 3 | reproduced, 3 of 3 | **not reproduced**, "
+                        "1 of 3 | **not reproduced**, 2 of 3 |")
+    assert lines[3].startswith("| b (extra) | Fig. 9 | reproduced, 3 of 3 |")
+    assert lines[-1] == ("| **claims of the paper reproduced** | | **1 of 1** (extras: 1 of 1) | **1 of 1** "
+                         "(extras: 1 of 1) | **0 of 1** (extras: 1 of 1) | **0 of 1** (extras: 1 of 1) |")
+    # a claim a column did not rate reads --
+    md = paper.benches_glance({"consistent": consistent, "literal": literal[:2]})
+    assert md.splitlines()[3].endswith("| -- | -- |")
+    with pytest.raises(ValueError, match="measured on bench 'consistent'"):
+        paper.benches_glance({"literal": consistent})
+    with pytest.raises(ValueError, match="without 'bench'"):
+        paper.benches_glance({"consistent": json.loads(paper.claims_json(stats({"paper": [True] * 3,
+                                                                                "fricctl": [True] * 3})))})
+    with pytest.raises(ValueError, match="empty"):
+        paper.benches_glance({"consistent": []})
+
+
 def test_aggregation_against_a_hand_computation():
     # fake per-seed claims: pipeline "paper" seeds 0-3, pipeline "fricctl" seeds 0-9
     vals = [1.0, 2.0, 3.0, 10.0]

@@ -10,7 +10,9 @@
   command a reader runs, not a re-implementation of it; a failure fails the build), and the
   page holding the line :data:`PLACEHOLDER` gets its ``claims.md`` there (the summary table
   first, every detail section folded: :func:`fold_details`) and the PNGs of the
-  representative seeds at :data:`FIGURES_PLACEHOLDER`.
+  representative seeds at :data:`FIGURES_PLACEHOLDER`.  ``fricctl reproduce --bench NAME``
+  runs on every other bench too (:func:`bench_dirs`): the summary table shows every bench's
+  verdicts side by side (:func:`claims_markdown`).
 * The chapters and ``fricctl reproduce`` run side by side, ``fricctl_book_jobs`` at a time
   (default: the CPUs available), each chapter in its own kernel started the way myst-nb's
   ``force`` mode starts it (:mod:`fricctl_execute`); myst-nb then renders the notebooks as
@@ -23,8 +25,8 @@
 * A ``docs/*.md`` page written as a README section (its first heading is ``##``, e.g.
   ``your_own_actuator.md``) is read one heading level up, so that it has a title.
 * Each chapter's page offers its executed notebook (``.ipynb``, what myst-nb executed at this
-  build, outputs included) beside its jupytext ``.py`` in the theme's download menu
-  (:func:`notebook_download`).
+  build, outputs included, its markdown as plain Jupyter renders it: :mod:`fricctl_jupyter`)
+  beside its jupytext ``.py`` in the theme's download menu (:func:`notebook_download`).
 * With ``math_number_all``, every display equation of a page gets its number, also those
   written as ``$$ ... $$`` (MyST's dollarmath, which the ``math`` directive's numbering does not
   reach): :func:`number_equations`.
@@ -57,6 +59,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 import jupytext
+from fricctl_jupyter import ADDED
 from fricctl_tables import COEFFICIENTS_BEGIN, render_coefficients
 from sphinx.errors import ExtensionError
 from sphinx.util import logging
@@ -238,6 +241,8 @@ def read_chapter(text: str):
     import nbformat
 
     done = nbformat.read(executed, as_version=4)
+    # the cells the download adds for Jupyter (captions, works cited): not the chapter's
+    done.cells = [c for c in done.cells if ADDED not in c.metadata.get("tags", [])]
     code = [[(c.cell_type, c.source if c.cell_type == "code" else "") for c in n.cells]
             for n in (done, nb)]
     if code[0] != code[1]:
@@ -367,24 +372,39 @@ def reproduce_dir(app) -> Path:
     return Path(folder).resolve() if folder else Path(app.outdir) / "_reproduce"
 
 
-def reproduce_command(app) -> list[str] | None:
-    """``fricctl reproduce --seeds N --force [--fast]`` (``--fast`` when FRICCTL_FAST=1), or
-    None when ``fricctl_reproduce = "reuse"`` keeps what an earlier build wrote (for an author
-    who is rebuilding a chapter, not the claims)."""
+def bench_dirs(app) -> dict[str, Path]:
+    """Every bench of :data:`fricctl.paper.benches.BENCHES` -> where ``fricctl reproduce
+    --bench NAME`` writes for the book, the default bench first: :func:`reproduce_dir` for
+    the default (its claims and figures are the page's), ``<that folder>-<name>`` beside it
+    for each other (its claims are a column of the summary table, issue 22)."""
+    from fricctl.paper.benches import BENCHES, DEFAULT_BENCH
+
     out = reproduce_dir(app)
-    if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
-        logger.info("fricctl reproduce: reusing %s", out)
-        return None
+    names = [DEFAULT_BENCH] + [b for b in BENCHES if b != DEFAULT_BENCH]
+    return {b: out if b == DEFAULT_BENCH else out.with_name(f"{out.name}-{b}") for b in names}
+
+
+def reproduce_commands(app) -> list[list[str]]:
+    """``fricctl reproduce --bench NAME --seeds N --force [--fast]`` (``--fast`` when
+    FRICCTL_FAST=1) for each bench (:func:`bench_dirs`), but those whose folder an earlier build
+    wrote when ``fricctl_reproduce = "reuse"`` keeps it (for an author who is rebuilding a
+    chapter, not the claims)."""
     seeds = app.config.fricctl_reproduce_seeds or ("2" if _fast() else "10")
-    return [sys.executable, "-m", "fricctl", "reproduce", "--out", str(out), "--seeds", str(seeds),
-            "--force"] + (["--fast"] if _fast() else [])
+    cmds = []
+    for bench, out in bench_dirs(app).items():
+        if app.config.fricctl_reproduce == "reuse" and (out / "claims.md").is_file():
+            logger.info("fricctl reproduce: reusing %s", out)
+            continue
+        cmds.append([sys.executable, "-m", "fricctl", "reproduce", "--bench", bench, "--out", str(out),
+                     "--seeds", str(seeds), "--force"] + (["--fast"] if _fast() else []))
+    return cmds
 
 
 def _reproduce(cmd: list[str]) -> tuple[float, float | None, str]:
-    """Run ``fricctl reproduce`` (:func:`reproduce_command`) through :mod:`fricctl_execute`:
+    """Run ``fricctl reproduce`` (:func:`reproduce_commands`) through :mod:`fricctl_execute`:
     its wall and CPU time [s] and last lines; a failure fails the build."""
     t0 = time.perf_counter()
-    proc = _run([sys.executable, str(RUNNER), "--run"] + cmd, what="fricctl reproduce",
+    proc = _run([sys.executable, str(RUNNER), "--run"] + cmd, what=" ".join(["fricctl"] + cmd[3:6]),
                 env=dict(os.environ, MPLBACKEND="Agg"))
     cpu, stdout = _cpu(proc.stdout)
     if proc.returncode != 0:
@@ -408,7 +428,10 @@ def _took(wall: float, cpu: float | None) -> str:
 def wait_for_reproduce() -> None:
     """The claims are needed now: wait for ``fricctl reproduce`` if it is running in the pool."""
     while REPRODUCING:
-        wall, cpu, tail = _result(REPRODUCING.pop())
+        name, future = REPRODUCING.pop(0)
+        wall, cpu, tail = _result(future)
+        if name:
+            TIMES[name] = wall
         logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
 
 
@@ -417,8 +440,9 @@ def wait_for_reproduce() -> None:
 #: A chapter's text -> (its name, the Future of (its executed notebook, wall and CPU
 #: seconds)), for the chapters :func:`start_execution` gave to its pool.
 RUNNING: dict[str, tuple[str, Future]] = {}
-#: The Future of ``fricctl reproduce`` while it runs in the pool.
-REPRODUCING: list[Future] = []
+#: (its name in :data:`TIMES`, or "" for the default bench's, which runs first anyway; the
+#: Future) of each ``fricctl reproduce`` while it runs in the pool.
+REPRODUCING: list[tuple[str, Future]] = []
 _POOL: list[ThreadPoolExecutor] = []
 _PROCS: set[subprocess.Popen] = set()
 _PROCS_LOCK = threading.Lock()
@@ -516,8 +540,10 @@ def start_execution(app) -> None:
     a pool of :func:`book_jobs` threads, each running its own process: reproduce first (its
     networks are the ones Chapters 4-7 and 10 train again, read back from the disk cache,
     :mod:`fricctl.nn.cache`, which makes a process wait while another trains the same one),
-    then the chapters, the longest of the previous build first (its times are kept in the
-    doctree folder; a chapter without one first, in file order).  Sphinx reads the other pages meanwhile; a chapter's
+    then the chapters and reproduce on the other benches (:func:`bench_dirs`; no chapter
+    waits for those), the longest of the previous build first (its times are kept in the
+    doctree folder; one without a time first, in file order).  Sphinx reads the other pages
+    meanwhile; a chapter's
     page waits for its notebook (:func:`read_chapter`), the claims' page for reproduce
     (:func:`wait_for_reproduce`).
 
@@ -528,7 +554,7 @@ def start_execution(app) -> None:
     wait for this pool), or another execution mode: reproduce runs first and myst-nb executes
     the chapters one after the other, as it would without this extension.
     """
-    cmd = reproduce_command(app)
+    cmds = reproduce_commands(app)
     config = app.config
     jobs = book_jobs(config)
     chapters = []
@@ -537,16 +563,15 @@ def start_execution(app) -> None:
         chapters = [c for c in sorted(Path(app.srcdir, "chapters").glob("[0-9][0-9]_*.py"))
                     if c.read_text(encoding="utf-8") not in UNEXECUTED]
     if not chapters:
-        if cmd is not None:
+        for cmd in cmds:
             logger.info("running fricctl %s", " ".join(cmd[3:]))
             wall, cpu, tail = _reproduce(cmd)
-            logger.info("fricctl reproduce took %s:\n%s", _took(wall, cpu), tail)
+            logger.info("fricctl %s took %s:\n%s", " ".join(cmd[3:6]), _took(wall, cpu), tail)
         return
     try:
         last = json.loads((Path(app.doctreedir) / SECONDS).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         last = {}
-    chapters.sort(key=lambda c: -float(last.get(c.stem, math.inf)))  # stable: file order otherwise
     folder = Path(app.doctreedir) / EXECUTING
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
@@ -554,15 +579,26 @@ def start_execution(app) -> None:
     _STOP.clear()
     pool = ThreadPoolExecutor(jobs, thread_name_prefix="fricctl-book")
     _POOL.append(pool)
+    # the default bench's first (the chapters read its networks back from the disk cache);
+    # then the chapters and the other benches' runs (which no chapter waits for), the longest
+    # of the previous build first, as the chapters alone were
+    default = [c for c in cmds if c[5] == next(iter(bench_dirs(app)))]
+    queue = [(c.stem, c) for c in chapters] + [(f"reproduce-{c[5]}", c) for c in cmds
+                                               if c not in default]
+    queue.sort(key=lambda j: -float(last.get(j[0], math.inf)))  # stable: file order otherwise
     logger.info("executing %d chapters%s, %d at a time: %s", len(chapters),
-                " and running fricctl reproduce" if cmd else "", jobs,
-                ", ".join((["reproduce"] if cmd else []) + [c.stem[:2] for c in chapters]))
-    if cmd is not None:
-        REPRODUCING.append(pool.submit(_reproduce, cmd))
-    for c in chapters:
-        text = c.read_text(encoding="utf-8")
-        RUNNING[text] = (c.stem, pool.submit(_execute_chapter, c.stem, _read_chapter(text), folder,
-                                             config.nb_execution_timeout, cwd))
+                f" and running fricctl reproduce ({len(cmds)} benches)" if cmds else "", jobs,
+                ", ".join([f"reproduce {c[5]}" for c in default]
+                          + [n[:2] if isinstance(j, Path) else n for n, j in queue]))
+    for cmd in default:
+        REPRODUCING.append(("", pool.submit(_reproduce, cmd)))
+    for name, job in queue:
+        if isinstance(job, Path):
+            text = job.read_text(encoding="utf-8")
+            RUNNING[text] = (name, pool.submit(_execute_chapter, name, _read_chapter(text), folder,
+                                               config.nb_execution_timeout, cwd))
+        else:
+            REPRODUCING.append((name, pool.submit(_reproduce, job)))
 
 
 def hand_over_execution(app) -> None:
@@ -662,15 +698,52 @@ def fold_details(text: str, level: int, keep: tuple[str, ...] = ()) -> str:
     return "\n".join(out)
 
 
-def claims_markdown(out: Path, srcdir: Path, here: Path) -> str:
+def claims_markdown(out: Path, srcdir: Path, here: Path, benches: dict | None = None) -> str:
     """MyST text: ``claims.md`` of ``out``, headings one level down, every section after the
     at-a-glance table folded (:func:`fold_details`): the table is what a reader reads first,
-    the details are one click away (issue 24)."""
+    the details are one click away (issue 24).  Given ``benches`` (bench -> the folder of its
+    ``fricctl reproduce``, ``out``'s bench first: :func:`bench_dirs`), the at-a-glance table
+    is every bench's side by side (:func:`fricctl.paper.benches_glance`, from each folder's
+    ``claims.json``; issue 22)."""
     claims = out / "claims.md"
     if not claims.is_file():
         raise ExtensionError(f"no {claims}: `fricctl reproduce` did not run (see the build log)")
     text = shift_headings(claims.read_text(encoding="utf-8"), 1)
+    if benches and len(benches) > 1:
+        text = _glance_of_benches(text, benches)
     return fold_details(_repo_links(text, srcdir, here), 3, keep=("At a glance",)) + "\n"
+
+
+#: The at-a-glance section of ``claims.md`` (headings one level down): its heading, its table.
+_GLANCE = re.compile(r"^(### At a glance\n\n)((?:\|.*\n)+)", re.M)
+
+
+def _glance_of_benches(text: str, benches: dict) -> str:
+    """``text`` (a ``claims.md``) with its at-a-glance table replaced by every bench's
+    (:func:`claims_markdown`)."""
+    from fricctl.paper import benches_glance
+
+    rows = {}
+    for bench, folder in benches.items():
+        path = folder / "claims.json"
+        if not path.is_file():
+            raise ExtensionError(f"no {path}: `fricctl reproduce --bench {bench}` did not run "
+                                 f"(see the build log)")
+        rows[bench] = json.loads(path.read_text(encoding="utf-8"))
+    try:
+        table = benches_glance(rows)
+    except ValueError as exc:
+        raise ExtensionError(f"the claims of the benches side by side: {exc}") from None
+    first, *others = benches
+    intro = (f"Every bench side by side, each rated by its own `fricctl reproduce --bench NAME` "
+             f"(the same method); the sections below are the **{first}** bench's (the "
+             f"default); the details of " + ", ".join(f"**{b}**" for b in others) + " are in the "
+             f"`claims.md` that " + ", ".join(f"`fricctl reproduce --bench {b}`" for b in others)
+             + " writes.")
+    m = _GLANCE.search(text)
+    if m is None:
+        raise ExtensionError("claims.md has no \"At a glance\" table to put the benches' beside")
+    return text[:m.start()] + m.group(1) + intro + "\n\n" + table + "\n" + text[m.end():]
 
 
 def figures_markdown(out: Path, here: Path) -> str:
@@ -714,7 +787,8 @@ def on_source_read(app, docname, source) -> None:
         here = Path(app.env.doc2path(docname)).parent
         out = reproduce_dir(app)
         if FIGURES_PLACEHOLDER in text:
-            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here))
+            text = text.replace(PLACEHOLDER, claims_markdown(out, Path(app.srcdir), here,
+                                                             bench_dirs(app)))
             text = text.replace(FIGURES_PLACEHOLDER, figures_markdown(out, here))
         else:
             text = text.replace(PLACEHOLDER, reproduce_markdown(out, Path(app.srcdir), here))
@@ -748,10 +822,15 @@ def module_sections_as_rubrics(app, what, name, obj, options, lines) -> None:
 def notebook_download(app, pagename, templatename, context, doctree) -> None:
     """``html-page-context``, before the theme's download menu (which runs at priority 501;
     this at 500): a chapter's
-    executed notebook, written by myst-nb into its output folder, is copied beside the page's
-    source in ``_sources/`` and named in ``ipynb_source``, which sphinx-book-theme offers as
-    ".ipynb".  A chapter without its notebook fails the build (the reader would get a dead
-    link)."""
+    executed notebook, written by myst-nb into its output folder, is written beside the page's
+    source in ``_sources/`` as plain Jupyter shows it (:func:`fricctl_jupyter.jupyter_notebook`:
+    the equations and figures numbered as on the page, citations and references in Markdown,
+    no MyST markup left; :func:`jupyter_numbers` gathers the numbers) and named in
+    ``ipynb_source``, which sphinx-book-theme offers as ".ipynb".  A chapter without its
+    notebook fails the build (the reader would get a dead link)."""
+    import nbformat
+    from fricctl_jupyter import jupyter_notebook
+
     if not pagename.startswith("chapters/") or context.get("page_source_suffix") != ".py":
         return
     src = Path(app.env.mystnb_config.output_folder) / f"{pagename}.ipynb"
@@ -760,8 +839,71 @@ def notebook_download(app, pagename, templatename, context, doctree) -> None:
                              f".ipynb download would be a dead link")
     dest = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     dest.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(src, dest)
+    numbers, equations, figures = jupyter_numbers(app.env, pagename, doctree)
+    try:
+        nb = jupyter_notebook(nbformat.read(src, as_version=4), numbers=numbers,
+                              equations=equations, figures=figures, cites=_citations(app))
+    except ValueError as exc:
+        raise ExtensionError(f"{pagename}: its notebook for Jupyter: {exc}") from None
+    nbformat.write(nb, dest)
     context["ipynb_source"] = f"{pagename}.ipynb"
+
+
+def _citations(app) -> dict:
+    """:func:`fricctl_jupyter.citations` of the book's ``bibtex_bibfiles``, read once per build."""
+    from fricctl_jupyter import citations
+
+    files = tuple(str(Path(app.srcdir, f)) for f in app.config.bibtex_bibfiles)
+    if _CITES.get("files") != files:
+        _CITES.clear()
+        _CITES.update(files=files, cites=citations(files))
+    return _CITES["cites"]
+
+
+_CITES: dict = {}
+
+
+def jupyter_numbers(env, docname: str, doctree):
+    """The numbers :func:`fricctl_jupyter.jupyter_notebook` gives a notebook, as the book
+    shows them (numfig's, ``env.toc_fignumbers``): every labelled equation's and figure's
+    (``"eq-motion" -> "Eq. (5.3)"``, ``"fig-loop" -> "Fig. 5.2"``), this page's display
+    equations in page order (those of the markdown, not of cell outputs; None for one
+    without a number) and, for each code cell, the numbers of its captioned figures."""
+    from docutils import nodes
+
+    def number(doc, kind, node_id):
+        n = env.toc_fignumbers.get(doc, {}).get(kind, {}).get(node_id)
+        return ".".join(map(str, n)) if n else None
+
+    numbers = {}
+    for label, (doc, _) in env.get_domain("math").data["objects"].items():
+        n = number(doc, "displaymath", nodes.make_id(f"equation-{label}"))
+        if n:
+            numbers[label] = env.config.math_eqref_format.format(number=n)
+    for label, (doc, label_id, _) in env.get_domain("std").labels.items():
+        n = number(doc, "figure", label_id)
+        if n:
+            numbers[label] = env.config.numfig_format["figure"] % n
+
+    def in_output(node):
+        parent = node.parent
+        while parent is not None:
+            if parent.get("nb_element") == "cell_code_output":
+                return True
+            parent = parent.parent
+        return False
+
+    equations = [next((number(docname, "displaymath", i) for i in node["ids"]
+                       if number(docname, "displaymath", i)), None)
+                 for node in doctree.findall(nodes.math_block) if not in_output(node)]
+    figures = {}
+    for cell in doctree.findall(lambda n: isinstance(n, nodes.container)
+                                and n.get("nb_element") == "cell_code"):
+        shown = [n for fig in cell.findall(nodes.figure) for i in fig["ids"]
+                 if (n := number(docname, "figure", i))]
+        if shown:
+            figures[cell["cell_index"]] = shown
+    return numbers, equations, figures
 
 
 def number_equations(app, doctree) -> None:

@@ -90,7 +90,8 @@ from .registry import PaperFigure, paper_figures
 from .reproduce import PaperResults, SeedRun, reproduce_paper, seed_run
 from .runaway import RunawayCheck, coast_decay, divergence, reversal, wind_up
 from .sweep import SweepResult, robustness_sweep
-from .table import HOLD_RATE, ClaimStats, aggregate_claims, claims_json, claims_markdown, representative_seed
+from .table import (HOLD_RATE, ClaimStats, aggregate_claims, benches_glance, claims_json, claims_markdown,
+                    representative_seed)
 
 __all__ = [
     "PaperNetwork", "train_paper_network",
@@ -98,6 +99,7 @@ __all__ = [
     "Claim", "gate", "paper_claims", "claims_summary", "is_extra", "EXTRA",
     "RunawayCheck", "wind_up", "divergence", "reversal", "coast_decay", "coast", "benches",
     "ClaimStats", "aggregate_claims", "representative_seed", "claims_markdown", "claims_json", "HOLD_RATE",
+    "benches_glance",
     "PaperResults", "SeedRun", "seed_run", "reproduce_paper",
     "stick_intervals_after_motion", "restarts", "sign_changes",
     "ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE",

@@ -18,10 +18,10 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from .. import _validate as v
-from .claims import Claim, is_extra
+from .claims import EXTRA, Claim, is_extra
 
 __all__ = ["HOLD_RATE", "ClaimStats", "aggregate_claims", "representative_seed", "holds_summary",
-           "claims_markdown", "claims_json"]
+           "claims_markdown", "claims_json", "benches_glance"]
 
 #: A claim holds for a pipeline when it passes in at least this fraction of seeds [-].
 HOLD_RATE = 0.9
@@ -307,9 +307,89 @@ def _cell(s: ClaimStats) -> str:
 
 def _glance(s: ClaimStats) -> str:
     """``reproduced, 10 of 10`` or ``**not reproduced**, 0 of 10 (ran away in 2)``."""
-    ran = f" (ran away in {s.runaway_failures})" if s.runaway_failures else ""
-    verdict = "reproduced" if s.holds else "**not reproduced**"
-    return f"{verdict}, {s.n_passed} of {s.n_seeds}{ran}"
+    return _glance_text(s.holds, s.n_passed, s.n_seeds, s.runaway_failures)
+
+
+def _glance_text(holds: bool, n_passed: int, n_seeds: int, runaway: int) -> str:
+    ran = f" (ran away in {runaway})" if runaway else ""
+    verdict = "reproduced" if holds else "**not reproduced**"
+    return f"{verdict}, {n_passed} of {n_seeds}{ran}"
+
+
+#: The keys of a ``claims.json`` object that :func:`benches_glance` reads.
+_GLANCE_KEYS = ("id", "pipeline", "paper", "figure", "passed", "n_passed", "n_seeds",
+                "runaway_failures", "bench")
+
+
+def benches_glance(claims: Mapping[str, Sequence[Mapping]]) -> str:
+    """The at-a-glance table of several benches side by side (issue 22): one row per claim,
+    one column per bench and pipeline, each cell as in ``claims.md``'s own "At a glance"
+    (the verdict, in how many seeds the claim was met, runaways), and a last row counting the
+    claims of the paper reproduced in each column (extras apart).
+
+    Parameters
+    ----------
+    claims : mapping
+        Bench name -> the objects of the ``claims.json`` that ``fricctl reproduce --bench
+        NAME`` wrote (:func:`claims_json`), in the column order wanted.  Each object must name
+        that bench (a folder of another bench is refused).
+
+    Returns
+    -------
+    str
+        A Markdown table.  A claim a column did not rate reads ``--``.
+
+    Examples
+    --------
+    >>> row = {"id": "fig9-stick", "pipeline": "fricctl", "paper": "sticks without", "figure":
+    ...        "Fig. 9", "passed": True, "n_passed": 2, "n_seeds": 2, "runaway_failures": 0}
+    >>> print(benches_glance({"consistent": [{**row, "bench": "consistent"}],
+    ...                       "literal": [{**row, "bench": "literal", "passed": False,
+    ...                                    "n_passed": 0, "runaway_failures": 2}]}))
+    | claim | figure | consistent bench, fricctl pipeline | literal bench, fricctl pipeline |
+    |---|---|---|---|
+    | fig9-stick | Fig. 9 | reproduced, 2 of 2 | **not reproduced**, 0 of 2 (ran away in 2) |
+    | **claims of the paper reproduced** | | **1 of 1** | **0 of 1** |
+    """
+    if not claims:
+        raise ValueError("benches_glance needs the claims of at least one bench")
+    by, ids, columns, first = {}, [], [], {}
+    for bench, rows in claims.items():
+        v.text("bench", bench, empty=False)
+        if not rows:
+            raise ValueError(f"claims of bench {bench!r}: empty")
+        for row in rows:
+            missing = [k for k in _GLANCE_KEYS if k not in row]
+            if missing:
+                raise ValueError(f"claims of bench {bench!r}: an object without {missing[0]!r} "
+                                 f"(not a claims.json of fricctl reproduce?)")
+            if row["bench"] != bench:
+                raise ValueError(f"claims given as bench {bench!r} were measured on bench "
+                                 f"{row['bench']!r}")
+            if (bench, row["pipeline"]) not in columns:
+                columns.append((bench, row["pipeline"]))
+            if row["id"] not in first:
+                ids.append(row["id"])
+                first[row["id"]] = row
+            by[(row["id"], bench, row["pipeline"])] = row
+    lines = ["| claim | figure | " + " | ".join(f"{b} bench, {p} pipeline" for b, p in columns) + " |",
+             "|" + "---|" * (len(columns) + 2)]
+    for cid in ids:
+        extra = " (extra)" if first[cid]["paper"] == EXTRA else ""
+        cells = [_glance_text(bool(r["passed"]), r["n_passed"], r["n_seeds"], r["runaway_failures"])
+                 if (r := by.get((cid, b, p))) is not None else "--" for b, p in columns]
+        lines.append(f"| {cid}{extra} | {first[cid]['figure']} | " + " | ".join(cells) + " |")
+    counts = []
+    for b, p in columns:
+        rows = [by[(cid, b, p)] for cid in ids if (cid, b, p) in by]
+        own = [r for r in rows if r["paper"] != EXTRA]
+        extra = [r for r in rows if r["paper"] == EXTRA]
+        text = f"**{sum(bool(r['passed']) for r in own)} of {len(own)}**"
+        if extra:
+            text += f" (extras: {sum(bool(r['passed']) for r in extra)} of {len(extra)})"
+        counts.append(text)
+    lines.append("| **claims of the paper reproduced** | | " + " | ".join(counts) + " |")
+    return "\n".join(lines)
 
 
 def _summary_line(stats, pipeline: str, seed: int) -> str:
