@@ -527,8 +527,9 @@ def _torque_period(args, ctrl) -> float | None:
     return 1.0 / ctrl.feedforward.frequency
 
 
-#: The first words of a failed runaway check's warning, by the check's name.
-_RUNAWAY = {"wind-up": "the compensated joint winds its torque up",
+#: The first words of a failed runaway check's warning, by the check's name (``{torque}``: the
+#: word for the axis, torque or force).
+_RUNAWAY = {"wind-up": "the compensated joint winds its {torque} up",
             "divergence": "the compensated loop runs away",
             "reversal": "the compensated joint runs away under the sinusoidal torque"}
 
@@ -540,7 +541,10 @@ def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
     the wind-up bound for a friction estimate, the divergence check for a disturbance observer
     or integral action, which may exceed that bound in a transient that dies out), and under an
     open-loop sinusoidal torque of ``period`` [s] the reversal check (from its second full
-    period on).  A run too short for a check is said so, not judged."""
+    period on).  A run too short for a check is said so, not judged: one that cannot hold the
+    check at all (a ValueError), or whose record cannot tell what the check asks (its
+    ``judged`` False and ``passed``: a first excess that begins too late in the run to say
+    whether it dies out) -- never a runaway the record does not show."""
     if res.info.compensator == "none":
         return []
     from ..paper.runaway import reversal, torque_check
@@ -556,7 +560,10 @@ def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
             out.append(f"the {what} runaway check cannot judge this run: {exc}")
             continue
         if not c.passed:
-            out.append(f"{_RUNAWAY[c.name]}: {c.reason}")
+            torque = "torque" if res.info.units == "rotary" else "force"
+            out.append(f"{_RUNAWAY[c.name].format(torque=torque)}: {c.reason}")
+        elif not c.judged:
+            out.append(f"the {what} runaway check cannot judge this run: {c.reason}")
     return out
 
 
