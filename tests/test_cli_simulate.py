@@ -1,5 +1,6 @@
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -335,6 +336,25 @@ def test_a_disturbance_observer_that_reaches_breakaway_late_is_not_called_a_runa
     assert w.startswith("the torque runaway check cannot judge this run: too short to tell")
     assert "first excess beyond the bound is at t = 2.4" in w and "A longer run tells" in w
     assert "cannot judge this run: too short to tell" in out.stderr
+
+
+def test_runaway_reasons_on_a_linear_axis_are_in_its_units(tmp_path):
+    # issue 25: the runaway reasons said N*m on a linear model (N, m).  A 2 kg table, Fc 20 N,
+    # Fs 25 N, under a 30 N sinusoid (above Fs: it slides) with Coulomb compensation at 3 x Fc: the
+    # motor force exceeds |Tc| + Fs + b|v| while sliding slower than (3*20 - 25)/20 = 1.75 m/s
+    model = tmp_path / "table.json"
+    out = _cli("model", "new", "--inertia", "2", "--viscous", "20", "--coulomb", "20", "--static", "25",
+               "--stribeck-velocity", "0.01", "--sample-time", "1ms", "--encoder-resolution", "1e-6",
+               "--max-torque", "200", "--units", "linear", "--out", str(model))
+    assert out.returncode == 0, out.stderr
+    out = _cli("simulate", "--model", str(model), "--torque", "sinusoid:30,1", "--compensation", "coulomb",
+               "--scale", "3", "--duration", "3", "--json")
+    assert out.returncode == 0, out.stderr
+    warns = json.loads(out.stdout)["warnings"]
+    (wind,) = [w for w in warns if "wind-up" in w]
+    assert wind.startswith("the compensated joint winds its force up: wind-up:")
+    assert re.search(r"by up to [\d.]+ N; allowed 5\)", wind), wind
+    assert not any("N*m" in w or "rad" in w for w in warns), warns
 
 
 def test_coulomb_compensation_states_its_level_and_refuses_none(tmp_path):

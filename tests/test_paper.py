@@ -748,6 +748,39 @@ def test_divergence_still_fails_an_integral_runaway_that_starts_late_in_a_short_
     assert not c.passed and c.judged and "with none before (a torque that grew)" in c.reason
 
 
+def test_runaway_reasons_follow_the_runs_units():
+    # issue 25: a run's reasons carry the units of its axis (SimInfo.units, set by simulate_model
+    # from the model): N, m/s, N*s/m on a linear axis, never N*m or rad
+    from fricctl.friction import FrictionModel
+    from fricctl.plant import JointModel
+    from fricctl.simulate import simulate_model
+
+    table = JointModel(inertia=2.0, friction=FrictionModel(coulomb_pos=20.0, coulomb_neg=20.0,
+                                                           viscous_pos=20.0, viscous_neg=20.0),
+                       sample_time=1e-3, units="linear")
+    run = simulate_model(table, ctl.open_loop(ctl.constant(30.0)), duration=0.1)
+    assert run.info.units == "linear"
+    assert simulate(P, ctl.open_loop(ctl.constant(0.0)), duration=0.01).info.units == "rotary"
+    fs, n = P.static, 100
+    tm = np.zeros(n)
+    tm[10:40] = fs + 0.04
+    tm[80:88] = fs + 0.025
+    r = _sim(np.zeros(n), tm=tm)
+    linear = replace(r, info=replace(r.info, units="linear"))
+    for check in (paper.divergence, paper.wind_up):
+        assert "N*m" in check(r).reason
+        text = check(linear).reason
+        assert "N*m" not in text and re.search(r"[\d.]+ N[;,)]", text), text
+    w = np.where(np.arange(n) < 50, 1.0, 0.0)  # a pulse's speed, kept 0 after t_end: coasts
+    rot = paper.coast_decay(_sim(w), t_end=0.09)
+    lin = _sim(w)
+    lin = paper.coast_decay(replace(lin, info=replace(lin.info, units="linear")), t_end=0.09)
+    assert "N*m*s/rad" in rot.reason and "rad/s" in rot.reason
+    assert "N*s/m" in lin.reason and "m/s" in lin.reason and "rad" not in lin.reason
+    with pytest.raises(ValueError, match="units"):
+        replace(r.info, units="angular")
+
+
 def test_divergence_says_when_its_record_is_too_short_for_the_loops_period():
     # the last quarter of 400 samples (Ts = 2 ms) is k = 300..398 (99 judged pairs): 0.198 s.  A
     # large first transient, then an excess of 0.05 N*m beyond the bound in the last quarter's first
