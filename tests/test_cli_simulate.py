@@ -598,6 +598,48 @@ def test_sigma0_gives_a_static_model_its_lugre_observer(capsys):
     assert got["steady_state_error"]["value"] == pytest.approx(want.steady_state_error(0.5), rel=1e-12, abs=1e-15)
 
 
+def test_simulate_and_compare_build_the_same_lugre_observer_from_sigma0_alone():
+    # issue 23: simulate defaulted sigma1 to 0, compare to sqrt(sigma0 * I): the same --sigma0 gave
+    # two observers.  One rule now (lugre_observer.default_sigma1), reached by both commands' own
+    # builders: simulate's _compensator and compare's contender, from the same model and options
+    import argparse
+
+    from fricctl.cli.simulate import _compensator, bristle_options
+    from fricctl.compare import make_contender
+    from fricctl.compensators import LuGreObserver
+    from fricctl.friction import FrictionModel
+    from fricctl.paper.benches import bench
+    from fricctl.paper.common import designs
+    from fricctl.plant import JointModel
+
+    b = bench("literal")
+    for plant in (b.actuator, b.linked_actuator):
+        args = argparse.Namespace(sigma0="2e4", sigma1=None)
+        model = JointModel.from_params(plant, source="fricctl.paper.benches literal")
+        sim = _compensator("lugre_observer", args, 1.0, 0.0, 0.0, plant, None)
+        cmp = make_contender("lugre_observer", model, designs(b)["fig13-14"], plant.sample_time,
+                             options=bristle_options(args))
+        # closed form: sqrt(2e4 N*m/rad * I), I the simulated joint's total inertia
+        want = math.sqrt(2e4 * plant.total_inertia)
+        assert (sim.sigma0, sim.sigma1) == (cmp.sigma0, cmp.sigma1) == (2e4, pytest.approx(want, rel=1e-15))
+    # a model with a LuGre law keeps its own damping in both (here 0.7 N*m*s/rad)
+    lugre = JointModel.from_params(b.actuator, source="fricctl.paper.benches literal")
+    lugre = JointModel(inertia=lugre.inertia, sample_time=lugre.sample_time,
+                       encoder_resolution=lugre.encoder_resolution,
+                       friction=FrictionModel(coulomb_pos=0.144, coulomb_neg=0.144, lugre_sigma0=5e3,
+                                              lugre_sigma1=0.7))
+    args = argparse.Namespace(sigma0=None, sigma1=None)
+    assert _compensator("lugre_observer", args, 1.0, 0.0, 0.0, lugre, None).sigma1 == 0.7
+    assert make_contender("lugre_observer", lugre, designs(b)["fig13-14"], lugre.sample_time).sigma1 == 0.7
+    # a friction model alone has no inertia for the rule: refused, naming sigma1
+    with pytest.raises(ValueError, match="sigma1: the model has no LuGre law"):
+        LuGreObserver.from_model(b.actuator.friction_model(), sigma0=2e4)
+    # both helps state the rule
+    for command in ("simulate", "compare"):
+        out = _cli(command, "--help")
+        assert "sqrt(sigma0 * I)" in " ".join(out.stdout.split()), command
+
+
 @pytest.mark.parametrize("argv, words", [
     ([], "the model has no LuGre law (lugre_sigma0 = 0): give the bristle stiffness with --sigma0 [N*m/rad]"),
     (["--sigma0", "-5"], "--sigma0 must be > 0 N*m/rad, got -5.0"),

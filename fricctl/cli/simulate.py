@@ -27,7 +27,8 @@ writes the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 functions prefixed ``NAME``).  ``--sigma0`` (and ``--sigma1``) give the LuGre observer
 (``--compensation lugre_observer``) its bristle's stiffness [N*m/rad] (and damping
 [N*m*s/rad]; [N/m] and [N*s/m] on a linear axis) where the model has no LuGre law, or
-replace the law's.  An existing
+replace the law's; without ``--sigma1`` the damping is the law's, else ``sqrt(sigma0 * I)``
+(:func:`fricctl.compensators.lugre_observer.default_sigma1`, as ``fricctl compare``).  An existing
 output file is kept unless ``--force``.
 
 Examples::
@@ -159,7 +160,9 @@ def register(sub):
                         "(a model without a LuGre law needs it; e.g. 2e4 or 2e4N*m/rad)")
     p.add_argument("--sigma1", default=None, metavar="D",
                    help="with --compensation lugre_observer: the bristle damping sigma1 [N*m*s/rad] "
-                        "(default the model's LuGre law's, else 0)")
+                        "(default: the model's LuGre law's, else sqrt(sigma0 * I), I the joint's "
+                        "total inertia: damping ratio 0.5, Canudas de Wit et al.'s example; the "
+                        "same rule as fricctl compare)")
     p.add_argument("--clip", action="store_true",
                    help="clip the network's inputs to its training envelope")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
