@@ -21,7 +21,8 @@ at sample k (``z'`` evaluated at the new ``z``).
 Provenance of the parameters: ``sigma0``, ``sigma1`` the identified LuGre law's
 (``lugre_sigma0``, ``lugre_sigma1`` of the model; or given when the model has no LuGre law;
 without a law and without ``sigma1``, the damping of :func:`default_sigma1`, the one rule
-``fricctl simulate`` and ``fricctl compare`` share), ``sigma2`` the viscous coefficient, ``Fc``, ``Fs - Fc``, ``ws``, ``delta`` the static curve
+``fricctl simulate`` and ``fricctl compare`` share), ``sigma2`` the viscous coefficient,
+``Fc``, ``Fs - Fc``, ``ws``, ``delta`` the static curve
 (:func:`~fricctl.compensators.base.static_curve`), all with the friction scale applied;
 ``k`` is the design's (default 0).
 """
