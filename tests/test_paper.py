@@ -606,11 +606,14 @@ def test_divergence_against_hand_made_runs():
     # 5 samples are the loop's lateness, as for wind_up: not an episode
     tm[85:88] = 0.0
     assert paper.divergence(_sim(np.zeros(100), tm=tm)).passed
-    # a late episode with none before: a torque that grew
+    # a late episode with none before, a hair beyond the bound that ends, the joint still: nothing
+    # before to measure it against and too little record after it -- not judged, never a runaway
+    # (issue 25: a DOB reaching the breakaway level late in a 3 s run was called one)
     tm[:] = 0.0
     tm[80:88] = fs + 0.001
     d = paper.divergence(_sim(np.zeros(100), tm=tm))
-    assert not d.passed and d.value == math.inf and "none before" in d.reason
+    assert d.passed and not d.judged and math.isnan(d.value) and d.as_dict()["value"] is None
+    assert d.reason.startswith("too short to tell") and "it ended within the record" in d.reason
     # held beyond the bound from before the last quarter to the end (a saturated drive)
     tm[:] = 0.0
     tm[10:40] = fs + 0.5
@@ -682,6 +685,100 @@ def test_divergence_fails_a_sustained_envelope_after_a_large_transient():
     for bad, match in (({"steady": 0.0}, "steady"), ({"motion_counts": -1}, "motion_counts")):
         with pytest.raises(ValueError, match=match):
             paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing), **bad)
+
+
+def test_divergence_of_a_first_excess_in_the_last_share_fails_only_what_grows():
+    # 100 samples, 99 judged pairs, the last quarter from k = 75; nothing beyond the bound before
+    # k = 88 (Tm(89)), after the last quarter's first half (so the steadiness test, which needs an
+    # episode in both of its halves, does not apply).  From the first excess to the end: halves
+    # k = 88..92 and 93..98.  The excess grows as exp(k/4), 4.5x between the halves' peaks
+    fs, n = P.static, 100
+    k = np.arange(n)
+    tm = np.where(k >= 89, fs + 1e-3 * np.exp((k - 89) / 4.0), 0.0)
+    # the joint swings wider about its held reference (zero): 2 counts growing by exp(k/3)
+    wider = np.where(k >= 89, 2 * RES * np.exp((k - 89) / 3.0) * np.sin(2 * np.pi * k / 4 + 1), 0.0)
+    d = paper.divergence(_held(n, tm=tm, q=wider))
+    assert not d.passed and d.judged and d.value == math.inf
+    assert "with none before (a torque that grew)" in d.reason
+    assert "first excess beyond the bound is at t = 0.176 s" in d.reason
+    # open loop (no reference): the growing excess and the swing decide
+    d = paper.divergence(_sim(np.zeros(n), tm=tm, q=wider))
+    assert not d.passed and "a torque that grew" in d.reason
+    # the same excess with the joint still: no runaway the record shows, not judged
+    d = paper.divergence(_held(n, tm=tm, q=np.zeros(n)))
+    assert d.passed and not d.judged and "swings 0 encoder counts" in d.reason
+    # ... or with the joint closing on its reference from 40 counts away (e ~ exp(-k/4): the
+    # second half's largest error 14 counts, below 90 % of the first's 40)
+    closing = 40 * RES * np.exp(-np.maximum(k - 89, 0) / 4.0)
+    d = paper.divergence(_held(n, tm=tm, q=closing))
+    assert d.passed and not d.judged and "closes on its reference" in d.reason
+    # an excess that shrinks between the halves (exp(-k/4)), the joint swinging wider: not judged
+    shrinking = np.where(k >= 89, fs + 1e-2 * np.exp(-(k - 89) / 4.0), 0.0)
+    d = paper.divergence(_held(n, tm=shrinking, q=wider))
+    assert d.passed and not d.judged and "not growing" in d.reason
+    # with the excess from the last quarter's start, the steadiness test sees the growth first
+    early = np.where(k >= 76, fs + 1e-3 * np.exp((k - 76) / 8.0), 0.0)
+    swing = np.where(k >= 76, 2 * RES * np.exp((k - 76) / 10.0) * np.sin(2 * np.pi * k / 8), 0.0)
+    d = paper.divergence(_held(n, tm=early, q=swing))
+    assert not d.passed and "sustained envelope" in d.reason
+
+
+def test_divergence_still_fails_an_integral_runaway_that_starts_late_in_a_short_run():
+    # a real runaway whose first excess lies in the last quarter: literal bench, design fig13-14,
+    # integral action at 1.5 x the Routh limit, a step of 20 encoder counts.  The PD torque alone
+    # cannot break the joint away; the integral winds the held torque up to the breakaway level
+    # (t ~ 4.25 s), and from there each slip overshoots further: a stick-slip hunt that grows
+    from fricctl.compensators import IntegralAction
+    from fricctl.paper.benches import bench
+
+    b = bench("literal")
+    d = designs(b)["fig13-14"]
+    p = b.actuator
+    ki = 1.5 * (d.viscous + d.kd) * d.kp / d.inertia
+    run = simulate(p, ctl.pd_control(d.kp, d.kd, ctl.step(20 * p.encoder_resolution)),
+                   IntegralAction(ki=ki, max_torque=p.max_torque), duration=5.5)
+    t, excess = paper.runaway._excess(run)
+    first = np.flatnonzero(excess > 1e-12)[0]
+    assert t[first] > 0.75 * 5.5  # the record: its first excess in the last quarter ...
+    e = (run.reference - run.q) / p.encoder_resolution
+    # ... and a hunt that grows: the error's peak to peak over the last 0.5 s more than 1.5 x that
+    # over the 0.5 s before, which already spans 50 x the 20-count step
+    assert np.ptp(e[-250:]) > 1.5 * np.ptp(e[-500:-250]) > 1.5 * 50 * 20
+    c = paper.divergence(run)
+    assert not c.passed and c.judged and "with none before (a torque that grew)" in c.reason
+
+
+def test_runaway_reasons_follow_the_runs_units():
+    # issue 25: a run's reasons carry the units of its axis (SimInfo.units, set by simulate_model
+    # from the model): N, m/s, N*s/m on a linear axis, never N*m or rad
+    from fricctl.friction import FrictionModel
+    from fricctl.plant import JointModel
+    from fricctl.simulate import simulate_model
+
+    table = JointModel(inertia=2.0, friction=FrictionModel(coulomb_pos=20.0, coulomb_neg=20.0,
+                                                           viscous_pos=20.0, viscous_neg=20.0),
+                       sample_time=1e-3, units="linear")
+    run = simulate_model(table, ctl.open_loop(ctl.constant(30.0)), duration=0.1)
+    assert run.info.units == "linear"
+    assert simulate(P, ctl.open_loop(ctl.constant(0.0)), duration=0.01).info.units == "rotary"
+    fs, n = P.static, 100
+    tm = np.zeros(n)
+    tm[10:40] = fs + 0.04
+    tm[80:88] = fs + 0.025
+    r = _sim(np.zeros(n), tm=tm)
+    linear = replace(r, info=replace(r.info, units="linear"))
+    for check in (paper.divergence, paper.wind_up):
+        assert "N*m" in check(r).reason
+        text = check(linear).reason
+        assert "N*m" not in text and re.search(r"[\d.]+ N[;,)]", text), text
+    w = np.where(np.arange(n) < 50, 1.0, 0.0)  # a pulse's speed, kept 0 after t_end: coasts
+    rot = paper.coast_decay(_sim(w), t_end=0.09)
+    lin = _sim(w)
+    lin = paper.coast_decay(replace(lin, info=replace(lin.info, units="linear")), t_end=0.09)
+    assert "N*m*s/rad" in rot.reason and "rad/s" in rot.reason
+    assert "N*s/m" in lin.reason and "m/s" in lin.reason and "rad" not in lin.reason
+    with pytest.raises(ValueError, match="units"):
+        replace(r.info, units="angular")
 
 
 def test_divergence_says_when_its_record_is_too_short_for_the_loops_period():

@@ -58,7 +58,8 @@ def register(subparsers) -> None:
                         "law, or the assumed bristle of BRISTLE_COUNTS encoder counts at Fs)")
     p.add_argument("--sigma1", default=None, metavar="D",
                    help="lugre_observer's bristle damping sigma1 [N*m*s/rad] (default: the model's LuGre "
-                        "law, or sqrt(sigma0 * I))")
+                        "law, or sqrt(sigma0 * I), I the joint's total inertia: damping ratio 0.5, "
+                        "Canudas de Wit et al.'s example; the same rule as fricctl simulate)")
     p.add_argument("--bench", default=None, metavar="NAME",
                    help="the bench (fricctl.paper.benches.BENCHES); default the paper's default bench")
     p.add_argument("--executor", default=None, metavar="KIND",

@@ -27,7 +27,8 @@ writes the simulated compensator as C: ``NAME.c`` and its header ``NAME.h``
 functions prefixed ``NAME``).  ``--sigma0`` (and ``--sigma1``) give the LuGre observer
 (``--compensation lugre_observer``) its bristle's stiffness [N*m/rad] (and damping
 [N*m*s/rad]; [N/m] and [N*s/m] on a linear axis) where the model has no LuGre law, or
-replace the law's.  An existing
+replace the law's; without ``--sigma1`` the damping is the law's, else ``sqrt(sigma0 * I)``
+(:func:`fricctl.compensators.lugre_observer.default_sigma1`, as ``fricctl compare``).  An existing
 output file is kept unless ``--force``.
 
 Examples::
@@ -151,7 +152,8 @@ def register(sub):
                         "compensated run is checked for a runaway (a warning on stderr and in --json's "
                         "warnings): wind-up, or divergence for a compensator that is not a "
                         "friction estimate (observer, integral), and reversal under "
-                        "--torque sinusoid")
+                        "--torque sinusoid; a run too short for a check to tell says so "
+                        "(\"cannot judge this run: too short to tell\"; a longer --duration tells)")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn or nn_confirmed)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--sigma0", default=None, metavar="S",
@@ -159,7 +161,9 @@ def register(sub):
                         "(a model without a LuGre law needs it; e.g. 2e4 or 2e4N*m/rad)")
     p.add_argument("--sigma1", default=None, metavar="D",
                    help="with --compensation lugre_observer: the bristle damping sigma1 [N*m*s/rad] "
-                        "(default the model's LuGre law's, else 0)")
+                        "(default: the model's LuGre law's, else sqrt(sigma0 * I), I the joint's "
+                        "total inertia: damping ratio 0.5, Canudas de Wit et al.'s example; the "
+                        "same rule as fricctl compare)")
     p.add_argument("--clip", action="store_true",
                    help="clip the network's inputs to its training envelope")
     p.add_argument("--duration", type=float, default=3.0, help="[s]")
@@ -527,8 +531,9 @@ def _torque_period(args, ctrl) -> float | None:
     return 1.0 / ctrl.feedforward.frequency
 
 
-#: The first words of a failed runaway check's warning, by the check's name.
-_RUNAWAY = {"wind-up": "the compensated joint winds its torque up",
+#: The first words of a failed runaway check's warning, by the check's name (``{torque}``: the
+#: word for the axis, torque or force).
+_RUNAWAY = {"wind-up": "the compensated joint winds its {torque} up",
             "divergence": "the compensated loop runs away",
             "reversal": "the compensated joint runs away under the sinusoidal torque"}
 
@@ -540,7 +545,10 @@ def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
     the wind-up bound for a friction estimate, the divergence check for a disturbance observer
     or integral action, which may exceed that bound in a transient that dies out), and under an
     open-loop sinusoidal torque of ``period`` [s] the reversal check (from its second full
-    period on).  A run too short for a check is said so, not judged."""
+    period on).  A run too short for a check is said so, not judged: one that cannot hold the
+    check at all (a ValueError), or whose record cannot tell what the check asks (its
+    ``judged`` False and ``passed``: a first excess that begins too late in the run to say
+    whether it dies out) -- never a runaway the record does not show."""
     if res.info.compensator == "none":
         return []
     from ..paper.runaway import reversal, torque_check
@@ -556,7 +564,10 @@ def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
             out.append(f"the {what} runaway check cannot judge this run: {exc}")
             continue
         if not c.passed:
-            out.append(f"{_RUNAWAY[c.name]}: {c.reason}")
+            torque = "torque" if res.info.units == "rotary" else "force"
+            out.append(f"{_RUNAWAY[c.name].format(torque=torque)}: {c.reason}")
+        elif not c.judged:
+            out.append(f"the {what} runaway check cannot judge this run: {c.reason}")
     return out
 
 

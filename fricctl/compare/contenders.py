@@ -184,17 +184,18 @@ def _network(pipeline: str, name: str):
 #: LuGre law, the LuGre observer's bristle deflects ``BRISTLE_COUNTS`` encoder counts at the
 #: breakaway level (``sigma0 = Fs / (BRISTLE_COUNTS * count)``; the diagnosis's presliding scan
 #: starts at a few counts, below which the encoder cannot see a bristle), and its damping is
-#: that of Canudas de Wit et al.'s example, ``sigma1 = sqrt(sigma0 * I)`` (ratio 0.5 on the
-#: rotor's inertia).  The option ``sigma0`` [N*m/rad] replaces the assumed stiffness (the
-#: damping rule then applies to it), ``sigma1`` [N*m*s/rad] the damping; on a model with a
-#: LuGre law either replaces the law's (``fricctl compare --sigma0 / --sigma1``).
+#: the observer's own default, :func:`fricctl.compensators.lugre_observer.default_sigma1`
+#: (``sqrt(sigma0 * I)``, Canudas de Wit et al.'s example: damping ratio 0.5 on the joint's
+#: inertia; ``fricctl simulate`` builds the same).  The option ``sigma0`` [N*m/rad] replaces the
+#: assumed stiffness (the damping rule then applies to it), ``sigma1`` [N*m*s/rad] the damping;
+#: on a model with a LuGre law either replaces the law's (``fricctl compare --sigma0 / --sigma1``).
 BRISTLE_COUNTS = 10.0
 
 
 def _lugre_defaults(model, options: dict) -> dict:
     """``options`` with the bristle of a model without a LuGre law: ``sigma0`` given (checked:
-    a finite stiffness > 0) or assumed (:data:`BRISTLE_COUNTS`), ``sigma1`` given or
-    ``sqrt(sigma0 * I)``."""
+    a finite stiffness > 0) or assumed (:data:`BRISTLE_COUNTS`); ``sigma1`` given (checked), else
+    the observer's default (:meth:`~fricctl.compensators.LuGreObserver.from_model`)."""
     out = dict(options)
     if "sigma0" in out:
         out["sigma0"] = v.real("sigma0", out["sigma0"], positive=True, unit="N*m/rad")
@@ -210,7 +211,6 @@ def _lugre_defaults(model, options: dict) -> dict:
                              "to size an assumed bristle from; give the option sigma0 [N*m/rad] "
                              "(fricctl compare --sigma0)")
         out["sigma0"] = max(fr.breakaway(1), fr.breakaway(-1)) / (BRISTLE_COUNTS * count)
-    out.setdefault("sigma1", (out["sigma0"] * model.inertia) ** 0.5)
     return out
 
 

@@ -19,8 +19,10 @@ previous interval, the step advances ``z`` over that interval and then outputs t
 at sample k (``z'`` evaluated at the new ``z``).
 
 Provenance of the parameters: ``sigma0``, ``sigma1`` the identified LuGre law's
-(``lugre_sigma0``, ``lugre_sigma1`` of the model; or given when the model has no LuGre law),
-``sigma2`` the viscous coefficient, ``Fc``, ``Fs - Fc``, ``ws``, ``delta`` the static curve
+(``lugre_sigma0``, ``lugre_sigma1`` of the model; or given when the model has no LuGre law;
+without a law and without ``sigma1``, the damping of :func:`default_sigma1`, the one rule
+``fricctl simulate`` and ``fricctl compare`` share), ``sigma2`` the viscous coefficient,
+``Fc``, ``Fs - Fc``, ``ws``, ``delta`` the static curve
 (:func:`~fricctl.compensators.base.static_curve`), all with the friction scale applied;
 ``k`` is the design's (default 0).
 """
@@ -33,15 +35,44 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as v
-from .base import CCode, Compensator, CompiledCompensator, Entry, friction_of, static_curve
+from .base import (CCode, Compensator, CompiledCompensator, Entry, friction_of, joint_model,
+                   static_curve)
 
-__all__ = ["LuGreObserver", "ENTRY"]
+__all__ = ["LuGreObserver", "ENTRY", "default_sigma1"]
 
 #: Kind id in the compiled loop.
 KIND = 4
 (P_SIGMA0, P_SIGMA1, P_B_POS, P_B_NEG, P_FC_POS, P_FC_NEG, P_DS_POS, P_DS_NEG, P_WS,
  P_EXPONENT, P_K) = range(11)
 X_Z = 0
+
+
+def default_sigma1(sigma0: float, inertia: float) -> float:
+    """The bristle damping assumed where a model has no LuGre law: ``sqrt(sigma0 * I)``
+    [N*m*s/rad] ([N*s/m] on a linear axis).
+
+    ASSUMPTION (not identified): the damping of Canudas de Wit et al.'s (1995) example,
+    ``sigma0 = 1e5`` N/m, ``sigma1 = sqrt(1e5)`` N*s/m on a 1 kg mass, carried over as its ratio:
+    the presliding mode of the inertia ``I`` on the bristle, ``I s^2 + sigma1 s + sigma0``, damped
+    at ``zeta = sigma1 / (2 sqrt(sigma0 I)) = 0.5`` (critical damping would be
+    ``2 sqrt(sigma0 I)``; the published ratio is kept, and with it the comparison table that
+    rests on it).
+
+    Parameters
+    ----------
+    sigma0 : float
+        Bristle stiffness [N*m/rad] (> 0).
+    inertia : float
+        The joint's total inertia [kg*m^2] (> 0; mass [kg] on a linear axis).
+
+    Examples
+    --------
+    >>> round(default_sigma1(1e5, 1.0), 3)   # the paper's example: sqrt(1e5) N*s/m on 1 kg
+    316.228
+    """
+    sigma0 = v.real("sigma0", sigma0, positive=True, unit="N*m/rad")
+    inertia = v.real("inertia", inertia, positive=True, unit="kg*m^2")
+    return math.sqrt(sigma0 * inertia)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -125,6 +156,10 @@ class LuGreObserver(Compensator):
                    gain: float = 0.0, scale: float = 1.0) -> "LuGreObserver":
         """The observer of an identified model; ``sigma0``/``sigma1`` default to its LuGre law's.
 
+        A model without a LuGre law needs ``sigma0``; its ``sigma1`` defaults to
+        :func:`default_sigma1` of that stiffness and the model's inertia (a friction model or law
+        alone, which has no inertia, then needs ``sigma1`` too).
+
         Examples
         --------
         >>> from fricctl.params import paper_actuator
@@ -138,7 +173,18 @@ class LuGreObserver(Compensator):
             raise ValueError("sigma0: the model has no LuGre law (lugre_sigma0 = 0); give the "
                              "bristle stiffness sigma0 [N*m/rad] (and sigma1)")
         s0 = fr.lugre_sigma0 if sigma0 is None else sigma0
-        s1 = (fr.lugre_sigma1 if has else 0.0) if sigma1 is None else sigma1
+        if sigma1 is not None:
+            s1 = sigma1
+        elif has:
+            s1 = fr.lugre_sigma1
+        else:
+            from ..friction import FrictionLaw, FrictionModel
+
+            if isinstance(model, (FrictionModel, FrictionLaw)):
+                raise ValueError("sigma1: the model has no LuGre law and a friction model carries no "
+                                 "inertia for the default sqrt(sigma0 * I); give sigma1 [N*m*s/rad] "
+                                 "or the joint model")
+            s1 = default_sigma1(s0, joint_model(model).inertia)
         fcp, dsp, bp, ws, ex = static_curve(fr, 1)
         fcn, dsn, bn, _, _ = static_curve(fr, -1)
         return cls(sigma0=s0, sigma1=s1, viscous_pos=bp, viscous_neg=bn, coulomb_pos=fcp,

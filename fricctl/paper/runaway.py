@@ -34,6 +34,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..simulate import SimResult
+from ..units import units as _units_of
 
 __all__ = ["RunawayCheck", "wind_up", "divergence", "torque_check", "reversal", "coast_decay",
            "WIND_UP_SAMPLES", "SETTLE_SHARE", "DECAY", "STEADY", "MOTION_COUNTS", "LINEAR_TOLERANCE"]
@@ -93,11 +94,13 @@ class RunawayCheck:
     value : the number measured (``inf`` where the criterion has no finite measure)
     unit : its unit
     limit : the largest value that passes
-    passed : ``value <= limit``
+    passed : ``value <= limit`` where the value was measured
     reason : one line: what was measured and why it passes or fails
     judged : False where the record is too short for part of the criterion (the reason says
-        which; ``passed`` is then what the rest of the criterion found): :func:`divergence`
-        given a ``period`` its last share cannot hold twice
+        which, starting "too short to tell" where it is the whole verdict; ``passed`` is then
+        what the rest of the criterion found): :func:`divergence` given a ``period`` its last
+        share cannot hold twice, or whose first excess beyond the bound lies in its last share
+        and does not grow there (``value`` NaN: no earlier excess to measure it against)
     """
 
     name: str
@@ -126,6 +129,12 @@ class RunawayCheck:
 
 def _run(run) -> SimResult:
     return v.instance("run", run, SimResult, "a SimResult (fricctl.simulate)")
+
+
+def _units(r: SimResult):
+    """The unit labels of the run's axis (``info.units``: [N*m], [rad/s] on a rotary joint,
+    [N], [m/s] on a linear axis), so that a reason labels its numbers as the run's model does."""
+    return _units_of(r.info.units)
 
 
 def _longest_true_run(mask: np.ndarray) -> tuple[int, int]:
@@ -190,6 +199,7 @@ def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayChe
     max_samples = v.integer("max_samples", max_samples, low=0)
     t, excess = _excess(r)
     n, start = _longest_true_run(excess > 1e-12)
+    u = _units(r)
     ok = n <= max_samples
     if n == 0:
         reason = "no wind-up: |Tm(k+1)| never exceeds |Tc(k)| + Fs + b*|omega(k)|"
@@ -197,7 +207,7 @@ def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayChe
         seg = slice(start, start + n)
         reason = (f"{'no ' if ok else ''}wind-up: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| for "
                   f"{n} consecutive samples from t = {t[start]:.3f} s (by up to "
-                  f"{float(excess[seg].max()):.3f} N*m; allowed {max_samples})")
+                  f"{float(excess[seg].max()):.3f} {u.torque}; allowed {max_samples})")
     return RunawayCheck(name="wind-up", value=float(n), unit="samples", limit=float(max_samples),
                         passed=ok, reason=reason)
 
@@ -219,8 +229,19 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
 
     * has not ended: it began before that last share and lasts to the run's end; or
     * has not decayed: its largest excess is at least ``decay`` times the largest excess of
-      the run before that last share (a sustained or growing envelope; any excess there if
-      the run had none before); or
+      the run before that last share (a sustained or growing envelope); or
+    * grows where there is nothing before to compare it with: the run's first sample beyond the
+      bound lies in the last share, and from it to the run's end the excess does not decay
+      between the two halves (at least ``steady``), while the joint swings by more than
+      ``motion_counts`` counts and, under a held reference, its error does not decay either
+      (a loop that hunts wider at each slip, a drive that runs off).  Such a late first excess
+      that does not grow is *not judged* (``judged`` False, ``passed`` True, ``value`` NaN;
+      the reason starts "too short to tell"): a transient that starts late -- a DOB whose
+      estimate integrates the held torque up to the breakaway level over seconds at rest, then
+      creeps the joint to its reference -- has less record left than the last share gives every
+      earlier transient to die out, and no earlier excess to be measured against; a longer run
+      tells (that DOB, ``fricctl simulate --link --controller pd --rise-time 0.4 --damping 0.85
+      --compensation dob``, passes over 5 s: its excess ends before the last quarter); or
     * is sustained: in a closed-loop run whose reference is held through that last share (the
       loop gets no new excitation there), both halves of the share hold an episode, the
       second half's largest excess is at least ``steady`` times the first's, and the joint
@@ -260,8 +281,9 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     RunawayCheck
         ``value``: the largest excess beyond the bound in an episode of the last
         ``settle_share``, in % of the largest excess before it (0 without such an episode;
-        ``inf`` for an episode that has not ended, an envelope that is sustained, or with no
-        excess before) [%]; limit ``100*decay``.
+        ``inf`` for an episode that has not ended, an envelope that is sustained, or a first
+        excess that grows; NaN for a first excess that does not: not judged) [%]; limit
+        ``100*decay``.
 
     Notes
     -----
@@ -299,6 +321,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     if period is not None:
         period = v.real("period", period, positive=True, unit="s")
     t, excess = _excess(r)
+    u = _units(r)
     first = int(math.ceil((1.0 - settle_share) * t.size))
     if t.size - first <= max_samples:
         raise ValueError(f"run of {t.size + 1} samples: its last {settle_share:g} holds {t.size - first} "
@@ -316,7 +339,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
             a, n = max(episodes, key=lambda e: e[1])
             reason = (f"no divergence: {len(episodes)} transient(s) beyond |Tc(k)| + Fs + b*|omega(k)| "
                       f"(longest {n} samples from t = {t[a]:.3f} s, by up to "
-                      f"{float(excess[a:a + n].max()):.3f} N*m) ended before {where}")
+                      f"{float(excess[a:a + n].max()):.3f} {u.torque}) ended before {where}")
         return RunawayCheck(name="divergence", value=0.0, unit="%", limit=limit, passed=True,
                             reason=reason)
     peak_late = max(float(excess[max(a, first):a + n].max()) for a, n in late)
@@ -326,32 +349,53 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
         return RunawayCheck(
             name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
             reason=(f"divergence: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| from t = {t[a]:.3f} s "
-                    f"to the run's end ({n} samples, by up to {float(excess[a:].max()):.3f} N*m): "
-                    f"it has not ended in {where}"))
+                    f"to the run's end ({n} samples, by up to {float(excess[a:].max()):.3f} "
+                    f"{u.torque}): it has not ended in {where}"))
     sustained = _sustained(r, excess, late, first, steady, motion_counts)
     if sustained is not None:
         return RunawayCheck(
             name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
             reason=(f"divergence: a sustained envelope in {where}: |Tm(k+1)| exceeds |Tc(k)| + Fs + "
                     f"b*|omega(k)| in both of its halves by up to {sustained[0]:.4f} and "
-                    f"{sustained[1]:.4f} N*m ({100 * sustained[1] / sustained[0]:.0f} %, not decaying: "
-                    f"at least {100 * steady:g} %) while the joint swings {sustained[2]} encoder counts "
-                    f"with its reference held"))
-    value = 100.0 * peak_late / peak_before if peak_before > 0 else math.inf
-    ok = value <= limit
+                    f"{sustained[1]:.4f} {u.torque} ({100 * sustained[1] / sustained[0]:.0f} %, not "
+                    f"decaying: at least {100 * steady:g} %) while the joint swings {sustained[2]} "
+                    f"encoder counts with its reference held"))
     n_late = sum(a + n - max(a, first) for a, n in late)
-    reason = (f"{'no ' if ok else ''}divergence: in {where} |Tm(k+1)| exceeds |Tc(k)| + Fs + "
-              f"b*|omega(k)| for {n_late} samples by up to {peak_late:.4f} N*m, "
-              + (f"{value:.0f} % of the largest excess before ({peak_before:.4f} N*m; "
-                 f"{'decayed: below' if ok else 'not decayed: allowed'} {limit:g} %)"
-                 if peak_before > 0 else "with none before (a torque that grew)"))
+    head = (f"in {where} |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| for {n_late} samples by up "
+            f"to {peak_late:.4f} {u.torque}")
     span = float(t[-1] - t_settle) + r.sample_time
-    judged = period is None or span >= 2.0 * period
-    if not judged:
-        reason += (f"; too short to judge whether it is sustained: the last {span:.3g} s hold "
-                   f"{span / period:.2g} of the loop's period {period:.3g} s (fewer than 2)")
+    short = ("" if period is None or span >= 2.0 * period else
+             f"; too short to judge whether it is sustained: the last {span:.3g} s hold "
+             f"{span / period:.2g} of the loop's period {period:.3g} s (fewer than 2)")
+    if peak_before <= 0.0:
+        return _first_excess(r, t, excess, head, span, settle_share, limit, steady, motion_counts,
+                             short)
+    value = 100.0 * peak_late / peak_before
+    ok = value <= limit
+    reason = (f"{'no ' if ok else ''}divergence: {head}, {value:.0f} % of the largest excess before "
+              f"({peak_before:.4f} {u.torque}; {'decayed: below' if ok else 'not decayed: allowed'} "
+              f"{limit:g} %){short}")
     return RunawayCheck(name="divergence", value=value, unit="%", limit=limit, passed=ok, reason=reason,
-                        judged=judged)
+                        judged=not short)
+
+
+def _half_peaks(excess: np.ndarray, episodes: list, lo: int, hi: int) -> list:
+    """The largest excess inside the episodes in each half of samples ``lo..hi-1`` (None for a
+    half that holds no episode), and the index where the second half begins."""
+    mid = lo + (hi - lo) // 2
+    peaks = []
+    for a0, a1 in ((lo, mid), (mid, hi)):
+        inside = [excess[max(a, a0):min(a + b, a1)] for a, b in episodes if a < a1 and a + b > a0]
+        peaks.append(float(max(x.max() for x in inside)) if inside else None)
+    return [*peaks, mid]
+
+
+def _swing(r: SimResult, start: int) -> int:
+    """Peak-to-peak motion of the measured position from sample ``start`` to the run's end
+    [encoder counts] (1 for any motion without quantisation)."""
+    res = r.info.encoder_resolution
+    span = float(np.ptp(r.q_meas[start:]))  # q_meas[k] for the judged k, and the last sample
+    return int(round(span / res)) if res > 0 else int(span > 0)
 
 
 def _sustained(r: SimResult, excess: np.ndarray, late: list, first: int, steady: float,
@@ -360,20 +404,75 @@ def _sustained(r: SimResult, excess: np.ndarray, late: list, first: int, steady:
     (from ``first``) if its envelope of episodes is sustained (see :func:`divergence`), else None."""
     if r.info.controller == "open loop" or np.ptp(r.reference[first:]) > 0:
         return None  # the excitation goes on: a repeated excess may be its own
-    n = excess.size
-    mid = first + (n - first) // 2
-    peaks = []
-    for lo, hi in ((first, mid), (mid, n)):
-        inside = [excess[max(a, lo):min(a + b, hi)] for a, b in late if a < hi and a + b > lo]
-        if not inside:
-            return None
-        peaks.append(float(max(x.max() for x in inside)))
-    res = r.info.encoder_resolution
-    span = float(np.ptp(r.q_meas[mid:]))  # q_meas[k] for the judged k, and the last sample
-    swing = int(round(span / res)) if res > 0 else int(span > 0)
-    if swing <= motion_counts or peaks[1] < steady * peaks[0]:
+    p1, p2, mid = _half_peaks(excess, late, first, excess.size)
+    if p1 is None or p2 is None:
         return None
-    return peaks[0], peaks[1], swing
+    swing = _swing(r, mid)
+    if swing <= motion_counts or p2 < steady * p1:
+        return None
+    return p1, p2, swing
+
+
+def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, given: float,
+                  settle_share: float, limit: float, steady: float, motion_counts: int,
+                  short: str) -> RunawayCheck:
+    """:func:`divergence` of a run whose first excess beyond the bound lies in its last share.
+
+    There is no earlier excess to say whether this one decayed, and less record after its
+    start than the last share every earlier transient is given to die out.  What the record
+    can still show is growth.  From the run's first sample beyond the bound to its end, split
+    in two halves, the run fails (judged) if all of
+
+    * the second half's largest excess is at least ``steady`` times the first's (any sample
+      counts: the size of a growing envelope shows in short excursions too);
+    * the joint swings more than ``motion_counts`` encoder counts in the second half;
+    * with a reference held over that time, the largest position error of the second half is
+      at least ``steady`` times the first's (the joint does not close on its reference)
+
+    hold: a torque beyond the bound that does not decay while the joint is driven away or
+    swings wider.  Anything else passes *not judged*: a transient that starts late (an observer
+    that reaches the breakaway level after seconds at rest and creeps to the reference) is not
+    told from the start of a runaway by so short a record."""
+    u = _units(r)
+    s = int(np.flatnonzero(excess > 1e-12)[0])
+    n = excess.size
+    mid = s + max(1, (n - s) // 2)
+    p1, p2 = float(excess[s:mid].max()), float(excess[mid:].max()) if mid < n else -math.inf
+    swing = _swing(r, mid)
+    held = r.info.controller != "open loop" and not np.ptp(r.reference[s:]) > 0
+    e = np.abs(r.reference - r.q_meas)[:n]
+    e1, e2 = float(e[s:mid].max()), float(e[mid:].max()) if mid < n else 0.0
+    since = (f"the run's first excess beyond the bound is at t = {t[s]:.3f} s, "
+             f"{float(t[-1] - t[s]) + r.sample_time:.3g} s before its end")
+    res = r.info.encoder_resolution
+    err = ("" if not held else
+           f", its largest error {e2 / res:.0f} against {e1 / res:.0f} encoder counts" if res > 0 else
+           f", its largest error {e2:.3g} against {e1:.3g} {u.position}")
+    if p2 >= steady * p1 and swing > motion_counts and (not held or e2 >= steady * e1):
+        return RunawayCheck(
+            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
+            reason=(f"divergence: {head}, with none before (a torque that grew): {since}; over the "
+                    f"second half of that time the excess grows to {p2:.4f} {u.torque} "
+                    f"({100 * p2 / p1:.0f} % of the first half's {p1:.4f} {u.torque}; at least "
+                    f"{100 * steady:g} % is not decaying) while the joint swings {swing} encoder "
+                    f"counts{err}"))
+    if p2 <= 0.0:
+        seen = "it ended within the record"
+    elif p2 < steady * p1:
+        seen = (f"the second half of that time holds {p2:.4f} {u.torque}, {100 * p2 / p1:.0f} % of "
+                f"the first half's {p1:.4f} {u.torque} (below {100 * steady:g} %: not growing)")
+    elif swing <= motion_counts:
+        seen = (f"in the second half of that time the joint swings {swing} encoder counts "
+                f"(at most {motion_counts}: not an oscillation of the joint)")
+    else:
+        seen = (f"the joint closes on its reference{err} (second half against first; below "
+                f"{100 * steady:g} %)")
+    return RunawayCheck(
+        name="divergence", value=math.nan, unit="%", limit=limit, passed=True, judged=False,
+        reason=(f"too short to tell: {head}, with none before: {since}, less than the "
+                f"{given:.3g} s (the run's last {100 * settle_share:g} %) an earlier transient is "
+                f"given to die out, and no earlier excess to compare it with; {seen}. A longer run "
+                f"tells{short}"))
 
 
 def torque_check(run: SimResult, compensator, *, period: float | None = None) -> RunawayCheck:
@@ -484,10 +583,11 @@ def coast_decay(run: SimResult, t_end: float, *, tolerance: float = LINEAR_TOLER
     worst = 100 * float(excess[i])
     ok = worst <= limit
     tau = inertia / b if b > 0 else math.inf
-    reason = (f"the joint coasts down at least like the linear viscous actuator (b = {b:.4g} N*m*s/rad, "
+    u = _units(r)
+    reason = (f"the joint coasts down at least like the linear viscous actuator (b = {b:.4g} {u.viscous}, "
               f"I/b = {tau:.3f} s): largest excess {worst:.1f} % of |omega_end| = {w_end:.2f} "
-              f"rad/s (allowed {limit:g} %)" if ok else
+              f"{u.velocity} (allowed {limit:g} %)" if ok else
               f"runaway: after the pulse the joint does not coast down like the linear viscous actuator: "
-              f"|omega| = {w[i]:.2f} rad/s at t = {t[i]:.2f} s, {worst:.0f} % of |omega_end| = "
-              f"{w_end:.2f} rad/s above the decay exp(-(b/I)*t) (allowed {limit:g} %)")
+              f"|omega| = {w[i]:.2f} {u.velocity} at t = {t[i]:.2f} s, {worst:.0f} % of |omega_end| = "
+              f"{w_end:.2f} {u.velocity} above the decay exp(-(b/I)*t) (allowed {limit:g} %)")
     return RunawayCheck(name="coast", value=worst, unit="%", limit=limit, passed=ok, reason=reason)

@@ -508,7 +508,8 @@ def simulate_model(model: JointModel, controller: Controller,
                        kp=controller.kp, kd=controller.kd, compensator=comp.name,
                        compensation_scale=comp.scale, plant=plant_label(a.kind, fr),
                        substeps=int(substeps), delay=int(loop.delay), noise_std=float(noise_std),
-                       encoder_resolution=float(res), loop=path, position_noise_std=float(pos_std))
+                       encoder_resolution=float(res), loop=path, position_noise_std=float(pos_std),
+                       units=model.units)
 
 
 class Schedule:

@@ -10,6 +10,7 @@ import numpy as np
 from .. import _validate as v
 from ..friction import FrictionModel
 from ..params import ActuatorParams
+from ..units import KINDS
 
 __all__ = ["SimInfo", "SimResult", "BatchResult", "ReplayResult", "ARRAYS"]
 
@@ -46,6 +47,14 @@ class SimInfo:
     """``"compiled"`` or ``"python"`` (a compensator only Python can evaluate)."""
     position_noise_std: float = 0.0
     """White position noise added before the encoder quantises (edge jitter) [rad]."""
+    units: str = "rotary"
+    """The kind of axis, ``"rotary"`` or ``"linear"`` (:mod:`fricctl.units`): the units of every
+    quantity of the run, [rad] and [N*m] as written above on a rotary joint, [m] and [N] on a
+    linear axis (:func:`~fricctl.simulate.simulate_model` of a linear model).  A report of the run
+    (the runaway checks' reasons) labels its numbers by it."""
+
+    def __post_init__(self):
+        v.choice("units", self.units, KINDS)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
