@@ -459,8 +459,9 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
     if p2 <= 0.0:
         seen = "it ended within the record"
     elif p2 < steady * p1:
-        seen = (f"the second half of that time holds {p2:.4f} {u.torque}, {100 * p2 / p1:.0f} % of "
-                f"the first half's {p1:.4f} {u.torque} (below {100 * steady:g} %: not growing)")
+        seen = (f"the second half of that time exceeds the bound by up to {p2:.4f} {u.torque} at any "
+                f"sample, {100 * p2 / p1:.0f} % of the first half's {p1:.4f} {u.torque} (below "
+                f"{100 * steady:g} %: not growing)")
     elif swing <= motion_counts:
         seen = (f"in the second half of that time the joint swings {swing} encoder counts "
                 f"(at most {motion_counts}: not an oscillation of the joint)")
