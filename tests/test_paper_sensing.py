@@ -42,7 +42,7 @@ def _pair(net, b) -> tuple[int, int]:
 
 def test_sensing_off_is_the_noise_free_run_bit_for_bit(nets):
     net = nets["consistent"]
-    off = bench("consistent").with_sensing("off", encoder_jitter=0.0, torque_noise=0.0)
+    off = bench("consistent").with_sensing("off", encoder_jitter=0.0, torque_noise=0.0, torque_ripple=0.0)
     r = fig16.run(net.sensed_on(off, 3))
     p, d = off.linked_actuator, designs(off)["fig16-17"]
     level = r.coulomb_level(COULOMB_AT_FS)

@@ -178,11 +178,14 @@ def _seeds_note(bench) -> str:
     from .benches import as_bench
 
     s = as_bench(bench).sensing
+    ripple = ("" if s.torque_ripple == 0.0 else
+              f" Every run's plant receives the bench's torque ripple ({s.torque_ripple:.3g} N*m, period "
+              f"{s.torque_ripple_period:.4g} rad), the same in every seed.")
     if s.noise_free:
-        return _SAME_EVERY_SEED
+        return _SAME_EVERY_SEED + ripple
     return (f" The levels are the same in every seed (identified on the bench's noise-free records); the "
             f"runs are not: each seed draws the bench's sensing noise (encoder edge jitter "
-            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).")
+            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).{ripple}")
 
 
 def _jitter_clause(bench) -> str:
