@@ -10,8 +10,9 @@ sensing's alone.  A cell is "passed/seeds";
 a claim *holds* at >= 90 % of the seeds.
 
 ``--sweep``: instead, Fig. 16's Coulomb pair (``fig16-coulomb-fs`` oscillates, ``fig16-coulomb-fc``
-does not) against the edge jitter sigma on both benches, torque noise off and on, over 5 seeds of
-the sensing noise on one fast fricctl network (the Coulomb runs do not involve its weights).
+does not) against the edge jitter sigma on both benches, torque noise off and on, the ripple off
+(a deterministic torque: it makes nothing flicker, ``tests/test_paper_sensing.py``), over 5 seeds
+of the sensing noise on one fast fricctl network (the Coulomb runs do not involve its weights).
 
 Usage: ``python benchmarks/bench_sensing.py [--bench consistent] [--seeds 10] [--fast] [--sweep]``.
 """
@@ -43,7 +44,8 @@ def sweep(noise_seeds: int = 5) -> None:
         net = paper.train_paper_network(bench=name, fast=True, seed=0, pipeline="fricctl")
         for sigma in SIGMAS:
             for tn in (0.0, noise):
-                b = bench(name).with_sensing("bench_sensing.py --sweep", encoder_jitter=sigma, torque_noise=tn)
+                b = bench(name).with_sensing("bench_sensing.py --sweep", encoder_jitter=sigma, torque_noise=tn,
+                                             torque_ripple=0.0)
                 rs = [fig16.run(net.sensed_on(b, k)) for k in range(noise_seeds)]
                 fs = sum(fig16.claim_fig16_coulomb_fs(r, b).passed for r in rs)
                 fc = sum(fig16.claim_fig16_coulomb_fc(r, b).passed for r in rs)

@@ -25,8 +25,8 @@ from fricctl.design.second_order import metrics_from_response, resolve_rise_time
 from fricctl.paper import consistency as cs
 from fricctl.friction import PositionRipple
 from fricctl.paper import fig11
-from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SENSING, SETTINGS, SOURCES, Bench,
-                                   as_bench, bench, bench_file, load_bench)
+from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, RANDOM_PHASE, SENSING, SETTINGS, SOURCES,
+                                   Bench, as_bench, bench, bench_file, load_bench)
 from fricctl.paper.common import designs
 from fricctl.params import PAPER_LINK_INERTIA, PAPER_VISCOUS, paper_actuator
 
@@ -141,16 +141,31 @@ def test_consistent_bench_senses_what_a_real_bench_does():
     with pytest.raises(ValueError, match="sensing.torque_ripple_period.value must be > 0"):
         b.with_sensing("a test", torque_ripple_period=0.0)
     # the options of a run: the jitter in radians, drawn from the rng given; the run's friction
-    # with the ripple added (scaled friction keeps the ripple unscaled)
+    # with the ripple added (scaled friction keeps the ripple unscaled), its phase drawn for the run
+    assert s.torque_ripple_phase == RANDOM_PHASE
     rng = np.random.default_rng(0)
     fr = b.actuator.friction_model().scaled(1.5)
     o = s.options(rng, fr)
     assert {k: o[k] for k in ("noise_std", "position_noise_std", "rng")} == {
         "noise_std": s.torque_noise, "position_noise_std": s.position_noise_std, "rng": rng}
-    assert o["friction"] == fr + PositionRipple(s.torque_ripple, s.torque_ripple_period, 0.0)
+    phase = o["friction"].ripple_phase
+    assert 0.0 <= phase < 2 * np.pi
+    assert o["friction"] == fr + PositionRipple(s.torque_ripple, s.torque_ripple_period, phase)
     q = np.linspace(0.0, 0.1, 7)
     np.testing.assert_allclose(o["friction"].ripple(q),  # the closed form
-                               s.torque_ripple * np.sin(2 * np.pi * q / s.torque_ripple_period), rtol=0, atol=1e-15)
+                               s.torque_ripple * np.sin(2 * np.pi * q / s.torque_ripple_period + phase),
+                               rtol=0, atol=1e-15)
+    # the phase is the seed's (reproducible), another seed draws another, and the noise the run
+    # draws from rng afterwards is the same as without the ripple (the phase has its own stream)
+    assert s.options(np.random.default_rng(0), fr)["friction"].ripple_phase == phase
+    assert s.options(np.random.default_rng(1), fr)["friction"].ripple_phase != phase
+    assert rng.normal() == np.random.default_rng(0).normal()
+    fixed = b.with_sensing("a test", torque_ripple_phase=0.5).sensing
+    assert fixed.options(None, fr)["friction"].ripple_phase == 0.5  # a fixed phase needs no rng
+    with pytest.raises(ValueError, match="rng: a random torque_ripple_phase needs a numpy.random.Generator"):
+        s.options(None, fr)
+    with pytest.raises(ValueError, match="sensing.torque_ripple_phase.value must be one of 'random'"):
+        b.with_sensing("a test", torque_ripple_phase="uniform")
     # no ripple: the friction given, the same object (a run is bit for bit the one without it)
     off = b.with_sensing("a test", torque_ripple=0.0).sensing
     assert off.options(rng, fr)["friction"] is fr
@@ -240,6 +255,8 @@ def _mutations():
         lambda d: d["sensing"]["torque_ripple_period"].update(unit="counts"))
     add("sensing.torque_ripple_period.value must be > 0",
         lambda d: d["sensing"]["torque_ripple_period"].update(value=0.0))
+    add("sensing.torque_ripple_phase.value must be one of 'random'",
+        lambda d: d["sensing"]["torque_ripple_phase"].update(value="0"))
     add("sensing.torque_ripple_phase.value must be finite",
         lambda d: d["sensing"]["torque_ripple_phase"].update(value=float("nan")))
     add("sensing: missing sensing item", lambda d: d["sensing"].pop("torque_ripple_phase"))

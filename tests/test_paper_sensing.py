@@ -85,7 +85,7 @@ def test_the_coulomb_pair_is_not_a_knife_edge_of_the_jitter(nets, name, low, hig
     # jitter itself as motion at the smaller level in some seeds
     noise = bench("consistent").sensing.torque_noise
     for sigma in sorted({low, 0.25, 0.3, high}):
-        b = bench(name).with_sensing("sensitivity", encoder_jitter=sigma, torque_noise=noise)
+        b = bench(name).with_sensing("sensitivity", encoder_jitter=sigma, torque_noise=noise, torque_ripple=0.0)
         assert _pair(nets[name], b) == (len(SEEDS), len(SEEDS)), sigma
-    b = bench(name).with_sensing("sensitivity", encoder_jitter=0.05, torque_noise=noise)
+    b = bench(name).with_sensing("sensitivity", encoder_jitter=0.05, torque_noise=noise, torque_ripple=0.0)
     assert _pair(nets[name], b)[0] < len(SEEDS)

@@ -79,8 +79,8 @@ from ... import _validate as v
 from ...params import ActuatorParams
 from ...plant.model import JointModel
 
-__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "BENCHES",
-           "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
+__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "RANDOM_PHASE",
+           "BENCHES", "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
            "as_bench", "bench_file"]
 
 BENCH_FORMAT = "fricctl.paper_bench"
@@ -199,6 +199,9 @@ SETTINGS = types.MappingProxyType({s.name: s for s in (
 )})
 
 
+#: The value of ``torque_ripple_phase`` that draws the phase for each run (:meth:`Sensing.ripple`).
+RANDOM_PHASE = "random"
+
 #: The velocity estimates a bench's compensator and D term may see (the loop's own, today one).
 VELOCITY_ESTIMATES = ("backward-difference",)
 
@@ -218,7 +221,10 @@ SENSING = types.MappingProxyType({s.name: s for s in (
           "2*pi/(n*k) for k ripple cycles per motor revolution at gear ratio n",
           check=_positive("rad")),
     _Spec(name="torque_ripple_phase", unit="rad", doc="the ripple's phase at q = 0 (the joint's "
-          "start in every figure's run)", check=lambda name, x: v.real(name, x, unit="rad")),
+          f"start in every figure's run), or {RANDOM_PHASE!r}: drawn uniformly in [0, 2*pi) for each "
+          "run from its sensing's generator (where the drive's period starts is not known)",
+          check=lambda name, x: v.choice(name, x, (RANDOM_PHASE,)) if isinstance(x, str) else
+          v.real(name, x, unit="rad")),
     _Spec(name="velocity_estimate", unit="-", doc="the velocity estimate the compensator and the "
           "D term see: the backward difference of the encoder reading over one sample (the "
           "paper's)", check=_one_of(lambda: VELOCITY_ESTIMATES)),
@@ -523,8 +529,8 @@ class Sensing:
         return self.entries["torque_ripple_period"].value
 
     @property
-    def torque_ripple_phase(self) -> float:
-        """The ripple's phase at q = 0 [rad]."""
+    def torque_ripple_phase(self):
+        """The ripple's phase at q = 0 [rad], or :data:`RANDOM_PHASE` (drawn for each run)."""
         return self.entries["torque_ripple_phase"].value
 
     @property
@@ -548,25 +554,36 @@ class Sensing:
         """True when the runs are the plant's own: no noise and no torque ripple."""
         return self.noise_free and self.torque_ripple == 0.0
 
-    def ripple(self):
+    def ripple(self, rng=None):
         """The torque ripple as a friction-model term
-        (:class:`~fricctl.friction.laws.position_ripple.PositionRipple`), None at amplitude 0."""
+        (:class:`~fricctl.friction.laws.position_ripple.PositionRipple`), None at amplitude 0.
+
+        A :data:`RANDOM_PHASE` is drawn uniformly in [0, 2*pi) from a generator spawned from
+        ``rng`` (a :class:`numpy.random.Generator`, needed then), which leaves ``rng``'s own
+        draws -- the run's noise -- as they are without the ripple.
+        """
         from ...friction import PositionRipple
 
         if self.torque_ripple == 0.0:
             return None
-        return PositionRipple(self.torque_ripple, self.torque_ripple_period, self.torque_ripple_phase)
+        phase = self.torque_ripple_phase
+        if phase == RANDOM_PHASE:
+            if rng is None:
+                raise ValueError("rng: a random torque_ripple_phase needs a numpy.random.Generator")
+            phase = float(v.rng("rng", rng).spawn(1)[0].uniform(0.0, 2.0 * math.pi))
+        return PositionRipple(self.torque_ripple, self.torque_ripple_period, phase)
 
     def options(self, rng, friction) -> dict:
         """The keyword arguments of :func:`fricctl.simulate.simulate` that give a run this
         sensing: its noise drawn from ``rng`` (a :class:`numpy.random.Generator`; None is
         accepted only when the sensing is noise-free), and ``friction`` -- the run's plant
         friction (a :class:`~fricctl.friction.FrictionModel`, e.g. ``params.friction_model()``)
-        -- with the torque ripple added (unchanged without one)."""
+        -- with the torque ripple added (unchanged without one; a random phase drawn for this
+        run, :meth:`ripple`)."""
         from ...friction import FrictionModel
 
         fr = v.instance("friction", friction, FrictionModel, "a FrictionModel (the run's plant friction)")
-        ripple = self.ripple()
+        ripple = self.ripple(rng)
         if ripple is not None:
             if fr.ripple_amplitude > 0:
                 raise ValueError("sensing.torque_ripple: the run's friction already holds a position "
