@@ -78,7 +78,7 @@ def main() -> None:
     configs = {"all": (jitter, noise, ripple), "off": (0.0, 0.0, 0.0), "jitter alone": (jitter, 0.0, 0.0),
                "torque noise alone": (0.0, noise, 0.0), "ripple alone": (0.0, 0.0, ripple)}
     print(f"bench {b.name}; items switched on: encoder jitter {jitter:g} counts, torque noise {noise:g} "
-          f"N*m, torque ripple {ripple:g} N*m of period {period:.6g} rad (phase {phase:g} rad); velocity "
+          f"N*m, torque ripple {ripple:g} N*m of period {period:.6g} rad (phase {phase} rad); velocity "
           f"{s.velocity_estimate}; {args.seeds} seeds, {'fast' if args.fast else 'full'} mode")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     results = {}

@@ -325,10 +325,11 @@ ripple = paper.benches.bench("consistent").sensing
 A, P = ripple.torque_ripple, ripple.torque_ripple_period
 
 
-def with_ripple(jitter=0.0):
-    """This chapter's bench with the consistent bench's ripple (and ``jitter`` [counts])."""
+def with_ripple(jitter=0.0, phase=ripple.torque_ripple_phase):
+    """This chapter's bench with the consistent bench's ripple (and ``jitter`` [counts]); its
+    phase [rad] the consistent bench's ("random": drawn for each run) unless given."""
     return net0.bench.with_sensing("chapter 7: the drive's ripple", encoder_jitter=jitter,
-                                   torque_ripple=A, torque_ripple_period=P)
+                                   torque_ripple=A, torque_ripple_period=P, torque_ripple_phase=phase)
 
 
 pair_ripple = {}
@@ -345,17 +346,21 @@ print(f"Fig. 16's Coulomb pair (fs passes, fc passes) over {len(NOISE_SEEDS)} se
 # with the jitter it holds as it did without the ripple
 assert pair_ripple[0.0] == pair[0.0] == (0, 0)
 assert pair_ripple[0.25] == pair[0.25] == (len(NOISE_SEEDS),) * 2
+PHASES = (0.0, 0.5 * np.pi, np.pi, 1.5 * np.pi)  # where the ripple's period starts, at q = 0 [rad]
 e17_ripple = {}
 for k in SEEDS:
     n_k = nets[("fricctl", k)]
-    r = paper.fig17.run(n_k.sensed_on(with_ripple()))
-    e17_ripple[k] = abs(r.steady_state_error[f"NN x {s:g}"])
     dz_a = predicted_dead_zone(n_k.trained.net, phi * p.static + A, scale=s).largest
-    assert e17_ripple[k] <= dz_a / kp + p.encoder_resolution  # inside the band widened by A
-    assert r.max_motion["none"] == 0.0  # Kp*0.08 + A is still below the aged breakaway
+    for ph in PHASES:
+        r = paper.fig17.run(n_k.sensed_on(with_ripple(phase=ph)))
+        e17_ripple[(k, ph)] = abs(r.steady_state_error[f"NN x {s:g}"])
+        assert e17_ripple[(k, ph)] <= dz_a / kp + p.encoder_resolution  # inside the band widened by A
+        assert r.max_motion["none"] == 0.0  # Kp*0.08 + A is still below the aged breakaway
 e17_none = {k: abs(results[("fricctl", k)][17].steady_state_error[f"NN x {s:g}"]) for k in SEEDS}
-print("Fig. 17, fricctl seeds, |e_ss| without / with the ripple [deg]: " + ", ".join(
-    f"{np.rad2deg(e17_none[k]):.3f} / {np.rad2deg(e17_ripple[k]):.3f}" for k in SEEDS))
+for k in SEEDS:
+    print(f"Fig. 17, fricctl seed {k}: |e_ss| {np.rad2deg(e17_none[k]):.3f} deg without the ripple; with it, "
+          "at phase 0, pi/2, pi, 3pi/2: " + ", ".join(f"{np.rad2deg(e17_ripple[(k, ph)]):.3f}" for ph in PHASES)
+          + " deg")
 r18_ripple = paper.fig18.run(net0.sensed_on(with_ripple()))
 kp18 = r18_ripple.design.kp
 print(f"Fig. 18 without compensation: Kp * 0.1 rad + A = {kp18 * r18_ripple.amplitude + A:.4f} N*m < Fs = "
@@ -363,8 +368,10 @@ print(f"Fig. 18 without compensation: Kp * 0.1 rad + A = {kp18 * r18_ripple.ampl
 shift = max(np.rad2deg(A * (1.0 - s * g[("fricctl", k)]) / kp) for k in SEEDS)
 print(f"the ripple's share of the band, A (1 - s g)/Kp: at most {shift:.3f} deg over the fricctl seeds")
 assert 0.01 <= shift < 0.1  # hundredths of a degree (the prose below)
-# where the joint stops moves by more than the band widens: the ripple acts on the approach
-assert max(abs(e17_ripple[k] - e17_none[k]) for k in SEEDS) > np.deg2rad(shift)
+# where the joint stops moves with the phase by more than the band widens: the ripple acts on the approach
+spread = {k: np.ptp([e17_ripple[(k, ph)] for ph in PHASES]) for k in SEEDS}
+print("spread of |e_ss| over the phases: " + ", ".join(f"{np.rad2deg(x):.3f}" for x in spread.values()) + " deg")
+assert all(x > np.deg2rad(shift) for x in spread.values())
 assert kp * results[("fricctl", SEEDS[0])][17].step + A < phi * p.static
 assert kp18 * r18_ripple.amplitude + A < p.static and r18_ripple.max_motion_without == 0.0
 
@@ -375,10 +382,13 @@ assert kp18 * r18_ripple.amplitude + A < p.static and r18_ripple.max_motion_with
 # stops inside its band, widened by the ripple (checked): the network's fixed point
 # $T_m^\ast = K_p e/(1 - s g)$ turns $A$ into at most $A(1 - s g)/K_p$ of band, hundredths
 # of a degree at $s g \approx 0.94$ (printed).  But *where* in the band the approach ends
-# moves by more than that (checked; Fig. 17's $|e_{ss}|$ per seed printed): the ripple
-# pushes and holds the joint along its slow approach, and the band of $s = 0.95$ is wider
-# than the paper's 0.3 deg (Section 1), so a claim judged on where the joint stops
-# (`fig17-nn`) can change with it, either way.
+# moves with the ripple's phase by more than that, in every seed (checked; Fig. 17's
+# $|e_{ss}|$ per seed and phase printed): the ripple pushes and holds the joint along its
+# slow approach, and the band of $s = 0.95$ is wider than the paper's 0.3 deg (Section 1),
+# so a claim judged on where the joint stops (`fig17-nn`, `fig16-nn`) changes with the
+# phase, either way.  Where the drive's period starts is not kept from one experiment to
+# the next, so the consistent bench draws the phase for each run (its `torque_ripple_phase`
+# is `"random"`) and rates those claims over seeds: a fixed phase would decide them.
 # Where nothing moves without compensation (Figs. 17 and 18 on this bench) the ripple's
 # 0.014 N·m does not make the loop's request reach the breakaway torque (checked).  Its
 # effect on every claim of the consistent bench, over seeds, is in `benchmarks/README.md`

@@ -478,12 +478,21 @@ def test_reproduce_on_the_consistent_bench(tmp_path):
     assert "Bench **consistent**" in md and "(consistent)" in md.splitlines()[0]
     assert {o["bench"] for o in js} == {"consistent"}
     by = {(s.id, s.pipeline): s for s in res.stats}
-    # what the proposal changes, measured on the bench (docs/paper_consistency.md): Fig. 18 stick-
-    # slips and Fig. 11 moves then rests, in every seed: they do not involve a network
+    # what the proposal changes, measured on the bench (docs/paper_consistency.md): Fig. 11 moves
+    # then rests, in every seed: it does not involve a network (nor does Fig. 17 without
+    # compensation, which never moves: Kp*0.08 rad + the ripple's A stays below the aged Fs)
     for p in res.pipelines:
-        assert by[("fig18-without", p)].pass_rate == 1.0
         assert by[("fig11-stuck", p)].pass_rate == 1.0
         assert by[("fig17-none", p)].pass_rate == 1.0
+    # Fig. 18 stick-slips in every period on the bench's plant (the page's statement, sensing off);
+    # with the sensing its ripple parks the joint after a ramp in some seeds (benchmarks/README.md)
+    from fricctl.paper import fig18, train_paper_network
+
+    off = bench("consistent").with_sensing("off", encoder_jitter=0.0, torque_noise=0.0, torque_ripple=0.0)
+    net = train_paper_network(bench="consistent", fast=True, seed=0, pipeline="fricctl")
+    for k in res.seeds:
+        r = fig18.run(net.sensed_on(off, k))
+        assert [c for c in fig18.FIGURE.make_claims(r, off) if c.id == "fig18-without"][0].passed
 
 
 # -- docs/paper_consistency.md, "Coulomb compensation (Fig. 16)" --------------------------------------
