@@ -159,3 +159,24 @@ def test_the_ripples_effect_grows_with_its_amplitude(consistent_nets):
         spreads = [np.ptp(_fig17_errors(net, PHASES, f * tmax)) for f in fractions]
         assert spreads[0] == 0.0 and spreads[1] > 0.0, spreads
         assert spreads[-1] > spreads[1], np.rad2deg(spreads)
+
+
+def test_the_literal_bench_runs_are_the_plant_alone_bit_for_bit(nets):
+    # the literal bench has no sensing: every figure run is the simulation of its plant as before
+    # the sensing existed (no friction argument, no noise) -- its table unchanged, bit for bit
+    from fricctl.compensators import NoCompensation
+    from fricctl.paper import fig09, fig11
+
+    net = nets["literal"]
+    assert bench("literal").sensing.ideal
+    p = net.params
+    r9 = fig09.run(net)
+    c9 = ctl.open_loop(ctl.sinusoid(1.1 * p.static, 0.5))
+    ref = simulate(p, c9, net.compensator(), duration=4.0)
+    np.testing.assert_array_equal(r9.with_nn.q_meas, ref.q_meas)
+    np.testing.assert_array_equal(r9.with_nn.torque_motor, ref.torque_motor)
+    r11 = fig11.run(net)
+    d = designs(bench("literal"))["fig11-12"]
+    ref = simulate(p, ctl.p_control(d.kp, ctl.step(np.deg2rad(25.0))), NoCompensation(), duration=3.0)
+    np.testing.assert_array_equal(r11.run.q_meas, ref.q_meas)
+    np.testing.assert_array_equal(r11.run.torque_motor, ref.torque_motor)
