@@ -543,8 +543,15 @@ def test_the_reproduction_page_states_the_consistent_sensing_as_shipped():
     from pathlib import Path
     text = " ".join((Path(__file__).resolve().parents[1] / "docs" / "reproduction.md").read_text().split())
     m = re.search(r"\(([\d.]+) count of encoder edge jitter, current-loop noise of ([\d.]+) % of the "
-                  r"maximum torque\)", text)
+                  r"maximum torque, the harmonic drive's torque ripple of ([\d.]+) % of it twice per motor "
+                  r"revolution, its phase drawn for each run\)", text)
     assert m, "docs/reproduction.md's sensing sentence changed: update this test with it"
-    s, model = bench("consistent").sensing, bench("consistent").model
+    s, model, n = bench("consistent").sensing, bench("consistent").model, bench("consistent").value("gear_ratio")
     assert float(m[1]) == s.encoder_jitter
     assert float(m[2]) == pytest.approx(100 * s.torque_noise / model.max_torque, rel=1e-3)
+    assert float(m[3]) == pytest.approx(100 * s.torque_ripple / model.max_torque, rel=1e-3)
+    assert s.torque_ripple_period == pytest.approx(2 * math.pi / (2 * n), rel=1e-15)  # twice per motor rev
+    assert s.torque_ripple_phase == RANDOM_PHASE
+    # the README says the same
+    readme = " ".join((Path(__file__).resolve().parents[1] / "README.md").read_text().split())
+    assert m[0] in readme
