@@ -575,6 +575,11 @@ plt.show()
 #   level never rests and the smaller level does, in every seed of the noise; a tenth of a
 #   count is too little, and at half a count
 #   the claims' criterion starts to read the jitter itself as motion.
+# * The harmonic drive's torque ripple (1 % of $T_{max}$, period $\pi/100$ rad) makes nothing
+#   flicker -- the Coulomb pair still needs the jitter -- but moves where a slowly approaching
+#   joint stops inside its band, with the ripple's phase, by far more than it widens the band:
+#   a claim read on where the joint stops is then a rate over phases, which the consistent
+#   bench draws for each run.
 # * The describing function of an over-compensating relay predicts, on the paper's PD, a
 #   cycle whose pull is far below the breakaway level -- an overshoot and a stop; on a stiff
 #   P loop it predicts a sustained cycle, and the simulation matched its amplitude.
