@@ -51,7 +51,8 @@ def main() -> None:
     p = b.actuator
     s = b.sensing
     print(f"bench {b.name}: encoder jitter {s.encoder_jitter:g} counts, torque noise {s.torque_noise:g} N*m, "
-          f"velocity {s.velocity_estimate}; {'fast' if args.fast else 'full'} mode")
+          f"torque ripple {s.torque_ripple:g} N*m of period {s.torque_ripple_period:.6g} rad (phase "
+          f"{s.torque_ripple_phase}), velocity {s.velocity_estimate}; {'fast' if args.fast else 'full'} mode")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:

@@ -2,15 +2,17 @@
 the bench's sensing on.
 
 For one bench (default the consistent one), every claim of both pipelines over ``--seeds`` seeds
-with the bench's sensing switched four ways: off (noise-free, today's method), each item alone
-(encoder edge jitter; current-loop torque noise), and all of it (the bench as shipped).  The
-networks are the same in the four (trained on the clean records; the disk cache trains each
-once), so a difference between two columns is the sensing's alone.  A cell is "passed/seeds";
+with the bench's sensing switched five ways: off (noise- and ripple-free, today's method), each
+item alone (encoder edge jitter; current-loop torque noise; the drive's torque ripple), and all
+of it (the bench as shipped).  The networks are the same in the five (trained on the clean
+records; the disk cache trains each once), so a difference between two columns is the
+sensing's alone.  A cell is "passed/seeds";
 a claim *holds* at >= 90 % of the seeds.
 
 ``--sweep``: instead, Fig. 16's Coulomb pair (``fig16-coulomb-fs`` oscillates, ``fig16-coulomb-fc``
-does not) against the edge jitter sigma on both benches, torque noise off and on, over 5 seeds of
-the sensing noise on one fast fricctl network (the Coulomb runs do not involve its weights).
+does not) against the edge jitter sigma on both benches, torque noise off and on, the ripple off
+(a deterministic torque: it makes nothing flicker, ``tests/test_paper_sensing.py``), over 5 seeds
+of the sensing noise on one fast fricctl network (the Coulomb runs do not involve its weights).
 
 Usage: ``python benchmarks/bench_sensing.py [--bench consistent] [--seeds 10] [--fast] [--sweep]``.
 """
@@ -42,7 +44,8 @@ def sweep(noise_seeds: int = 5) -> None:
         net = paper.train_paper_network(bench=name, fast=True, seed=0, pipeline="fricctl")
         for sigma in SIGMAS:
             for tn in (0.0, noise):
-                b = bench(name).with_sensing("bench_sensing.py --sweep", encoder_jitter=sigma, torque_noise=tn)
+                b = bench(name).with_sensing("bench_sensing.py --sweep", encoder_jitter=sigma, torque_noise=tn,
+                                             torque_ripple=0.0)
                 rs = [fig16.run(net.sensed_on(b, k)) for k in range(noise_seeds)]
                 fs = sum(fig16.claim_fig16_coulomb_fs(r, b).passed for r in rs)
                 fc = sum(fig16.claim_fig16_coulomb_fc(r, b).passed for r in rs)
@@ -65,21 +68,25 @@ def main() -> None:
     b = bench(args.bench)
     s = b.sensing
     pipelines = tuple(args.pipelines.split(","))
-    jitter, noise = s.encoder_jitter, s.torque_noise
-    if jitter == 0.0 and noise == 0.0:  # a noise-free bench: switch on the consistent bench's items
+    jitter, noise, ripple = s.encoder_jitter, s.torque_noise, s.torque_ripple
+    period, phase = s.torque_ripple_period, s.torque_ripple_phase
+    if s.ideal:  # a bench without sensing: switch on the consistent bench's items
         ref = bench("consistent").sensing
-        jitter, noise = ref.encoder_jitter, ref.torque_noise
-    # the bench as shipped and noise-free first (the claims rated with the sensing on, and before)
-    configs = {"all": (jitter, noise), "off": (0.0, 0.0), "jitter alone": (jitter, 0.0),
-               "torque noise alone": (0.0, noise)}
+        jitter, noise, ripple = ref.encoder_jitter, ref.torque_noise, ref.torque_ripple
+        period, phase = ref.torque_ripple_period, ref.torque_ripple_phase
+    # the bench as shipped and without sensing first (the claims rated with the sensing on, and before)
+    configs = {"all": (jitter, noise, ripple), "off": (0.0, 0.0, 0.0), "jitter alone": (jitter, 0.0, 0.0),
+               "torque noise alone": (0.0, noise, 0.0), "ripple alone": (0.0, 0.0, ripple)}
     print(f"bench {b.name}; items switched on: encoder jitter {jitter:g} counts, torque noise {noise:g} "
-          f"N*m; velocity {s.velocity_estimate}; {args.seeds} seeds, {'fast' if args.fast else 'full'} mode")
+          f"N*m, torque ripple {ripple:g} N*m of period {period:.6g} rad (phase {phase} rad); velocity "
+          f"{s.velocity_estimate}; {args.seeds} seeds, {'fast' if args.fast else 'full'} mode")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     results = {}
     with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
-        for name, (j, n) in configs.items():
+        for name, (j, n, a) in configs.items():
             t0 = time.perf_counter()
-            bb = b.with_sensing(f"bench_sensing.py: {name}", encoder_jitter=j, torque_noise=n)
+            bb = b.with_sensing(f"bench_sensing.py: {name}", encoder_jitter=j, torque_noise=n,
+                                torque_ripple=a, torque_ripple_period=period, torque_ripple_phase=phase)
             results[name] = paper.reproduce_paper(bench=bb, fast=args.fast, seeds=args.seeds,
                                                   pipelines=pipelines, executor=ex, figures=False)
             print(f"{name}: {time.perf_counter() - t0:.0f} s (load average {os.getloadavg()[0]:.2f})",

@@ -23,9 +23,10 @@ from fricctl.bench.experiments import paper_gains
 from fricctl.design import DesignWarning, design_p, design_pd, normalized_rise_time, paper_designs
 from fricctl.design.second_order import metrics_from_response, resolve_rise_time_definition
 from fricctl.paper import consistency as cs
+from fricctl.friction import PositionRipple
 from fricctl.paper import fig11
-from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, SENSING, SETTINGS, SOURCES, Bench,
-                                   as_bench, bench, bench_file, load_bench)
+from fricctl.paper.benches import (BENCHES, DEFAULT_BENCH, PARAMS_BENCH, RANDOM_PHASE, SENSING, SETTINGS, SOURCES,
+                                   Bench, as_bench, bench, bench_file, load_bench)
 from fricctl.paper.common import designs
 from fricctl.params import PAPER_LINK_INERTIA, PAPER_VISCOUS, paper_actuator
 
@@ -109,8 +110,9 @@ def test_literal_bench_is_todays_parameters_exactly():
     assert b.model.parameters() == ref.parameters()
     for name in ("sample_time", "encoder_resolution", "max_torque"):
         assert getattr(b.model, name) == getattr(ref, name)
-    # today's noise-free sensing: the table is unchanged in method
+    # today's noise-free, ripple-free sensing: the table is unchanged in method
     assert b.sensing.noise_free and b.sensing.velocity_estimate == "backward-difference"
+    assert b.sensing.ideal and b.sensing.torque_ripple == 0.0 and b.sensing.ripple() is None
 
 
 def test_consistent_bench_senses_what_a_real_bench_does():
@@ -119,7 +121,13 @@ def test_consistent_bench_senses_what_a_real_bench_does():
     assert s.encoder_jitter == 0.25 and s.position_noise_std == 0.25 * b.model.encoder_resolution
     assert s.torque_noise == pytest.approx(0.001 * b.actuator.max_torque, rel=1e-4)
     assert s.velocity_estimate == "backward-difference"
-    assert all(e.source == "assumption" for n, e in s.entries.items() if n != "velocity_estimate")
+    assert all(e.source == "assumption" for n, e in s.entries.items()
+               if n not in ("velocity_estimate", "torque_ripple_period"))
+    # the ripple: 1 % of Tmax, twice per wave-generator (motor) revolution, 2*pi/(2*n) load side
+    assert s.torque_ripple == pytest.approx(0.01 * b.actuator.max_torque, rel=1e-4)
+    assert s.torque_ripple_period == pytest.approx(2 * np.pi / (2 * b.value("gear_ratio")), rel=1e-15)
+    assert s.torque_ripple_period / b.model.encoder_resolution == pytest.approx(1000.0)  # counts
+    assert s.entries["torque_ripple_period"].source == "derived" and not s.ideal
     # a bench with other sensing: every other value kept; an unknown item refused
     c = b.with_sensing("a test", encoder_jitter=0.0, torque_noise=0.0)
     assert c.sensing.noise_free and c.settings == b.settings and c.actuator == b.actuator
@@ -128,10 +136,43 @@ def test_consistent_bench_senses_what_a_real_bench_does():
         b.with_sensing("a test", ripple=0.1)
     with pytest.raises(ValueError, match="sensing.encoder_jitter.value must be >= 0"):
         b.with_sensing("a test", encoder_jitter=-0.1)
-    # the options of a run: the jitter in radians, drawn from the rng given
+    with pytest.raises(ValueError, match="sensing.torque_ripple.value must be >= 0"):
+        b.with_sensing("a test", torque_ripple=-0.01)
+    with pytest.raises(ValueError, match="sensing.torque_ripple_period.value must be > 0"):
+        b.with_sensing("a test", torque_ripple_period=0.0)
+    # the options of a run: the jitter in radians, drawn from the rng given; the run's friction
+    # with the ripple added (scaled friction keeps the ripple unscaled), its phase drawn for the run
+    assert s.torque_ripple_phase == RANDOM_PHASE
     rng = np.random.default_rng(0)
-    assert s.options(rng) == {"noise_std": s.torque_noise, "position_noise_std": s.position_noise_std,
-                              "rng": rng}
+    fr = b.actuator.friction_model().scaled(1.5)
+    o = s.options(rng, fr)
+    assert {k: o[k] for k in ("noise_std", "position_noise_std", "rng")} == {
+        "noise_std": s.torque_noise, "position_noise_std": s.position_noise_std, "rng": rng}
+    phase = o["friction"].ripple_phase
+    assert 0.0 <= phase < 2 * np.pi
+    assert o["friction"] == fr + PositionRipple(s.torque_ripple, s.torque_ripple_period, phase)
+    q = np.linspace(0.0, 0.1, 7)
+    np.testing.assert_allclose(o["friction"].ripple(q),  # the closed form
+                               s.torque_ripple * np.sin(2 * np.pi * q / s.torque_ripple_period + phase),
+                               rtol=0, atol=1e-15)
+    # the phase is the seed's (reproducible), another seed draws another, and the noise the run
+    # draws from rng afterwards is the same as without the ripple (the phase has its own stream)
+    assert s.options(np.random.default_rng(0), fr)["friction"].ripple_phase == phase
+    assert s.options(np.random.default_rng(1), fr)["friction"].ripple_phase != phase
+    assert rng.normal() == np.random.default_rng(0).normal()
+    fixed = b.with_sensing("a test", torque_ripple_phase=0.5).sensing
+    assert fixed.options(None, fr)["friction"].ripple_phase == 0.5  # a fixed phase needs no rng
+    with pytest.raises(ValueError, match="rng: a random torque_ripple_phase needs a numpy.random.Generator"):
+        s.options(None, fr)
+    with pytest.raises(ValueError, match="sensing.torque_ripple_phase.value must be one of 'random'"):
+        b.with_sensing("a test", torque_ripple_phase="uniform")
+    # no ripple: the friction given, the same object (a run is bit for bit the one without it)
+    off = b.with_sensing("a test", torque_ripple=0.0).sensing
+    assert off.options(rng, fr)["friction"] is fr
+    with pytest.raises(ValueError, match="friction must be a FrictionModel"):
+        s.options(rng, None)
+    with pytest.raises(ValueError, match="sensing.torque_ripple: the run's friction already holds"):
+        s.options(rng, o["friction"])
 
 
 # -- consistent = the proposal of docs/paper_consistency.md -------------------------------------------
@@ -171,7 +212,7 @@ def _mutations():
     for k in ("format", "version", "name", "description", "model", "settings"):
         add(f"missing key '{k}'", lambda d, k=k: d.pop(k))
     add("format: must be", lambda d: d.update(format="fricctl.joint_model"))
-    add("version: unsupported", lambda d: d.update(version=3))
+    add("version: unsupported", lambda d: d.update(version=4))
     add("version: unsupported", lambda d: d.update(version=True))
     add("name must not be empty", lambda d: d.update(name=" "))
     add("settings: unknown setting 'sawtooth'", lambda d: d["settings"].update(sawtooth=d["settings"]["gear_ratio"]))
@@ -208,6 +249,17 @@ def _mutations():
     add("sensing.encoder_jitter.value must be >= 0", lambda d: d["sensing"]["encoder_jitter"].update(value=-0.1))
     add("sensing.torque_noise.value must be finite",
         lambda d: d["sensing"]["torque_noise"].update(value=float("inf")))
+    add("sensing.torque_ripple.unit: must be 'N", lambda d: d["sensing"]["torque_ripple"].update(unit="N"))
+    add("sensing.torque_ripple.value must be >= 0", lambda d: d["sensing"]["torque_ripple"].update(value=-0.01))
+    add("sensing.torque_ripple_period.unit: must be 'rad'",
+        lambda d: d["sensing"]["torque_ripple_period"].update(unit="counts"))
+    add("sensing.torque_ripple_period.value must be > 0",
+        lambda d: d["sensing"]["torque_ripple_period"].update(value=0.0))
+    add("sensing.torque_ripple_phase.value must be one of 'random'",
+        lambda d: d["sensing"]["torque_ripple_phase"].update(value="0"))
+    add("sensing.torque_ripple_phase.value must be finite",
+        lambda d: d["sensing"]["torque_ripple_phase"].update(value=float("nan")))
+    add("sensing: missing sensing item", lambda d: d["sensing"].pop("torque_ripple_phase"))
     add("sensing.velocity_estimate.value must be one of",
         lambda d: d["sensing"]["velocity_estimate"].update(value="kalman"))
     add("model.inertia must be > 0", lambda d: d["model"].update(inertia=-1e-3))
@@ -238,7 +290,7 @@ def test_a_version_1_file_reads_as_noise_free_and_only_without_sensing():
     for name in ("literal", "consistent"):
         d = copy.deepcopy(bench(name).as_dict())
         d["version"] = 1
-        with pytest.raises(ValueError, match="unknown key.*'sensing'.*make it version 2"):
+        with pytest.raises(ValueError, match="unknown key.*'sensing'.*make it version 3"):
             Bench.from_dict(d)
         d.pop("sensing")
         old = Bench.from_dict(d)
@@ -246,7 +298,31 @@ def test_a_version_1_file_reads_as_noise_free_and_only_without_sensing():
         assert old.sensing.velocity_estimate == "backward-difference"
         assert old.settings == bench(name).settings and old.model == bench(name).model
         assert "version-1" in old.sensing.entries["encoder_jitter"].note
+        assert old.sensing.ideal and "version-1" in old.sensing.entries["torque_ripple"].note
     assert bench("consistent").sensing.encoder_jitter > 0  # so the consistent case above can fail
+
+
+def test_a_version_2_file_reads_as_ripple_free_and_only_without_ripple():
+    # version 2 (before a bench held its torque ripple): the noise as given, no ripple, the
+    # ripple period the wave generator's of the file's gear ratio; a ripple item asks for version 3
+    for name in ("literal", "consistent"):
+        d = copy.deepcopy(bench(name).as_dict())
+        d["version"] = 2
+        with pytest.raises(ValueError, match="'torque_ripple'.*version 2 has no torque ripple: make it version 3"):
+            Bench.from_dict(d)
+        for k in ("torque_ripple", "torque_ripple_period", "torque_ripple_phase"):
+            d["sensing"].pop(k)
+        old = Bench.from_dict(d)
+        assert old.sensing.torque_ripple == 0.0 and old.sensing.ripple() is None
+        assert old.sensing.torque_ripple_period == np.pi / old.value("gear_ratio")
+        assert "version-2" in old.sensing.entries["torque_ripple"].note
+        assert old.sensing.encoder_jitter == bench(name).sensing.encoder_jitter
+        assert old.sensing.torque_noise == bench(name).sensing.torque_noise
+        assert old.settings == bench(name).settings and old.model == bench(name).model
+        d["version"] = 3  # a version-3 file must state them
+        with pytest.raises(ValueError, match="sensing: missing sensing item\\(s\\) 'torque_ripple'"):
+            Bench.from_dict(d)
+    assert bench("consistent").sensing.torque_ripple > 0  # so the consistent case above can fail
 
 
 def test_bench_file_text_and_path(tmp_path):
@@ -333,12 +409,16 @@ def test_figures_read_their_settings_from_the_bench(consistent_net):
     assert r18.without.info.params == b.linked_actuator
     assert r18.without.t[-1] == pytest.approx(r18.periods * b.fig18_period, abs=0.01)
     assert r18.periods == 3
-    r11 = f11.run(consistent_net)
-    c = f11.FIGURE.make_claims(r11, b)[0]
     # docs/paper_consistency.md: moves 15.8 deg of 25, at rest from 0.204 s (the doc's run, an
-    # independent script at the time), e_ss 9.2 deg
+    # independent script at the time, on the plant alone: the bench with its sensing off), e_ss 9.2 deg
+    quiet = b.with_sensing("off", encoder_jitter=0.0, torque_noise=0.0, torque_ripple=0.0)
+    c = f11.FIGURE.make_claims(f11.run(consistent_net.sensed_on(quiet)), b)[0]
     assert c.id == "fig11-stuck" and c.passed and "moves 15.8 deg" in c.measured
     assert c.value == pytest.approx(0.204, abs=0.002)
+    # with the bench's sensing on (the ripple's 0.014 N*m among it) the claim holds too
+    r11 = f11.run(consistent_net)
+    c = f11.FIGURE.make_claims(r11, b)[0]
+    assert c.id == "fig11-stuck" and c.passed
     # the same run judged under the literal reading: it moved, so "stuck" fails
     assert not f11.FIGURE.make_claims(r11, bench("literal"))[0].passed
 
@@ -398,12 +478,21 @@ def test_reproduce_on_the_consistent_bench(tmp_path):
     assert "Bench **consistent**" in md and "(consistent)" in md.splitlines()[0]
     assert {o["bench"] for o in js} == {"consistent"}
     by = {(s.id, s.pipeline): s for s in res.stats}
-    # what the proposal changes, measured on the bench (docs/paper_consistency.md): Fig. 18 stick-
-    # slips and Fig. 11 moves then rests, in every seed: they do not involve a network
+    # what the proposal changes, measured on the bench (docs/paper_consistency.md): Fig. 11 moves
+    # then rests, in every seed: it does not involve a network (nor does Fig. 17 without
+    # compensation, which never moves: Kp*0.08 rad + the ripple's A stays below the aged Fs)
     for p in res.pipelines:
-        assert by[("fig18-without", p)].pass_rate == 1.0
         assert by[("fig11-stuck", p)].pass_rate == 1.0
         assert by[("fig17-none", p)].pass_rate == 1.0
+    # Fig. 18 stick-slips in every period on the bench's plant (the page's statement, sensing off);
+    # with the sensing its ripple parks the joint after a ramp in some seeds (benchmarks/README.md)
+    from fricctl.paper import fig18, train_paper_network
+
+    off = bench("consistent").with_sensing("off", encoder_jitter=0.0, torque_noise=0.0, torque_ripple=0.0)
+    net = train_paper_network(bench="consistent", fast=True, seed=0, pipeline="fricctl")
+    for k in res.seeds:
+        r = fig18.run(net.sensed_on(off, k))
+        assert [c for c in fig18.FIGURE.make_claims(r, off) if c.id == "fig18-without"][0].passed
 
 
 # -- docs/paper_consistency.md, "Coulomb compensation (Fig. 16)" --------------------------------------
@@ -426,7 +515,8 @@ def test_coulomb_section_of_the_consistency_page(consistent_net):
     fc_doc = {"literal": 0.143, "consistent": 0.107}
     # the page's table is of the noise-free benches: the consistent bench with its sensing off
     # (with it on, tests/test_paper_sensing.py)
-    quiet = bench("consistent").with_sensing("noise-free", encoder_jitter=0.0, torque_noise=0.0)
+    quiet = bench("consistent").with_sensing("noise-free", encoder_jitter=0.0, torque_noise=0.0,
+                                             torque_ripple=0.0)
     assert "the consistent bench with its sensing off" in sec
     nets = {"consistent": consistent_net.sensed_on(quiet),
             "literal": train_paper_network(bench="literal", fast=True, seed=0, pipeline="fricctl")}
@@ -453,8 +543,15 @@ def test_the_reproduction_page_states_the_consistent_sensing_as_shipped():
     from pathlib import Path
     text = " ".join((Path(__file__).resolve().parents[1] / "docs" / "reproduction.md").read_text().split())
     m = re.search(r"\(([\d.]+) count of encoder edge jitter, current-loop noise of ([\d.]+) % of the "
-                  r"maximum torque\)", text)
+                  r"maximum torque, the harmonic drive's torque ripple of ([\d.]+) % of it twice per motor "
+                  r"revolution, its phase drawn for each run\)", text)
     assert m, "docs/reproduction.md's sensing sentence changed: update this test with it"
-    s, model = bench("consistent").sensing, bench("consistent").model
+    s, model, n = bench("consistent").sensing, bench("consistent").model, bench("consistent").value("gear_ratio")
     assert float(m[1]) == s.encoder_jitter
     assert float(m[2]) == pytest.approx(100 * s.torque_noise / model.max_torque, rel=1e-3)
+    assert float(m[3]) == pytest.approx(100 * s.torque_ripple / model.max_torque, rel=1e-3)
+    assert s.torque_ripple_period == pytest.approx(2 * math.pi / (2 * n), rel=1e-15)  # twice per motor rev
+    assert s.torque_ripple_phase == RANDOM_PHASE
+    # the README says the same
+    readme = " ".join((Path(__file__).resolve().parents[1] / "README.md").read_text().split())
+    assert m[0] in readme

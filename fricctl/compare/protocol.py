@@ -208,9 +208,10 @@ class ComparisonResult:
                "whose runaway checks (fricctl.paper.runaway) all passed; torque check: the criterion the "
                "motor torque was held to:", ""] + [f"- `{k}`: {d}" for k, d in CRITERIA.items()] + [""]
         sensing = _bench(self.bench).sensing
-        if not sensing.noise_free:
+        if not sensing.ideal:
             out += [f"The bench's own sensing ({sensing.encoder_jitter:g} count of encoder jitter, "
-                    f"{sensing.torque_noise:g} N*m of torque noise) is **not applied** in this table: "
+                    f"{sensing.torque_noise:g} N*m of torque noise, {sensing.torque_ripple:g} N*m of "
+                    "torque ripple) is **not applied** in this table: "
                     "its runs see the encoder's exact count, and torque noise only on the "
                     "`torque_noise` plant. The claims of the same bench (claims.md) run with it.", ""]
         for en in self.experiments:

@@ -73,7 +73,8 @@ Notes
 -----
 The bench is the simulator of :mod:`fricctl.simulate` with the plant of a bench (the literal
 one is the paper actuator of :mod:`fricctl.params`); it has no measurement noise, no torque ripple and no
-thermal drift unless asked for.  Claims about the real hardware (e.g. "after
+thermal drift unless asked for (the consistent bench asks for the first two in its ``sensing``:
+:mod:`fricctl.paper.benches`).  Claims about the real hardware (e.g. "after
 30 h of operation") are modelled, not measured.
 """
 

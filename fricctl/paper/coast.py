@@ -127,7 +127,7 @@ def _experiment(net: PaperNetwork, pulse_factor, pulse_duration, coast_duration)
     duration = pulse_duration + coast_duration
     from .common import sensed  # common imports this module
 
-    r = simulate(p, c, net.compensator(), duration=duration, **sensed(net, "coast NN"))
+    r = simulate(p, c, net.compensator(), duration=duration, **sensed(net, "coast NN", p))
     lin = simulate(p, c, NoCompensation(), duration=duration, friction=Viscous(p.viscous))
     # Tc(k) reaches the joint as Tm(k+1): the pulse acts until one sample after its last command
     off = np.flatnonzero((r.t > 0) & (r.torque_cmd == 0.0))

@@ -86,9 +86,13 @@ def _designs(params: ActuatorParams, reading: str, link_inertia: float) -> Mappi
                                               link_inertia=link_inertia))
 
 
-def sensed(network: PaperNetwork, label: str) -> dict:
+def sensed(network: PaperNetwork, label: str, plant) -> dict:
     """The keyword arguments of :func:`fricctl.simulate.simulate` that give a figure's run of
     ``network`` its bench's sensing (:meth:`fricctl.paper.benches.Sensing.options`).
+
+    ``plant``: the run's plant friction -- a :class:`~fricctl.friction.FrictionModel`, or the
+    run's :class:`~fricctl.params.ActuatorParams` for its own (``friction_model()``); the
+    arguments hold it as ``friction``, with the bench's torque ripple added.
 
     The noise is drawn from a generator seeded by the network's seed
     (:attr:`~fricctl.paper.PaperNetwork.noise_seed`) and the run's ``label``
@@ -101,7 +105,8 @@ def sensed(network: PaperNetwork, label: str) -> dict:
     experiments that identify (the training records, the dead-zone experiment) stay noise-free.
     """
     seed = [int(network.noise_seed), zlib.crc32(v.text("label", label, empty=False).encode())]
-    return network.bench.sensing.options(np.random.default_rng(seed))
+    friction = plant.friction_model() if isinstance(plant, ActuatorParams) else plant
+    return network.bench.sensing.options(np.random.default_rng(seed), friction)
 
 
 # --------------------------------------------------------------------------
@@ -274,10 +279,14 @@ def linear_prediction(design: Design, run: SimResult, key: tuple) -> np.ndarray:
 def step_run(params: ActuatorParams, design: Design, step_rad: float, compensator, duration: float,
              friction=None, sensing: dict | None = None) -> StepRun:
     """A P (``design.kd == 0``) or PD step of ``step_rad`` [rad] with ``compensator``;
-    ``sensing``: the run's sensing (:func:`sensed`; None: noise-free)."""
+    ``sensing``: the run's sensing (:func:`sensed`, which holds the run's friction; None:
+    noise-free, the plant's own friction or ``friction``)."""
     c = ctl.pd_control(design.kp, design.kd, ctl.step(step_rad)) if design.kd > 0 else \
         ctl.p_control(design.kp, ctl.step(step_rad))
-    r = simulate(params, c, compensator, duration=duration, friction=friction, **(sensing or {}))
+    if sensing is not None and friction is not None:
+        raise ValueError("step_run: give the run's friction to sensed(), not beside it")
+    r = simulate(params, c, compensator, duration=duration,
+                 **(sensing if sensing is not None else {"friction": friction}))
     return StepRun(run=r, linear=linear_prediction(design, r, ("step", float(step_rad))))
 
 
@@ -384,8 +393,8 @@ def link_runs(network: PaperNetwork, design_key: str, reference, duration: float
     c = ctl.pd_control(d.kp, d.kd, reference)
     # one run each (each its own simulate call: the runs' records stay separate)
     label = f"link {design_key} {reference.description}"
-    return LinkRuns(runs={k: simulate(p, c, comp, duration=duration, friction=fr,
-                                      **sensed(network, f"{label} {k}"))
+    return LinkRuns(runs={k: simulate(p, c, comp, duration=duration,
+                                      **sensed(network, f"{label} {k}", fr))
                           for k, comp in comps.items()}, design=d, coulomb_levels=levels)
 
 

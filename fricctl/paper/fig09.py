@@ -62,8 +62,8 @@ def run(network: PaperNetwork, *, amplitude_factor: float = 1.1, frequency: floa
     p = net.params
     amp = amplitude_factor * p.static
     c = ctl.open_loop(ctl.sinusoid(amp, frequency))
-    r0 = simulate(p, c, NoCompensation(), duration=duration, **sensed(net, "fig9 none"))
-    r1 = simulate(p, c, net.compensator(), duration=duration, **sensed(net, "fig9 NN"))
+    r0 = simulate(p, c, NoCompensation(), duration=duration, **sensed(net, "fig9 none", p))
+    r1 = simulate(p, c, net.compensator(), duration=duration, **sensed(net, "fig9 NN", p))
     lin = simulate(p, c, NoCompensation(), duration=duration, friction=Viscous(p.viscous))
     return Fig9Result(without=r0, with_nn=r1, linear=lin, amplitude=amp, frequency=frequency,
                       sticks_without=stick_intervals_after_motion(r0),

@@ -65,11 +65,12 @@ class Fig10Result(OpenLoopChecks):
 @functools.lru_cache(maxsize=4)
 def _uncompensated(params, fraction, frequency, duration, network=None):
     """The run and the dead zone without compensation: the same for every network on a
-    noise-free bench (``network`` None; else the run's sensing is drawn from the network's seed
-    by :func:`~fricctl.paper.common.sensed`) (memoised, read-only)."""
+    bench without noise or ripple (``network`` None; else the run's sensing is the network's
+    bench's, its noise drawn from the network's seed by :func:`~fricctl.paper.common.sensed`)
+    (memoised, read-only)."""
     c = ctl.open_loop(ctl.sinusoid(fraction * params.max_torque, frequency))
     r0 = simulate(params, c, NoCompensation(), duration=duration,
-                  **({} if network is None else sensed(network, "fig10 none")))
+                  **({} if network is None else sensed(network, "fig10 none", params)))
     read_only(r0)
     return r0, uncompensated_dead_zone(params)
 
@@ -81,10 +82,11 @@ def run(network: PaperNetwork, *, fraction: float = 0.10, frequency: float = 1.0
     p = net.params
     c = ctl.open_loop(ctl.sinusoid(fraction * p.max_torque, frequency))
     nn = net.compensator()
-    r1 = simulate(p, c, nn, duration=duration, **sensed(net, "fig10 NN"))
-    # the network itself keys the memo when its bench senses noise (its seed draws the noise)
+    r1 = simulate(p, c, nn, duration=duration, **sensed(net, "fig10 NN", p))
+    # the network itself keys the memo when its bench senses noise or ripple (its seed draws the
+    # noise; its bench holds the ripple)
     r0, dz0 = _uncompensated(p, float(fraction), float(frequency), float(duration),
-                             None if net.bench.sensing.noise_free else net)
+                             None if net.bench.sensing.ideal else net)
     return Fig10Result(without=r0, with_nn=r1, dead_zone_without=dz0,
                        dead_zone_with=dead_zone(p, nn), predicted=predicted_dead_zone(net.net, p.static),
                        gain_at_rest=net.net.gain_at_rest(), frequency=float(frequency), wind_up=wind_up(r1),

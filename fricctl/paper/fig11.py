@@ -52,7 +52,7 @@ def run(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.0)
     net = check_network(network)
     d = designs(net.bench)["fig11-12"]
     s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration,
-                 sensing=sensed(net, "fig11 none"))
+                 sensing=sensed(net, "fig11 none", net.params))
     return Fig11Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW),
                        stuck_fraction=float(np.mean(s.run.stuck)))

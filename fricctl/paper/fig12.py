@@ -139,11 +139,11 @@ def run(network: PaperNetwork, *, step_deg: float = 25.0, duration: float = 3.0)
     p = net.params
     d = designs(net.bench)["fig11-12"]
     paper_run = step_run(p, d, np.deg2rad(step_deg), net.compensator(), duration,
-                         sensing=sensed(net, "fig12 NN"))
+                         sensing=sensed(net, "fig12 NN", p))
     r, lin = paper_run.run, paper_run.linear
     v = step_run(p, d, np.deg2rad(step_deg), NNCompensator(ViscousExcluded(estimate=net.estimate,
                                                                            viscous=p.viscous)),
-                 duration, sensing=sensed(net, "fig12 NN without b")).run
+                 duration, sensing=sensed(net, "fig12 NN without b", p)).run
     ideal, ideal_nv = _ideal_runs(p, d, float(step_deg), float(duration))
     return Fig12Result(run=r, linear=lin, design=d, max_deviation=float(np.abs(r.q - lin).max()),
                        growth=_growth(r), variant=v, variant_max_deviation=float(np.abs(v.q - lin).max()),

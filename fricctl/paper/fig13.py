@@ -45,7 +45,7 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0)
     net = check_network(network)
     d = designs(net.bench)["fig13-14"]
     s = step_run(net.params, d, np.deg2rad(step_deg), NoCompensation(), duration,
-                 sensing=sensed(net, "fig13 none"))
+                 sensing=sensed(net, "fig13 none", net.params))
     tm = float(s.run.torque_motor[-1])
     return Fig13Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW), torque_at_rest=tm,

@@ -67,11 +67,11 @@ def run(network: PaperNetwork, *, step_deg: float = 30.0, duration: float = 3.0)
     p = net.params
     d = designs(net.bench)["fig13-14"]
     comp = net.compensator()
-    s = step_run(p, d, np.deg2rad(step_deg), comp, duration, sensing=sensed(net, "fig14 NN"))
+    s = step_run(p, d, np.deg2rad(step_deg), comp, duration, sensing=sensed(net, "fig14 NN", p))
     band = predicted_dead_zone(net.net, p.static).largest / d.kp
     steps = np.deg2rad(np.asarray(STEPS_DEG))
     batch = simulate_batch(p, [ctl.pd_control(d.kp, d.kd, ctl.step(float(x))) for x in steps], comp,
-                           duration=duration, **sensed(net, "fig14 steps"))
+                           duration=duration, **sensed(net, "fig14 steps", p))
     runs = tuple(batch[i] for i in range(len(batch)))
     return Fig14Result(run=s.run, linear=s.linear, design=d,
                        steady_state_error=s.run.steady_state_error(SS_WINDOW), predicted_band=band,

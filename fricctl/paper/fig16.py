@@ -175,14 +175,19 @@ _SAME_EVERY_SEED = (" The same in every seed: both levels come from the bench's 
 def _seeds_note(bench) -> str:
     """What the seed changes in a Coulomb claim: nothing on a noise-free bench; the sensing noise of
     its runs otherwise (the levels stay those of the clean records)."""
-    from .benches import as_bench
+    from .benches import RANDOM_PHASE, as_bench
 
     s = as_bench(bench).sensing
-    if s.noise_free:
-        return _SAME_EVERY_SEED
+    random = s.torque_ripple > 0.0 and s.torque_ripple_phase == RANDOM_PHASE
+    ripple = ("" if s.torque_ripple == 0.0 else
+              f" Every run's plant receives the bench's torque ripple ({s.torque_ripple:.3g} N*m, period "
+              f"{s.torque_ripple_period:.4g} rad), " + ("its phase drawn for each run from the seed." if random
+                                                       else "the same in every seed."))
+    if s.noise_free and not random:
+        return _SAME_EVERY_SEED + ripple
     return (f" The levels are the same in every seed (identified on the bench's noise-free records); the "
             f"runs are not: each seed draws the bench's sensing noise (encoder edge jitter "
-            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).")
+            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).{ripple}")
 
 
 def _jitter_clause(bench) -> str:

@@ -100,11 +100,13 @@ def run(network: PaperNetwork, *, amplitude: float | None = None, period: float 
     p = net.bench.linked_actuator
     d = designs(net.bench)["fig18"]
     c = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(amplitude, period))
-    r0 = simulate(p, c, NoCompensation(), duration=periods * period, **sensed(net, "fig18 none"))
-    r1 = simulate(p, c, net.compensator(), duration=periods * period, **sensed(net, "fig18 NN"))
+    r0 = simulate(p, c, NoCompensation(), duration=periods * period,
+                  **sensed(net, "fig18 none", p))
+    r1 = simulate(p, c, net.compensator(), duration=periods * period,
+                  **sensed(net, "fig18 NN", p))
     lin = linear_prediction(d, r1, ("sawtooth", float(amplitude), float(period)))
     ce = ctl.pd_control(d.kp, d.kd, ctl.sawtooth(extra_amplitude, extra_period))
-    rx = simulate(p, ce, NoCompensation(), duration=extra_period, **sensed(net, "fig18 extra"))
+    rx = simulate(p, ce, NoCompensation(), duration=extra_period, **sensed(net, "fig18 extra", p))
     slow_friction, slow_estimate = _slow_sliding(r1, amplitude / period)
     return Fig18Result(without=r0, with_nn=r1, linear=lin, design=d, amplitude=float(amplitude),
                        period=float(period), periods=periods, restarts_without=restarts(r0),

@@ -15,25 +15,26 @@ The shipped benches are the JSON files of this package (read with :mod:`importli
   one reading under which every statement of the paper can hold (rise time as the time of the
   first peak, Fig. 18 as +-0.1 rad over 2 s, Fc/Fs 0.6, the bench's true b 0.019 that the
   paper's decay analysis reads as 0.0169), with the sensing a real bench has (encoder edge
-  jitter, current-loop noise).  Its claims are rated with that sensing on: the README's
-  counts, recomputed by ``tests/test_readme.py``, and ``benchmarks/bench_sensing.py`` for each
-  item's effect;
+  jitter, current-loop noise, the harmonic drive's torque ripple).  Its claims are rated with
+  that sensing on: the README's counts, recomputed by ``tests/test_readme.py``, and
+  ``benchmarks/bench_sensing.py`` for each item's effect;
 * ``literal`` -- the paper's numbers with fricctl's first readings (0-100 % rise time, Fig. 18
   from 0 to 0.1 rad over 1 s, Fc/Fs 0.8), noise-free; ``fricctl reproduce --bench literal``.
 
 A bench's ``sensing`` (:data:`SENSING`, :class:`Sensing`) is what its closed loops measure and
 receive besides the plant: the encoder's edge jitter at rest (position noise before
-quantisation), the current loop's torque noise and the velocity estimate the compensator and
-the D term see.  The figures' runs draw it from the network's seed (:meth:`Sensing.options`);
-the training experiments' records and the dead-zone experiment stay noise-free (the network
-and the Coulomb levels are identified on clean records).  Torque ripple is not modelled: a
-ripple periodic in position (commutation, cogging) needs a term in the plant kernels that
-they do not have, and a time-periodic one has no physical source on this drive.
+quantisation), the current loop's torque noise, the drive's torque ripple (a torque periodic in
+the joint's position that the plant receives:
+:class:`~fricctl.friction.laws.position_ripple.PositionRipple`) and the velocity estimate the
+compensator and the D term see.  The figures' runs draw the noise from the network's seed and
+give the plant the ripple (:meth:`Sensing.options`); the training experiments' records and the
+dead-zone experiment stay as they are, noise- and ripple-free (the network and the Coulomb
+levels are identified on clean records).
 
-File format (``fricctl.paper_bench``, version 2; a version-1 file has no ``sensing`` and
-is read as noise-free)::
+File format (``fricctl.paper_bench``, version 3; a version-1 file has no ``sensing`` and is
+read as noise-free, a version-2 file has no torque ripple and is read as none)::
 
-    {"format": "fricctl.paper_bench", "version": 2,
+    {"format": "fricctl.paper_bench", "version": 3,
      "name": "literal",                     # the file's stem
      "description": "one paragraph",
      "model": {...},                        # a fricctl.joint_model (version 2): rigid, rotary,
@@ -59,6 +60,8 @@ True
 ('peak', 0.2)
 >>> bench("literal").sensing.encoder_jitter, bench("literal").sensing.torque_noise
 (0.0, 0.0)
+>>> bench("literal").sensing.torque_ripple
+0.0
 """
 
 from __future__ import annotations
@@ -76,14 +79,14 @@ from ... import _validate as v
 from ...params import ActuatorParams
 from ...plant.model import JointModel
 
-__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "BENCHES",
-           "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
+__all__ = ["Bench", "Setting", "Sensing", "SETTINGS", "SENSING", "VELOCITY_ESTIMATES", "RANDOM_PHASE",
+           "BENCHES", "DEFAULT_BENCH", "PARAMS_BENCH", "BENCH_FORMAT", "BENCH_VERSION", "bench", "load_bench",
            "as_bench", "bench_file"]
 
 BENCH_FORMAT = "fricctl.paper_bench"
-BENCH_VERSION = 2
+BENCH_VERSION = 3
 #: A version-1 file (before a bench held its sensing) is still read: without a ``sensing``
-#: section, as the noise-free sensing that version meant.
+#: section, as the noise-free sensing that version meant (and no ripple, :func:`_no_ripple`).
 _V1_SENSING = {
     "encoder_jitter": {"value": 0.0, "unit": "counts", "source": "assumption",
                        "note": "none: a version-1 bench file has no sensing (the encoder reads the true "
@@ -94,6 +97,26 @@ _V1_SENSING = {
                           "note": "a version-1 bench file: the loop's backward difference of the "
                                   "encoder reading over Ts, the only estimate that version knew"},
 }
+#: The sensing items a version-3 file added (the drive's torque ripple); a version-1 or -2 file
+#: has none and is read as no ripple (:func:`_no_ripple`).
+_RIPPLE_ITEMS = ("torque_ripple", "torque_ripple_period", "torque_ripple_phase")
+
+
+def _no_ripple(version: int, gear_ratio: float) -> dict:
+    """The ripple entries of a version-``version`` file, which has none: amplitude 0, with the
+    wave generator's period (twice per motor revolution, 2*pi/(2*n) load side) and phase 0."""
+    why = f"none: a version-{version} bench file has no torque ripple"
+    return {
+        "torque_ripple": {"value": 0.0, "unit": "N*m", "source": "assumption",
+                          "note": f"{why} (the plant receives the command alone)"},
+        "torque_ripple_period": {"value": math.pi / gear_ratio, "unit": "rad", "source": "derived",
+                                 "note": f"{why}; 2*pi/(2*n), the wave generator's (not read at "
+                                         "amplitude 0)"},
+        "torque_ripple_phase": {"value": 0.0, "unit": "rad", "source": "assumption",
+                                "note": f"{why} (not read at amplitude 0)"},
+    }
+
+
 #: The bench ``fricctl reproduce`` and :func:`fricctl.paper.reproduce_paper` use by default: the
 #: consistent one, the only bench on which the paper can be judged as a whole (issue 22); its claims
 #: are rated with its sensing on.
@@ -176,6 +199,9 @@ SETTINGS = types.MappingProxyType({s.name: s for s in (
 )})
 
 
+#: The value of ``torque_ripple_phase`` that draws the phase for each run (:meth:`Sensing.ripple`).
+RANDOM_PHASE = "random"
+
 #: The velocity estimates a bench's compensator and D term may see (the loop's own, today one).
 VELOCITY_ESTIMATES = ("backward-difference",)
 
@@ -187,6 +213,18 @@ SENSING = types.MappingProxyType({s.name: s for s in (
           "resolution", check=_nonneg("counts")),
     _Spec(name="torque_noise", unit="N*m", doc="standard deviation of the white torque noise the "
           "joint receives on top of the command (the current loop's noise)", check=_nonneg("N*m")),
+    _Spec(name="torque_ripple", unit="N*m", doc="amplitude A of the torque ripple the joint "
+          "receives, A*sin(2*pi*q/period + phase), periodic in the load-side position q "
+          "(the drive's: a harmonic drive's wave generator, a brushed motor's commutation)",
+          check=_nonneg("N*m")),
+    _Spec(name="torque_ripple_period", unit="rad", doc="the ripple's period in load-side position: "
+          "2*pi/(n*k) for k ripple cycles per motor revolution at gear ratio n",
+          check=_positive("rad")),
+    _Spec(name="torque_ripple_phase", unit="rad", doc="the ripple's phase at q = 0 (the joint's "
+          f"start in every figure's run), or {RANDOM_PHASE!r}: drawn uniformly in [0, 2*pi) for each "
+          "run from its sensing's generator (where the drive's period starts is not known)",
+          check=lambda name, x: v.choice(name, x, (RANDOM_PHASE,)) if isinstance(x, str) else
+          v.real(name, x, unit="rad")),
     _Spec(name="velocity_estimate", unit="-", doc="the velocity estimate the compensator and the "
           "D term see: the backward difference of the encoder reading over one sample (the "
           "paper's)", check=_one_of(lambda: VELOCITY_ESTIMATES)),
@@ -366,7 +404,7 @@ class Bench:
 
     # -- the file -------------------------------------------------------------------
     def as_dict(self) -> dict:
-        """The file's content (format ``fricctl.paper_bench``, version 1)."""
+        """The file's content (format ``fricctl.paper_bench``, version :data:`BENCH_VERSION`)."""
         return {"format": BENCH_FORMAT, "version": BENCH_VERSION, "name": self.name,
                 "description": self.description, "model": self.model.as_dict(),
                 "settings": {n: s.as_dict() for n, s in self.settings.items()},
@@ -379,20 +417,26 @@ class Bench:
             raise ValueError("bench file: expected a JSON object")
         version = d.get("version")
         v1 = type(version) is int and version == 1  # not True, which == 1
+        v2 = type(version) is int and version == 2
         keys = _TOP_KEYS if not v1 else tuple(k for k in _TOP_KEYS if k != "sensing")
         unknown = sorted(set(d) - set(keys))
         if unknown:
             raise ValueError(f"unknown key(s) {', '.join(map(repr, unknown))} in a bench file"
-                             + (" (version 1 has no 'sensing': make it version 2)"
+                             + (f" (version 1 has no 'sensing': make it version {BENCH_VERSION})"
                                 if unknown == ["sensing"] else ""))
         for key in keys:
             if key not in d:
                 raise ValueError(f"missing key {key!r}")
         if d["format"] != BENCH_FORMAT:
             raise ValueError(f"format: must be {BENCH_FORMAT!r}, got {d['format']!r}")
-        if type(version) is not int or version not in (1, BENCH_VERSION):
-            raise ValueError(f"version: unsupported {version!r} (this fricctl reads versions 1 and "
+        if type(version) is not int or version not in (1, 2, BENCH_VERSION):
+            raise ValueError(f"version: unsupported {version!r} (this fricctl reads versions 1 to "
                              f"{BENCH_VERSION})")
+        if v2 and isinstance(d["sensing"], dict):
+            given = [k for k in _RIPPLE_ITEMS if k in d["sensing"]]
+            if given:
+                raise ValueError(f"sensing: unknown sensing item(s) {', '.join(map(repr, given))} "
+                                 f"(version 2 has no torque ripple: make it version {BENCH_VERSION})")
         v.text("name", d["name"], empty=False)
         v.text("description", d["description"], empty=False)
         try:
@@ -401,10 +445,12 @@ class Bench:
             raise ValueError(f"model.{exc}" if str(exc).split(" ", 1)[0].split(":")[0] in
                              _model_keys() else f"model: {exc}") from None
         _check_model(model, d["model"])
+        settings = _checked("settings", _entries("settings", d["settings"], SETTINGS), SETTINGS)
+        sensing = d["sensing"] if not v1 else _V1_SENSING
+        if (v1 or v2) and isinstance(sensing, dict):  # before version 3: no ripple
+            sensing = {**sensing, **_no_ripple(version, settings["gear_ratio"].value)}
         return cls(name=d["name"], description=d["description"], model=model,
-                   settings=_entries("settings", d["settings"], SETTINGS),
-                   sensing=_entries("sensing", d["sensing"] if not v1 else _V1_SENSING,
-                                    SENSING))
+                   settings=settings, sensing=_entries("sensing", sensing, SENSING))
 
     @classmethod
     def from_json(cls, text: str) -> "Bench":
@@ -447,8 +493,10 @@ class Sensing:
     >>> s = bench("consistent").sensing
     >>> s.position_noise_std == s.encoder_jitter * bench("consistent").model.encoder_resolution
     True
-    >>> sorted(bench("literal").sensing.options(None))
-    ['noise_std', 'position_noise_std', 'rng']
+    >>> sorted(bench("literal").sensing.options(None, bench("literal").actuator.friction_model()))
+    ['friction', 'noise_std', 'position_noise_std', 'rng']
+    >>> round(bench("consistent").sensing.torque_ripple_period * 100 / math.pi, 12)  # 2*pi/(2*n), n = 100
+    1.0
     """
 
     entries: Mapping
@@ -471,6 +519,21 @@ class Sensing:
         return self.entries["torque_noise"].value
 
     @property
+    def torque_ripple(self) -> float:
+        """Amplitude of the torque ripple the joint receives [N*m]."""
+        return self.entries["torque_ripple"].value
+
+    @property
+    def torque_ripple_period(self) -> float:
+        """The ripple's period in load-side position [rad]."""
+        return self.entries["torque_ripple_period"].value
+
+    @property
+    def torque_ripple_phase(self):
+        """The ripple's phase at q = 0 [rad], or :data:`RANDOM_PHASE` (drawn for each run)."""
+        return self.entries["torque_ripple_phase"].value
+
+    @property
     def velocity_estimate(self) -> str:
         """The velocity estimate the compensator sees (:data:`VELOCITY_ESTIMATES`)."""
         return self.entries["velocity_estimate"].value
@@ -482,15 +545,52 @@ class Sensing:
 
     @property
     def noise_free(self) -> bool:
-        """True when the loops see the exact encoder reading and receive the exact command."""
+        """True when the loops see the exact encoder reading and receive the command without
+        noise (a ripple, deterministic, may still be on: :attr:`ideal`)."""
         return self.encoder_jitter == 0.0 and self.torque_noise == 0.0
 
-    def options(self, rng) -> dict:
+    @property
+    def ideal(self) -> bool:
+        """True when the runs are the plant's own: no noise and no torque ripple."""
+        return self.noise_free and self.torque_ripple == 0.0
+
+    def ripple(self, rng=None):
+        """The torque ripple as a friction-model term
+        (:class:`~fricctl.friction.laws.position_ripple.PositionRipple`), None at amplitude 0.
+
+        A :data:`RANDOM_PHASE` is drawn uniformly in [0, 2*pi) from a generator spawned from
+        ``rng`` (a :class:`numpy.random.Generator`, needed then), which leaves ``rng``'s own
+        draws -- the run's noise -- as they are without the ripple.
+        """
+        from ...friction import PositionRipple
+
+        if self.torque_ripple == 0.0:
+            return None
+        phase = self.torque_ripple_phase
+        if phase == RANDOM_PHASE:
+            if rng is None:
+                raise ValueError("rng: a random torque_ripple_phase needs a numpy.random.Generator")
+            phase = float(v.rng("rng", rng).spawn(1)[0].uniform(0.0, 2.0 * math.pi))
+        return PositionRipple(self.torque_ripple, self.torque_ripple_period, phase)
+
+    def options(self, rng, friction) -> dict:
         """The keyword arguments of :func:`fricctl.simulate.simulate` that give a run this
-        sensing, its noise drawn from ``rng`` (a :class:`numpy.random.Generator`; None is
-        accepted only when the sensing is noise-free)."""
+        sensing: its noise drawn from ``rng`` (a :class:`numpy.random.Generator`; None is
+        accepted only when the sensing is noise-free), and ``friction`` -- the run's plant
+        friction (a :class:`~fricctl.friction.FrictionModel`, e.g. ``params.friction_model()``)
+        -- with the torque ripple added (unchanged without one; a random phase drawn for this
+        run, :meth:`ripple`)."""
+        from ...friction import FrictionModel
+
+        fr = v.instance("friction", friction, FrictionModel, "a FrictionModel (the run's plant friction)")
+        ripple = self.ripple(rng)
+        if ripple is not None:
+            if fr.ripple_amplitude > 0:
+                raise ValueError("sensing.torque_ripple: the run's friction already holds a position "
+                                 "ripple; a plant holds one")
+            fr = fr + ripple
         return {"noise_std": self.torque_noise, "position_noise_std": self.position_noise_std,
-                "rng": rng}
+                "rng": rng, "friction": fr}
 
 
 def _entries(section: str, raw, specs: Mapping) -> dict:
