@@ -70,6 +70,13 @@ def test_as_bench():
         as_bench(3.0)
     with pytest.raises(ValueError, match="link"):
         bench("literal").with_actuator(paper_actuator().with_link())
+    # the ripple turns with the motor: another gear ratio moves its derived period, the same keeps it
+    c = bench("consistent")
+    assert as_bench("consistent", other).sensing.torque_ripple_period == c.sensing.torque_ripple_period
+    geared = as_bench("consistent", paper_actuator().replace(gear_ratio=50.0))
+    assert geared.sensing.torque_ripple_period == pytest.approx(math.pi / 50.0, rel=1e-15)
+    assert geared.sensing.torque_ripple == c.sensing.torque_ripple
+    assert "n = 50" in geared.sensing.entries["torque_ripple_period"].note
 
 
 def test_every_value_has_its_provenance():

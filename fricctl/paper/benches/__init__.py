@@ -378,9 +378,16 @@ class Bench:
         given["design_viscous"] = Setting(value=p.viscous, unit=SETTINGS["design_viscous"].unit,
                                           source=p.source("viscous"),
                                           note="the designs count on the plant given: its viscous")
+        sensing = dict(self.sensing.entries)
+        period = sensing["torque_ripple_period"]
+        if period.source == "derived" and p.gear_ratio != self.settings["gear_ratio"].value:
+            # the wave generator turns with the motor: twice per motor revolution, 2*pi/(2*n)
+            sensing["torque_ripple_period"] = Setting(
+                value=math.pi / p.gear_ratio, unit=period.unit, source="derived",
+                note=f"2*pi/(2*n), n = {p.gear_ratio:g} (ActuatorParams.gear_ratio, given): twice per "
+                     "wave-generator (motor) revolution")
         return Bench(name=self.name, description=self.description + " (plant: an ActuatorParams given)",
-                     model=model, settings={**self.settings, **given},
-                     sensing=self.sensing.entries)
+                     model=model, settings={**self.settings, **given}, sensing=sensing)
 
     def with_sensing(self, note: str, **values) -> "Bench":
         """This bench with some sensing items set to ``values`` (names of :data:`SENSING`, each in
