@@ -712,9 +712,16 @@ def test_divergence_of_a_first_excess_in_the_last_share_fails_only_what_grows():
     closing = 40 * RES * np.exp(-np.maximum(k - 89, 0) / 4.0)
     d = paper.divergence(_held(n, tm=tm, q=closing))
     assert d.passed and not d.judged and "closes on its reference" in d.reason
-    # an excess that shrinks between the halves (exp(-k/4)), the joint swinging wider: not judged
+    # an excess that shrinks between the halves (exp(-k/4)) while the joint swings wider about its
+    # held reference (a drive saturated away from it: the bound grows with |Tc| and |omega|): the
+    # error decides, a runaway (the review: this passed as "too short to tell")
     shrinking = np.where(k >= 89, fs + 1e-2 * np.exp(-(k - 89) / 4.0), 0.0)
     d = paper.divergence(_held(n, tm=shrinking, q=wider))
+    assert not d.passed and d.judged and "the joint driven away" in d.reason
+    # ... the same shrinking excess with the joint hunting at a steady amplitude (its largest error
+    # kept, not doubled) is not judged: nothing grew
+    steady = np.where(k >= 89, 5 * RES * np.sin(2 * np.pi * k / 4 + 1), 0.0)
+    d = paper.divergence(_held(n, tm=shrinking, q=steady))
     assert d.passed and not d.judged and "not growing" in d.reason
     # with the excess from the last quarter's start, the steadiness test sees the growth first
     early = np.where(k >= 76, fs + 1e-3 * np.exp((k - 76) / 8.0), 0.0)

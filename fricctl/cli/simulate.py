@@ -153,7 +153,8 @@ def register(sub):
                         "warnings): wind-up, or divergence for a compensator that is not a "
                         "friction estimate (observer, integral), and reversal under "
                         "--torque sinusoid; a run too short for a check to tell says so "
-                        "(\"cannot judge this run: too short to tell\"; a longer --duration tells)")
+                        "(\"cannot judge this run: too short to tell\"): run a longer --duration to "
+                        "judge it")
     p.add_argument("--net", help="FrictionNet JSON (for --compensation nn or nn_confirmed)")
     p.add_argument("--scale", type=float, default=None, help="compensation scale s (default 1)")
     p.add_argument("--sigma0", default=None, metavar="S",

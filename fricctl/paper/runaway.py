@@ -76,6 +76,16 @@ DECAY = 0.5
 #: follows a large first transient: a 30 s PID run at 1.1 x its Routh limit rings at a steady
 #: 4 % of its first excess (tests/test_paper.py, the review of this check).
 STEADY = 0.9
+#: Growth of the largest error between the two halves from a late first excess to a run's end,
+#: with the reference held and the joint swinging, from which the joint counts as driven away
+#: (:func:`divergence`) [-].  A loop that hunts at a steady amplitude keeps its largest error
+#: (ratio ~1) and one that closes on its reference shrinks it; a drive saturated away from its
+#: reference grows it without bound.  Twice sits between them.
+DRIVEN = 2.0
+#: Torque beyond the friction bound that counts as an excess at all [N*m or N]: below it the
+#: difference is the arithmetic's rounding, not a torque (one value for "none before" and for
+#: the episodes, so that a rounding hair cannot decide between them).
+EXCESS_TOL = 1e-9
 #: A joint that moved this many encoder counts or fewer (peak to peak) has not moved:
 #: nothing can run away [counts].  The same "few counts" as the dead-zone measurement.
 MOTION_COUNTS = 3
@@ -198,7 +208,7 @@ def wind_up(run: SimResult, *, max_samples: int = WIND_UP_SAMPLES) -> RunawayChe
     r = _run(run)
     max_samples = v.integer("max_samples", max_samples, low=0)
     t, excess = _excess(r)
-    n, start = _longest_true_run(excess > 1e-12)
+    n, start = _longest_true_run(excess > EXCESS_TOL)
     u = _units(r)
     ok = n <= max_samples
     if n == 0:
@@ -234,13 +244,15 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
       bound lies in the last share, and from it to the run's end the excess does not decay
       between the two halves (at least ``steady``), while the joint swings by more than
       ``motion_counts`` counts and, under a held reference, its error does not decay either
-      (a loop that hunts wider at each slip, a drive that runs off).  Such a late first excess
+      (a loop that hunts wider at each slip, a drive that runs off); or, under a held
+      reference, the joint swings and its largest error grows more than ``DRIVEN``-fold between
+      the halves, whatever the excess does (a drive saturated away from its reference: the
+      bound grows with |Tc| and |omega|, so its excess can shrink).  Such a late first excess
       that does not grow is *not judged* (``judged`` False, ``passed`` True, ``value`` NaN;
       the reason starts "too short to tell"): a transient that starts late -- a DOB whose
       estimate integrates the held torque up to the breakaway level over seconds at rest, then
       creeps the joint to its reference -- has less record left than the last share gives every
-      earlier transient to die out, and no earlier excess to be measured against; a longer run
-      tells (that DOB, ``fricctl simulate --link --controller pd --rise-time 0.4 --damping 0.85
+      earlier transient to die out, and no earlier excess to be measured against (that DOB, ``fricctl simulate --link --controller pd --rise-time 0.4 --damping 0.85
       --compensation dob``, passes over 5 s: its excess ends before the last quarter); or
     * is sustained: in a closed-loop run whose reference is held through that last share (the
       loop gets no new excitation there), both halves of the share hold an episode, the
@@ -326,7 +338,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     if t.size - first <= max_samples:
         raise ValueError(f"run of {t.size + 1} samples: its last {settle_share:g} holds {t.size - first} "
                          f"samples, not more than max_samples = {max_samples}")
-    episodes = _true_runs(excess > 1e-12, max_samples)
+    episodes = _true_runs(excess > EXCESS_TOL, max_samples)
     late = [(a, n) for a, n in episodes if a + n > first]
     t_settle = float(t[first])
     limit = 100.0 * decay
@@ -367,7 +379,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     short = ("" if period is None or span >= 2.0 * period else
              f"; too short to judge whether it is sustained: the last {span:.3g} s hold "
              f"{span / period:.2g} of the loop's period {period:.3g} s (fewer than 2)")
-    if peak_before <= 0.0:
+    if peak_before <= EXCESS_TOL:
         return _first_excess(r, t, excess, head, span, settle_share, limit, steady, motion_counts,
                              short)
     value = 100.0 * peak_late / peak_before
@@ -429,12 +441,13 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
     * with a reference held over that time, the largest position error of the second half is
       at least ``steady`` times the first's (the joint does not close on its reference)
 
-    hold: a torque beyond the bound that does not decay while the joint is driven away or
+    hold, or, with the reference held, the joint swings and its largest error grows more than
+    :data:`DRIVEN`-fold (driven away, whatever the excess does); that is, a torque beyond the bound that does not decay while the joint is driven away or
     swings wider.  Anything else passes *not judged*: a transient that starts late (an observer
     that reaches the breakaway level after seconds at rest and creeps to the reference) is not
     told from the start of a runaway by so short a record."""
     u = _units(r)
-    s = int(np.flatnonzero(excess > 1e-12)[0])
+    s = int(np.flatnonzero(excess > EXCESS_TOL)[0])
     n = excess.size
     mid = s + max(1, (n - s) // 2)
     p1, p2 = float(excess[s:mid].max()), float(excess[mid:].max()) if mid < n else -math.inf
@@ -456,6 +469,14 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
                     f"({100 * p2 / p1:.0f} % of the first half's {p1:.4f} {u.torque}; at least "
                     f"{100 * steady:g} % is not decaying) while the joint swings {swing} encoder "
                     f"counts{err}"))
+    if held and swing > motion_counts and e2 > DRIVEN * e1:
+        # a saturated runaway can shrink its excess (the bound grows with |Tc| and |omega| as the
+        # joint is driven off): the error says it, whatever the excess does
+        return RunawayCheck(
+            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
+            reason=(f"divergence: {head}, with none before (the joint driven away): {since}; over "
+                    f"the second half of that time the joint swings {swing} encoder counts and its "
+                    f"error grows more than {DRIVEN:g}-fold{err}"))
     if p2 <= 0.0:
         seen = "it ended within the record"
     elif p2 < steady * p1:
@@ -472,8 +493,8 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
         name="divergence", value=math.nan, unit="%", limit=limit, passed=True, judged=False,
         reason=(f"too short to tell: {head}, with none before: {since}, less than the "
                 f"{given:.3g} s (the run's last {100 * settle_share:g} %) an earlier transient is "
-                f"given to die out, and no earlier excess to compare it with; {seen}. A longer run "
-                f"tells{short}"))
+                f"given to die out, and no earlier excess to compare it with; {seen}: not judged on this "
+                f"record{short}"))
 
 
 def torque_check(run: SimResult, compensator, *, period: float | None = None) -> RunawayCheck:
