@@ -631,7 +631,8 @@ def test_a_limit_cycle_the_run_cannot_judge_is_not_reported_as_none(monkeypatch)
 
 def test_a_check_too_short_for_its_period_says_so_in_the_row(monkeypatch):
     # the plumbing: a runaway check whose record is too short for part of its criterion (judged
-    # False) reaches the row's warnings, its pass counted as the rest of the criterion found
+    # False) reaches the row's warnings, and the run is counted as not judged, not as a pass (the
+    # review: a run its record could not judge read "1/1" under the runs that passed)
     from dataclasses import replace
     from types import MappingProxyType
 
@@ -651,4 +652,6 @@ def test_a_check_too_short_for_its_period_says_so_in_the_row(monkeypatch):
     monkeypatch.setattr(protocol, "EXPERIMENTS", table)
     row = compare(compensators=("integral",), experiments=("pd_steps",), plants=("nominal",),
                   seeds=1).row("integral", "pd_steps", "nominal")
-    assert row["runaway"]["passed"] == 1 and row["warnings"] == [short.reason]
+    assert row["warnings"] == [short.reason]
+    assert (row["runaway"]["passed"], row["runaway"]["runs"], row["runaway"]["not_judged"]) == (0, 1, 1)
+    assert row["runaway"]["rate"] is None  # no run judged: no rate

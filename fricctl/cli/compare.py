@@ -197,11 +197,13 @@ def run(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     write_text(out / "comparison.json", res.to_json() + "\n", overwrite=args.force)
     write_text(out / "comparison.md", res.table(), overwrite=args.force)
-    failed = [r for r in res.rows if r["runaway"]["passed"] < r["runaway"]["runs"]]
+    failed = [r for r in res.rows if r["runaway"]["failures"]]
+    unjudged = [r for r in res.rows if r["runaway"].get("not_judged")]
     errors = [r for r in res.rows if r["errors"]]
     print(f"bench {bench}: {len(res.compensators)} compensators x {len(res.experiments)} experiments x "
           f"{len(res.plants)} plants = {len(res.rows)} rows, seeds 0..{seeds - 1} for the trained "
           f"networks; {len(failed)} rows with a runaway check failed in some run"
+          + (f", {len(unjudged)} rows with runs too short for a check to judge" if unjudged else "")
           + (f", {len(errors)} rows with runs that could not be made (comparison.md says why)"
              if errors else ""))
     print(f"wrote comparison.json and comparison.md to {out} ({time.perf_counter() - t0:.0f} s, "

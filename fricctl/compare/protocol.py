@@ -133,19 +133,24 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
     if na:  # open loop for a compensator of the position error: nothing measured, nothing failed
         return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
                 "seeded": seeded, "metrics": metrics, "not_applicable": na[0],
-                "runaway": {"passed": 0, "runs": 0, "rate": None, "criterion": None, "failures": []},
+                "runaway": {"passed": 0, "runs": 0, "not_judged": 0, "rate": None, "criterion": None,
+                            "failures": []},
                 "errors": [], "warnings": []}
-    passed, reasons = 0, []
+    passed, unjudged, reasons = 0, 0, []
     ran = [(s, o) for s, o in zip(seeds, outs) if "error" not in o]  # an error is not a runaway
     for s, o in ran:
         failed = [c for c in o["checks"] if not c["passed"]]
         if failed:
             reasons.append(f"seed {s}: {failed[0]['reason']}")
+        elif any(not c.get("judged", True) for c in o["checks"]):
+            unjudged += 1  # passed for want of record (its reason is among the warnings), not judged
         else:
             passed += 1
+    judged = len(ran) - unjudged
     return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
             "seeded": seeded, "metrics": metrics,
-            "runaway": {"passed": passed, "runs": len(ran), "rate": passed / len(ran) if ran else None,
+            "runaway": {"passed": passed, "runs": len(ran), "not_judged": unjudged,
+                        "rate": passed / judged if judged else None,
                         "criterion": _criterion(outs), "failures": reasons[:3]},
             "errors": [f"seed {s}: {o['error']}" for s, o in zip(seeds, outs) if "error" in o],
             "warnings": warnings}
@@ -161,7 +166,9 @@ class ComparisonResult:
         object), ``seeds`` (the seeds run; one where nothing depends on the seed), ``seeded``
         (whether the runs depend on the seed: a trained network, or a plant with noise), ``metrics`` (name -> ``unit``, ``median``, ``min``, ``max``, ``values`` per
         seed), ``runaway`` (``passed`` of the ``runs`` that ran -- a run that could not be made
-        is an error, not a runaway --, ``rate`` (None when none ran), ``criterion``: the torque
+        is an error, not a runaway --, ``not_judged``: the runs no check failed but one could
+        not judge (too short a record; their reasons are among the ``warnings``), counted in
+        neither, ``rate``: ``passed`` over the judged runs (None when none was), ``criterion``: the torque
         check its runs used, ``"wind-up"`` for a friction estimate or ``"divergence"`` for a
         DOB or integral action (:func:`fricctl.paper.runaway.torque_check`; None when none
         ran), the first ``failures``' reasons),
@@ -230,7 +237,9 @@ class ComparisonResult:
                 if "not_applicable" in r:
                     cells.append("not applicable (open loop)")
                 else:
-                    cells.append(f"{rw['passed']}/{rw['runs']}" + (" (errors)" if r["errors"] else ""))
+                    cells.append(f"{rw['passed']}/{rw['runs']}"
+                                 + (f" ({rw['not_judged']} not judged)" if rw.get("not_judged") else "")
+                                 + (" (errors)" if r["errors"] else ""))
                 cells.append(rw["criterion"] or "-")
                 out.append("| " + " | ".join(cells) + " |")
             out.append("")

@@ -96,7 +96,8 @@ def sensed(network: PaperNetwork, label: str, plant) -> dict:
 
     The noise is drawn from a generator seeded by the network's seed
     (:attr:`~fricctl.paper.PaperNetwork.noise_seed`) and the run's ``label``
-    (its CRC-32), so that a run is reproducible, each run of a figure draws its own noise, and
+    (its CRC-32), so that a run is reproducible, each run of a figure draws its own noise (and
+    torque-ripple phase; the runs of one batch share it: one session of the drive), and
     the seeds of ``fricctl reproduce`` are seeds of the sensing too.  On a noise-free bench
     nothing is drawn: the run is bit for bit the one without these arguments.
 
