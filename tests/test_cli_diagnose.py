@@ -164,6 +164,36 @@ def test_report_folder_not_overwritten_without_force(record_csv, tmp_path, capsy
     assert "not a folder" in capsys.readouterr().err
 
 
+def test_report_drawn_in_forked_processes_has_the_serial_bytes(record_csv, tmp_path, capsys,
+                                                               monkeypatch):
+    """The painters (fricctl.cli._painters) against the figures drawn in the command itself:
+    every file of the report the same bytes, and the JSON."""
+    from fricctl.cli import _painters
+
+    path, _ = record_csv
+    forked = []
+    real = _painters.Painters
+
+    def counted(*args, **kwargs):
+        forked.append(real(*args, **kwargs))
+        return forked[-1]
+
+    monkeypatch.setattr(_painters, "parallel_available", lambda: True)  # even on one core
+    monkeypatch.setattr(_painters, "Painters", counted)
+    assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "forked")]) == 0
+    assert len(forked) == 1 and len(forked[0]._all) == 2  # the figures were drawn by two
+    json_forked = capsys.readouterr().out
+    monkeypatch.setattr(_painters, "parallel_available", lambda: False)
+    assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "serial")]) == 0
+    assert len(forked) == 1
+    assert capsys.readouterr().out == json_forked
+    names = sorted(p.name for p in (tmp_path / "serial").iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "forked").iterdir())
+    assert len(names) == 6
+    for name in names:
+        assert (tmp_path / "forked" / name).read_bytes() == (tmp_path / "serial" / name).read_bytes(), name
+
+
 @pytest.mark.parametrize("window", ["1e-9", "0", "-1"])
 def test_window_shorter_than_a_sample_exits_2(record_csv, capsys, window):
     path, _ = record_csv

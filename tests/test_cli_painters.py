@@ -1,0 +1,128 @@
+"""``fricctl.cli._painters``: figures drawn in forked processes -- who draws, errors raised in
+the command, every process reaped, the serial fallback's conditions."""
+
+import os
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from fricctl.cli._painters import Painters, forked_painters, parallel_available
+
+pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="POSIX only")
+
+
+def _pid_writer(result, names, folder: Path, *, overwrite: bool) -> None:
+    """A stand-in for the figures: each file says which process wrote it and what it got."""
+    for name in names:
+        (folder / name).write_text(f"{os.getpid()} {result} {overwrite}")
+
+
+def _gone(pid: int) -> bool:
+    """``pid`` is no child of this process any more (reaped)."""
+    try:
+        os.waitpid(pid, os.WNOHANG)
+    except ChildProcessError:
+        return True
+    return False
+
+
+def test_each_share_drawn_in_its_own_forked_process(tmp_path):
+    painters = Painters((("a",), ("b", "c")), _pid_writer, lambda: None)
+    pids = [p.pid for p in painters._all]
+    painters.draw({"x": 1}, tmp_path, overwrite=False)
+    painters.wait()
+    got = {n: (tmp_path / n).read_text().split(" ", 1) for n in "abc"}
+    assert got["a"][1] == got["b"][1] == "{'x': 1} False"  # the job as sent (pickled)
+    assert int(got["a"][0]) == pids[0] and int(got["b"][0]) == int(got["c"][0]) == pids[1]
+    assert os.getpid() not in pids and pids[0] != pids[1]
+    assert all(_gone(pid) for pid in pids)
+    painters.stop()  # after wait: nothing left to end, no error
+
+
+def _fails(result, names, folder, *, overwrite):
+    if "b" in names:
+        raise FileExistsError(f"{folder / 'b'} exists")
+    _pid_writer(result, names, folder, overwrite=overwrite)
+
+
+def test_a_painters_error_is_raised_in_the_command_and_all_are_reaped(tmp_path):
+    painters = Painters((("a",), ("b",)), _fails, lambda: None)
+    pids = [p.pid for p in painters._all]
+    painters.draw(0, tmp_path, overwrite=True)
+    with pytest.raises(FileExistsError, match="/b exists"):
+        painters.wait()
+    assert (tmp_path / "a").is_file()  # the other painter finished its share
+    assert all(_gone(pid) for pid in pids)
+
+
+def _failed_import():
+    raise ImportError("no matplotlib here")
+
+
+def test_a_failed_import_is_raised_when_the_job_comes(tmp_path):
+    painters = Painters((("a",),), _pid_writer, _failed_import)
+    painters.draw(0, tmp_path, overwrite=True)
+    with pytest.raises(ImportError, match="no matplotlib here"):
+        painters.wait()
+    assert not (tmp_path / "a").exists()
+
+
+def _dies(result, names, folder, *, overwrite):
+    os._exit(3)
+
+
+def test_a_painter_that_ends_without_a_word_is_an_error_naming_its_figures(tmp_path):
+    painters = Painters((("a", "b"),), _dies, lambda: None)
+    painters.draw(0, tmp_path, overwrite=True)
+    with pytest.raises(RuntimeError, match=r"drawing a, b ended without finishing \(exit status 3\)"):
+        painters.wait()
+
+
+def _slow(result, names, folder, *, overwrite):
+    (folder / "started").write_text("")
+    time.sleep(60)  # ended by stop() long before
+
+
+def test_stop_ends_waiting_and_drawing_painters(tmp_path):
+    waiting = Painters((("a",), ("b",)), _pid_writer, lambda: None)  # no job ever sent
+    pids = [p.pid for p in waiting._all]
+    waiting.stop()  # their pipes closed: they exit
+    assert all(_gone(pid) for pid in pids)
+    drawing = Painters((("a",),), _slow, lambda: None)
+    drawing.draw(0, tmp_path, overwrite=True)
+    while not (tmp_path / "started").exists():
+        time.sleep(0.01)
+    t0 = time.monotonic()
+    drawing.stop()  # SIGTERM: returns once the painter is reaped, not after its 60 s
+    assert time.monotonic() - t0 < 30 and _gone(drawing._all[0].pid)
+
+
+def test_forked_painters_reaps_on_an_error_in_the_block(tmp_path):
+    with pytest.raises(ValueError, match="bad record"):
+        with forked_painters((("a",),), _pid_writer, lambda: None) as painters:
+            if painters is None:
+                pytest.skip("one core: serial")
+            pids = [p.pid for p in painters._all]
+            raise ValueError("bad record")
+    assert all(_gone(pid) for pid in pids)
+
+
+def test_serial_where_one_core_or_another_thread(monkeypatch):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    assert parallel_available()
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:  # a fork would copy only this thread, and a lock the other one held
+        assert not parallel_available()
+    finally:
+        stop.set()
+        other.join()
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
+    assert not parallel_available()
+    with forked_painters((("a",),), _pid_writer, lambda: None) as painters:
+        assert painters is None
+    with forked_painters((("a",),), _pid_writer, lambda: None, wanted=False) as painters:
+        assert painters is None
