@@ -126,3 +126,17 @@ def test_serial_where_one_core_or_another_thread(monkeypatch):
         assert painters is None
     with forked_painters((("a",),), _pid_writer, lambda: None, wanted=False) as painters:
         assert painters is None
+
+
+def test_painters_prepare_one_after_the_other(tmp_path):
+    def prepare():  # a slow import: the next painter starts its own after this one ends
+        start = time.monotonic()
+        time.sleep(0.3)
+        (tmp_path / f"prep-{os.getpid()}").write_text(f"{start} {time.monotonic()}")
+
+    painters = Painters((("a",), ("b",), ("c",)), _pid_writer, prepare)
+    pids = [p.pid for p in painters._all]
+    painters.draw(0, tmp_path, overwrite=True)
+    painters.wait()
+    spans = [tuple(map(float, (tmp_path / f"prep-{pid}").read_text().split())) for pid in pids]
+    assert all(spans[i + 1][0] >= spans[i][1] for i in range(2)), spans  # CLOCK_MONOTONIC

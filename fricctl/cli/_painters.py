@@ -6,14 +6,15 @@ PNG encoding (1.6-2.7 s), 2.4 s of the command's 11-12 s on an idle 2-core machi
 second core had nothing to do (the reported baseline's thread ends seconds before the
 forward selection).  :func:`forked_painters` forks its processes *before* the diagnosis
 starts that thread; each imports matplotlib and the figure module while the diagnosis runs
-(:func:`fricctl.cli.diagnose.import_figures`), then waits for the result (pickled down a
+(:func:`fricctl.cli.diagnose.import_figures`; one after the other, so that at most one
+competes with the diagnosis's two threads for a 2-core machine), then waits for the result (pickled down a
 pipe), draws its share of the figures (:data:`fricctl.cli.diagnose.PAINTER_SHARES`) with the
 serial path's own code (:func:`fricctl.cli.diagnose.draw_figures`) and writes them atomically
 into the folder it is sent (:func:`fricctl.cli._output.save_figure`): the same bytes as drawn
 in one process.
 
 Serial (no process forked, the figures drawn by the command itself after the diagnosis)
-where :func:`os.fork` is missing (not POSIX), where fewer than two cores are available to the
+where :func:`os.fork` is missing (not POSIX) or fails, where fewer than two cores are available to the
 process (:func:`os.sched_getaffinity`), or where another Python thread runs: a fork copies
 only the calling thread, and a lock another thread holds would stay held in the child.  (The
 BLAS libraries' idle pool threads are not Python threads; OpenBLAS re-initialises its pool in
@@ -101,16 +102,22 @@ def _picklable(err: BaseException) -> BaseException:
         return RuntimeError(f"{type(err).__name__}: {err}")
 
 
-def _paint(prepare, draw, names: tuple, jobs: int, replies: int) -> None:
-    """A painter's life (in the forked process): prepare (import), wait for the job, draw,
-    reply."""
+def _paint(prepare, draw, names: tuple, jobs: int, replies: int, after: int, done: int) -> None:
+    """A painter's life (in the forked process): prepare (import) once the painter before it
+    has (``after`` closed; -1: the first), wait for the job, draw, reply."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command gets Ctrl-C too and ends us
     signal.signal(signal.SIGTERM, _raise_terminated)
     err = None
+    if after >= 0:
+        # one painter imports at a time: beside the diagnosis's main thread and its baseline
+        # thread on a 2-core machine, two importing at once would take the main thread's core
+        os.read(after, 1)  # b"": the painter before has prepared (or ended)
+        after = _close(after)
     try:  # now, while the diagnosis runs in the parent
         prepare()
     except Exception as e:  # said when the job comes, as the serial path would raise it
         err = e
+    done = _close(done)
     result, folder, overwrite = _receive(jobs)
     if err is None:
         try:
@@ -154,26 +161,43 @@ class Painters:
         self._all: list[_Painter] = []
         sys.stdout.flush()  # nothing buffered is written twice
         sys.stderr.flush()
+        after = -1  # read end of the pipe the painter before closes once prepared
         try:
             for share in shares:
-                self._all.append(self._fork(tuple(share)))
+                done_r, done_w = os.pipe()
+                try:
+                    self._all.append(self._fork(tuple(share), after, done_r, done_w))
+                except BaseException:
+                    _close(done_r)
+                    raise
+                finally:
+                    _close(done_w)  # the new painter's alone
+                _close(after)
+                after = done_r
         except BaseException:
             self.stop()
             raise
+        finally:
+            _close(after)
 
-    def _fork(self, names: tuple) -> _Painter:
+    def _fork(self, names: tuple, after: int, done_r: int, done_w: int) -> _Painter:
         job_r, job_w = os.pipe()
         rep_r, rep_w = os.pipe()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except BaseException:
+            for fd in (job_r, job_w, rep_r, rep_w):
+                _close(fd)
+            raise
         if pid == 0:  # the painter: never returns
             status = 1
             try:
                 for p in self._all:  # the earlier painters' pipes: theirs alone
                     _close(p.jobs)
                     _close(p.replies)
-                os.close(job_w)
-                os.close(rep_r)
-                _paint(self._prepare, self._draw, names, job_r, rep_w)
+                for fd in (job_w, rep_r, done_r):
+                    os.close(fd)
+                _paint(self._prepare, self._draw, names, job_r, rep_w, after, done_w)
                 status = 0
             except BaseException:  # the parent ended first, or SIGTERM: nothing to say
                 pass
@@ -236,7 +260,12 @@ def forked_painters(shares, draw, prepare, *, wanted: bool = True) -> Iterator[P
     """``Painters(shares, draw, prepare)`` forked now when ``wanted`` and
     :func:`parallel_available`, else None (the figures drawn serially); every painter is ended
     and reaped on leaving."""
-    painters = Painters(shares, draw, prepare) if wanted and parallel_available() else None
+    painters = None
+    if wanted and parallel_available():
+        try:
+            painters = Painters(shares, draw, prepare)
+        except OSError:  # no fork now (EAGAIN: a process limit; ENOMEM): drawn serially
+            painters = None
     try:
         yield painters
     finally:
