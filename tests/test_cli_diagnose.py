@@ -191,7 +191,8 @@ def test_report_drawn_in_forked_processes_has_the_serial_bytes(record_csv, tmp_p
     assert names == sorted(p.name for p in (tmp_path / "forked").iterdir())
     assert len(names) == 6
     for name in names:
-        assert (tmp_path / "forked" / name).read_bytes() == (tmp_path / "serial" / name).read_bytes(), name
+        forked_bytes = (tmp_path / "forked" / name).read_bytes()
+        assert forked_bytes == (tmp_path / "serial" / name).read_bytes(), name
 
 
 @pytest.mark.parametrize("window", ["1e-9", "0", "-1"])

@@ -11,6 +11,7 @@ import pytest
 from fricctl.cli._painters import Painters, forked_painters, parallel_available
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="POSIX only")
+linux = pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
 
 
 def _pid_writer(result, names, folder: Path, *, overwrite: bool) -> None:
@@ -76,7 +77,8 @@ def _dies(result, names, folder, *, overwrite):
 def test_a_painter_that_ends_without_a_word_is_an_error_naming_its_figures(tmp_path):
     painters = Painters((("a", "b"),), _dies, lambda: None)
     painters.draw(0, tmp_path, overwrite=True)
-    with pytest.raises(RuntimeError, match=r"drawing a, b ended without finishing \(exit status 3\)"):
+    with pytest.raises(RuntimeError,
+                       match=r"drawing a, b ended without finishing \(exit status 3\)"):
         painters.wait()
 
 
@@ -140,3 +142,17 @@ def test_painters_prepare_one_after_the_other(tmp_path):
     painters.wait()
     spans = [tuple(map(float, (tmp_path / f"prep-{pid}").read_text().split())) for pid in pids]
     assert all(spans[i + 1][0] >= spans[i][1] for i in range(2)), spans  # CLOCK_MONOTONIC
+
+
+@linux
+def test_a_painter_killed_before_the_job_is_an_error_naming_its_figures(tmp_path):
+    painters = Painters((("a",), ("b", "c")), _pid_writer, lambda: None)
+    pid = painters._all[1].pid
+    os.kill(pid, 9)
+    while Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z":
+        time.sleep(0.01)  # dead (not yet reaped): its end of the pipe is closed
+    with pytest.raises(RuntimeError, match=r"drawing b, c ended before the figures were ready "
+                                           r"\(signal 9\)"):
+        painters.draw(0, tmp_path, overwrite=True)
+    painters.stop()
+    assert all(_gone(p.pid) for p in painters._all)

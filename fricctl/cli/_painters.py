@@ -5,20 +5,20 @@ diagnosis, one after another on one core: matplotlib's import (0.6-0.9 s) and th
 PNG encoding (1.6-2.7 s), 2.4 s of the command's 11-12 s on an idle 2-core machine, while the
 second core had nothing to do (the reported baseline's thread ends seconds before the
 forward selection).  :func:`forked_painters` forks its processes *before* the diagnosis
-starts that thread; each imports matplotlib and the figure module while the diagnosis runs
-(:func:`fricctl.cli.diagnose.import_figures`; one after the other, so that at most one
-competes with the diagnosis's two threads for a 2-core machine), then waits for the result (pickled down a
-pipe), draws its share of the figures (:data:`fricctl.cli.diagnose.PAINTER_SHARES`) with the
-serial path's own code (:func:`fricctl.cli.diagnose.draw_figures`) and writes them atomically
-into the folder it is sent (:func:`fricctl.cli._output.save_figure`): the same bytes as drawn
-in one process.
+starts that thread.  Each, while the diagnosis runs, imports matplotlib and the figure module
+and draws a throw-away figure (:func:`fricctl.cli.diagnose.prepare_figures`; one painter after
+the other, so that at most one competes with the diagnosis's two threads for a 2-core
+machine); then it waits for the result (pickled down a pipe), draws its share of the figures
+(:data:`fricctl.cli.diagnose.PAINTER_SHARES`) with the serial path's own code
+(:func:`fricctl.cli.diagnose.draw_figures`) and writes them atomically into the folder it is
+sent (:func:`fricctl.cli._output.save_figure`): the same bytes as drawn in one process.
 
 Serial (no process forked, the figures drawn by the command itself after the diagnosis)
-where :func:`os.fork` is missing (not POSIX) or fails, where fewer than two cores are available to the
-process (:func:`os.sched_getaffinity`), or where another Python thread runs: a fork copies
-only the calling thread, and a lock another thread holds would stay held in the child.  (The
-BLAS libraries' idle pool threads are not Python threads; OpenBLAS re-initialises its pool in
-a forked child through its own ``pthread_atfork`` handlers.)
+where :func:`os.fork` is missing (not POSIX) or fails, where fewer than two cores are
+available to the process (:func:`os.sched_getaffinity`), or where another Python thread runs:
+a fork copies only the calling thread, and a lock another thread holds would stay held in the
+child.  (The BLAS libraries' idle pool threads are not Python threads; OpenBLAS handles a
+fork through its own ``pthread_atfork`` handler.)
 
 Notes
 -----
@@ -213,7 +213,12 @@ class Painters:
         job = (result, os.fspath(folder), bool(overwrite))
         for p in self._all:
             p.busy = True
-            _send(p.jobs, job)
+            try:
+                _send(p.jobs, job)
+            except BrokenPipeError:
+                p.busy = False
+                raise RuntimeError(f"--report: the process drawing {', '.join(p.names)} ended "
+                                   f"before the figures were ready ({self._reap(p)})") from None
             p.jobs = _close(p.jobs)
 
     def wait(self) -> None:

@@ -39,7 +39,9 @@ judged), ``origin`` (per named cause: "found" or "held by the supplied model") a
 --model`` and ``fricctl simulate --model`` read it); existing files are not
 overwritten without ``--force``.  A new DIR is built beside and renamed into place when
 complete (an interrupted run leaves no DIR); into an existing DIR each file is written
-atomically.  A record longer than 571 428 samples is refused, counted before it is read
+atomically.  With two cores or more the figures are drawn by two processes forked before the
+diagnosis starts, which import matplotlib while it runs (the same files; one core: drawn by
+the command itself).  A record longer than 571 428 samples is refused, counted before it is read
 (7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
@@ -100,7 +102,7 @@ def run(args) -> int:
         check_model(model, record, Path(args.model).name, units_given=args.units is not None)
     # the report's painters are forked now, before the diagnosis starts its thread, and import
     # matplotlib while it runs (fricctl.cli._painters; None: drawn here, serially)
-    with forked_painters(PAINTER_SHARES, draw_figures, import_figures,
+    with forked_painters(PAINTER_SHARES, draw_figures, prepare_figures,
                          wanted=args.report is not None) as painters:
         result = diagnose(record, model, window=args.window)
         if args.report:
@@ -190,11 +192,27 @@ FIGURES = {"residuals.png": _residuals, "simulation.png": _simulation, "spectrum
 PAINTER_SHARES = (("residuals.png",), ("simulation.png", "spectrum.png", "steps.png"))
 
 
-def import_figures() -> None:
-    """What drawing the report imports (matplotlib's figure, never pyplot)."""
-    from matplotlib.figure import Figure  # noqa: F401
+def prepare_figures() -> None:
+    """What a painter does while the diagnosis runs: import what drawing the report imports
+    (matplotlib's figure, never pyplot) and draw a small figure with a legend, mathtext and a
+    PNG of the report's settings, thrown away: the first figure a process draws loads the
+    fonts, builds the mathtext parser and imports PIL (0.25-0.4 s CPU), which its first figure
+    of the report then does not wait for (r40: residuals 1.14-1.28 -> 0.72-1.00 s CPU, the
+    other three 0.88-1.07 -> 0.49-0.81 s).  Caches of pure functions only: the report's
+    bytes are the same (checked on the seven records of ``bench_diagnose.py records``)."""
+    import io
+
+    from matplotlib.figure import Figure
 
     from ..figures import diagnosis  # noqa: F401
+
+    fig = Figure(figsize=(2, 1.5))
+    ax = fig.subplots()
+    ax.plot([0, 1], [0, 1], drawstyle="steps-post", label="a")
+    ax.legend()
+    ax.set_xlabel(r"velocity $\omega$ [rad/s]")
+    ax.set_title("t")
+    fig.savefig(io.BytesIO(), format="png", dpi=110, pil_kwargs={"compress_level": 1})
 
 
 def draw_figures(result, names, folder: Path, *, overwrite: bool) -> None:
@@ -231,14 +249,14 @@ def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Pa
         try:
             if painters is not None:
                 # the models left out: the figures do not read them (a JointModel does not pickle)
-                painters.draw(replace(result, baseline=None, extended=None, supplied=None, fit=None),
-                              where, overwrite=overwrite)
+                drawn = replace(result, baseline=None, extended=None, supplied=None, fit=None)
+                painters.draw(drawn, where, overwrite=overwrite)
             write_text(where / "report.md", text, overwrite=overwrite)
             result.extended.save(where / "extended_model.json", overwrite=overwrite)
-        except BaseException:
-            if painters is not None:  # ended (and reaped) before the folder is removed
+            if painters is not None:
+                painters.wait()  # raises a painter's error (the folder removed, as serially)
+        except BaseException:  # an error, Ctrl-C: the painters still drawing are ended and
+            if painters is not None:  # reaped before the folder is removed
                 painters.stop()
             raise
-        if painters is not None:
-            painters.wait()  # raises a painter's error (the folder removed, as on the serial path)
     return out
