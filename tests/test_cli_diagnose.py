@@ -1,6 +1,7 @@
 """``fricctl diagnose``: JSON output, report folder, bad input -> one line + exit 2."""
 
 import json
+import threading
 
 import numpy as np
 import pytest
@@ -178,10 +179,19 @@ def test_report_drawn_in_forked_processes_has_the_serial_bytes(record_csv, tmp_p
         forked.append(real(*args, **kwargs))
         return forked[-1]
 
+    started = []  # by whom the painters were let import: the baseline's thread, when done
+    real_start = real.start
+
+    def start(self):
+        started.append(threading.current_thread().name)
+        real_start(self)
+
     monkeypatch.setattr(_painters, "parallel_available", lambda: True)  # even on one core
     monkeypatch.setattr(_painters, "Painters", counted)
+    monkeypatch.setattr(real, "start", start)
     assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "forked")]) == 0
     assert len(forked) == 1 and len(forked[0]._all) == 2  # the figures were drawn by two
+    assert started[0].startswith("fricctl-baseline"), started
     json_forked = capsys.readouterr().out
     monkeypatch.setattr(_painters, "parallel_available", lambda: False)
     assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "serial")]) == 0

@@ -90,7 +90,7 @@ def _slow(result, names, folder, *, overwrite):
 def test_stop_ends_waiting_and_drawing_painters(tmp_path):
     waiting = Painters((("a",), ("b",)), _pid_writer, lambda: None)  # no job ever sent
     pids = [p.pid for p in waiting._all]
-    waiting.stop()  # their pipes closed: they exit
+    waiting.stop()
     assert all(_gone(pid) for pid in pids)
     drawing = Painters((("a",),), _slow, lambda: None)
     drawing.draw(0, tmp_path, overwrite=True)
@@ -154,5 +154,20 @@ def test_a_painter_killed_before_the_job_is_an_error_naming_its_figures(tmp_path
     with pytest.raises(RuntimeError, match=r"drawing b, c ended before the figures were ready "
                                            r"\(signal 9\)"):
         painters.draw(0, tmp_path, overwrite=True)
+    painters.stop()
+    assert all(_gone(p.pid) for p in painters._all)
+
+
+def test_painters_prepare_only_once_started(tmp_path):
+    def prepare():
+        (tmp_path / f"prep-{os.getpid()}").write_text("")
+
+    painters = Painters((("a",), ("b",)), _pid_writer, prepare)
+    time.sleep(0.5)
+    assert not list(tmp_path.glob("prep-*"))  # the diagnosis's baseline thread still runs
+    painters.start()
+    painters.start()  # idempotent
+    while len(list(tmp_path.glob("prep-*"))) < 2:
+        time.sleep(0.01)
     painters.stop()
     assert all(_gone(p.pid) for p in painters._all)

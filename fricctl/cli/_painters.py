@@ -6,9 +6,10 @@ PNG encoding (1.6-2.7 s), 2.4 s of the command's 11-12 s on an idle 2-core machi
 second core had nothing to do (the reported baseline's thread ends seconds before the
 forward selection).  :func:`forked_painters` forks its processes *before* the diagnosis
 starts that thread.  Each, while the diagnosis runs, imports matplotlib and the figure module
-and draws a throw-away figure (:func:`fricctl.cli.diagnose.prepare_figures`; one painter after
-the other, so that at most one competes with the diagnosis's two threads for a 2-core
-machine); then it waits for the result (pickled down a pipe), draws its share of the figures
+and draws a throw-away figure (:func:`fricctl.cli.diagnose.prepare_figures`): one painter after
+the other, and only once that thread has ended (:meth:`Painters.start`, called by
+:func:`~fricctl.diagnose.diagnose`'s ``on_baseline``), so that on a 2-core machine they take
+the core the baseline's thread leaves, not the main thread's.  Then each waits for the result (pickled down a pipe), draws its share of the figures
 (:data:`fricctl.cli.diagnose.PAINTER_SHARES`) with the serial path's own code
 (:func:`fricctl.cli.diagnose.draw_figures`) and writes them atomically into the folder it is
 sent (:func:`fricctl.cli._output.save_figure`): the same bytes as drawn in one process.
@@ -25,10 +26,9 @@ Notes
 A process that fails to draw sends its exception back and the command raises it (a full
 disk, ``FileExistsError`` of an exclusive write): what the serial path would raise.  A process
 that ends without a word (killed) is an error naming it.  When the command ends otherwise (bad
-input, an error or Ctrl-C in the diagnosis or the report), the processes still waiting see
-their pipe closed and exit; one still drawing is sent SIGTERM, which unwinds its atomic write
-(its temporary file removed) before it exits; every process is reaped before the report's
-folder is removed or renamed.  Ctrl-C is ignored in the processes (the command, which gets it
+input, an error or Ctrl-C in the diagnosis or the report), every process is sent SIGTERM
+(one drawing unwinds its atomic write, its temporary file removed, before it exits) and
+reaped before the report's folder is removed or renamed.  Ctrl-C is ignored in the processes (the command, which gets it
 too, ends them).
 """
 
@@ -104,15 +104,15 @@ def _picklable(err: BaseException) -> BaseException:
 
 def _paint(prepare, draw, names: tuple, jobs: int, replies: int, after: int, done: int) -> None:
     """A painter's life (in the forked process): prepare (import) once the painter before it
-    has (``after`` closed; -1: the first), wait for the job, draw, reply."""
+    has (``after`` closed; the first: once the command opens the gate), wait for the job,
+    draw, reply."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command gets Ctrl-C too and ends us
     signal.signal(signal.SIGTERM, _raise_terminated)
     err = None
-    if after >= 0:
-        # one painter imports at a time: beside the diagnosis's main thread and its baseline
-        # thread on a 2-core machine, two importing at once would take the main thread's core
-        os.read(after, 1)  # b"": the painter before has prepared (or ended)
-        after = _close(after)
+    # one painter imports at a time, after the diagnosis's baseline thread: on a 2-core
+    # machine, more would take the main thread's core
+    os.read(after, 1)  # b"": the painter before has prepared (or ended), or the gate opened
+    after = _close(after)
     try:  # now, while the diagnosis runs in the parent
         prepare()
     except Exception as e:  # said when the job comes, as the serial path would raise it
@@ -159,9 +159,12 @@ class Painters:
         self._draw = draw
         self._prepare = prepare
         self._all: list[_Painter] = []
+        self._lock = threading.Lock()  # start() is called from the diagnosis's baseline thread
         sys.stdout.flush()  # nothing buffered is written twice
         sys.stderr.flush()
-        after = -1  # read end of the pipe the painter before closes once prepared
+        # read end of the pipe the painter before closes once prepared; for the first, the
+        # gate this process closes in start()
+        after, self._gate = os.pipe()
         try:
             for share in shares:
                 done_r, done_w = os.pipe()
@@ -195,7 +198,7 @@ class Painters:
                 for p in self._all:  # the earlier painters' pipes: theirs alone
                     _close(p.jobs)
                     _close(p.replies)
-                for fd in (job_w, rep_r, done_r):
+                for fd in (job_w, rep_r, done_r, self._gate):
                     os.close(fd)
                 _paint(self._prepare, self._draw, names, job_r, rep_w, after, done_w)
                 status = 0
@@ -207,9 +210,17 @@ class Painters:
         os.close(rep_w)
         return _Painter(pid=pid, names=names, jobs=job_w, replies=rep_r)
 
+    def start(self) -> None:
+        """Let the painters prepare (import), one after the other, from now on (thread-safe,
+        idempotent).  The command calls it when the diagnosis's baseline thread ends, so
+        that the imports take the core that thread leaves, not the main thread's."""
+        with self._lock:
+            self._gate = _close(self._gate)
+
     def draw(self, result, folder, *, overwrite: bool) -> None:
         """Send every painter the job: ``result``'s figures into ``folder`` (returns at once;
         :meth:`wait` for them).  ``result`` is pickled."""
+        self.start()  # if the diagnosis did not
         job = (result, os.fspath(folder), bool(overwrite))
         for p in self._all:
             p.busy = True
@@ -248,10 +259,11 @@ class Painters:
         return f"exit status {os.WEXITSTATUS(status)}"
 
     def stop(self) -> None:
-        """End every painter: those waiting see their pipe closed, those drawing get SIGTERM;
-        each is reaped."""
+        """End every painter (SIGTERM: one drawing unwinds its atomic write, one waiting or
+        importing stops there) and reap it."""
+        self.start()  # the gate closed too
         for p in self._all:
-            if p.busy and not p.reaped:
+            if not p.reaped:
                 with contextlib.suppress(ProcessLookupError):
                     os.kill(p.pid, signal.SIGTERM)
             p.jobs = _close(p.jobs)

@@ -101,10 +101,11 @@ def run(args) -> int:
     if model is not None:
         check_model(model, record, Path(args.model).name, units_given=args.units is not None)
     # the report's painters are forked now, before the diagnosis starts its thread, and import
-    # matplotlib while it runs (fricctl.cli._painters; None: drawn here, serially)
+    # matplotlib once that thread has ended (fricctl.cli._painters; None: drawn here, serially)
     with forked_painters(PAINTER_SHARES, draw_figures, prepare_figures,
                          wanted=args.report is not None) as painters:
-        result = diagnose(record, model, window=args.window)
+        result = diagnose(record, model, window=args.window,
+                          on_baseline=None if painters is None else painters.start)
         if args.report:
             write_report(result, args.report, overwrite=args.force, painters=painters)
     if args.json:
