@@ -199,7 +199,7 @@ class Painters:
                     _close(p.jobs)
                     _close(p.replies)
                 for fd in (job_w, rep_r, done_r, self._gate):
-                    os.close(fd)
+                    _close(fd)
                 _paint(self._prepare, self._draw, names, job_r, rep_w, after, done_w)
                 status = 0
             except BaseException:  # the parent ended first, or SIGTERM: nothing to say
