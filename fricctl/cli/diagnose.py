@@ -40,8 +40,8 @@ judged), ``origin`` (per named cause: "found" or "held by the supplied model") a
 overwritten without ``--force``.  A new DIR is built beside and renamed into place when
 complete (an interrupted run leaves no DIR); into an existing DIR each file is written
 atomically.  With two cores or more the figures are drawn by two processes forked before the
-diagnosis starts, which import matplotlib while it runs (the same files; one core: drawn by
-the command itself).  A record longer than 571 428 samples is refused, counted before it is read
+diagnosis starts, which import matplotlib while it runs, once its baseline's fit has ended
+(the same files; one core: drawn by the command itself).  A record longer than 571 428 samples is refused, counted before it is read
 (7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
