@@ -1,6 +1,7 @@
 """``fricctl diagnose``: JSON output, report folder, bad input -> one line + exit 2."""
 
 import json
+import threading
 
 import numpy as np
 import pytest
@@ -162,6 +163,46 @@ def test_report_folder_not_overwritten_without_force(record_csv, tmp_path, capsy
     afile.write_text("x")
     assert main(["diagnose", str(path), "--report", str(afile)]) == 2
     assert "not a folder" in capsys.readouterr().err
+
+
+def test_report_drawn_in_forked_processes_has_the_serial_bytes(record_csv, tmp_path, capsys,
+                                                               monkeypatch):
+    """The painters (fricctl.cli._painters) against the figures drawn in the command itself:
+    every file of the report the same bytes, and the JSON."""
+    from fricctl.cli import _painters
+
+    path, _ = record_csv
+    forked = []
+    real = _painters.Painters
+
+    def counted(*args, **kwargs):
+        forked.append(real(*args, **kwargs))
+        return forked[-1]
+
+    started = []  # by whom the painters were let import: the baseline's thread, when done
+    real_start = real.start
+
+    def start(self):
+        started.append(threading.current_thread().name)
+        real_start(self)
+
+    monkeypatch.setattr(_painters, "parallel_available", lambda: True)  # even on one core
+    monkeypatch.setattr(_painters, "Painters", counted)
+    monkeypatch.setattr(real, "start", start)
+    assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "forked")]) == 0
+    assert len(forked) == 1 and len(forked[0]._all) == 2  # the figures were drawn by two
+    assert started[0].startswith("fricctl-baseline"), started
+    json_forked = capsys.readouterr().out
+    monkeypatch.setattr(_painters, "parallel_available", lambda: False)
+    assert main(["diagnose", str(path), "--json", "--report", str(tmp_path / "serial")]) == 0
+    assert len(forked) == 1
+    assert capsys.readouterr().out == json_forked
+    names = sorted(p.name for p in (tmp_path / "serial").iterdir())
+    assert names == sorted(p.name for p in (tmp_path / "forked").iterdir())
+    assert len(names) == 6
+    for name in names:
+        forked_bytes = (tmp_path / "forked" / name).read_bytes()
+        assert forked_bytes == (tmp_path / "serial" / name).read_bytes(), name
 
 
 @pytest.mark.parametrize("window", ["1e-9", "0", "-1"])

@@ -311,13 +311,15 @@ def test_an_interrupted_report_leaves_no_folder(work, seed):
     time.sleep(rng.uniform(2.0, 12.0))
     proc.send_signal(signal.SIGINT)
     err = proc.communicate()[1]
-    if proc.returncode == 0:
+    assert proc.returncode in (0, 130, -signal.SIGINT), err
+    if report.exists():  # the whole folder or none: also when the signal came after the report
+        # was in place (status 130 while the text was printed; -2 during the interpreter's
+        # shutdown, 0.4-0.7 s after the command returned, where Python's default SIGINT is back)
         assert sorted(p.name for p in report.iterdir()) == sorted(
             ["residuals.png", "simulation.png", "spectrum.png", "steps.png", "report.md",
              "extended_model.json"])
     else:
-        assert proc.returncode in (130, -signal.SIGINT), err
-        assert not report.exists()
+        assert proc.returncode != 0, err
     assert _leftovers(work) == []
 
 

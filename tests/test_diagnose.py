@@ -291,3 +291,9 @@ def test_confusion_matrix_random_records():
     correct = sum(e == n for _, e, n in rows)
     assert correct >= 0.95 * len(rows), rows
     assert all(not n for c, _, n in rows if c == "none"), rows
+
+
+def test_on_baseline_must_be_callable():
+    rec = hidden_effect_record(np.random.default_rng([2026, 78]), cause="none", duration=10.0)
+    with pytest.raises(ValueError, match="on_baseline must be callable"):
+        diagnose(rec.run, on_baseline=1)

@@ -39,7 +39,9 @@ judged), ``origin`` (per named cause: "found" or "held by the supplied model") a
 --model`` and ``fricctl simulate --model`` read it); existing files are not
 overwritten without ``--force``.  A new DIR is built beside and renamed into place when
 complete (an interrupted run leaves no DIR); into an existing DIR each file is written
-atomically.  A record longer than 571 428 samples is refused, counted before it is read
+atomically.  With two cores or more the figures are drawn by two processes forked before the
+diagnosis starts, which import matplotlib while it runs, once its baseline's fit has ended
+(the same files; one core: drawn by the command itself).  A record longer than 571 428 samples is refused, counted before it is read
 (7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
@@ -83,6 +85,7 @@ def run(args) -> int:
     from ..diagnose import MAX_SAMPLES, diagnose
     from ..plant import JointModel
     from ._output import check_new_folder, check_outputs
+    from ._painters import forked_painters
 
     if args.report is not None:
         out = Path(args.report)
@@ -97,9 +100,14 @@ def run(args) -> int:
     model = JointModel.load(args.model) if args.model else None
     if model is not None:
         check_model(model, record, Path(args.model).name, units_given=args.units is not None)
-    result = diagnose(record, model, window=args.window)
-    if args.report:
-        write_report(result, args.report, overwrite=args.force)
+    # the report's painters are forked now, before the diagnosis starts its thread, and import
+    # matplotlib once that thread has ended (fricctl.cli._painters; None: drawn here, serially)
+    with forked_painters(PAINTER_SHARES, draw_figures, prepare_figures,
+                         wanted=args.report is not None) as painters:
+        result = diagnose(record, model, window=args.window,
+                          on_baseline=None if painters is None else painters.start)
+        if args.report:
+            write_report(result, args.report, overwrite=args.force, painters=painters)
     if args.json:
         print(json.dumps(result.as_dict(), indent=2, allow_nan=False))
     else:
@@ -133,43 +141,123 @@ def _margins(fig, *, rows: int = 1, cols: int = 1, left: float = 1.0, right: flo
     return fig
 
 
-def write_report(result, folder, *, overwrite: bool = True) -> Path:
+def _residuals(result):
+    from matplotlib.figure import Figure  # not pyplot: a figure saved, never shown
+
+    from ..figures.diagnosis import plot_diagnosis
+
+    return plot_diagnosis(result, fig=_margins(Figure(figsize=(11, 8.5)), rows=3, cols=2, top=0.5))
+
+
+def _simulation(result):
+    from matplotlib.figure import Figure
+
+    from ..figures.diagnosis import plot_simulation
+
+    fig = _margins(Figure(figsize=(8, 5)), rows=2, cols=1, gap_h=0.55)
+    ax = fig.subplots(2, 1, sharex=True)
+    plot_simulation(result, ax=ax[0], quantity="position")
+    plot_simulation(result, ax=ax[1], quantity="velocity")
+    return fig
+
+
+def _spectrum(result):
+    from matplotlib.figure import Figure
+
+    from ..figures.diagnosis import plot_residual_spectrum
+
+    fig = _margins(Figure(figsize=(6.4, 3.6)))
+    plot_residual_spectrum(result, ax=fig.subplots())
+    return fig
+
+
+def _steps(result):
+    from matplotlib.figure import Figure
+
+    from ..figures.diagnosis import plot_steps
+
+    fig = _margins(Figure(figsize=(6.4, 3.6)), bottom=1.05)
+    plot_steps(result, ax=fig.subplots())
+    return fig
+
+
+#: The report's figures: file name -> the function that draws it from a diagnosis.
+FIGURES = {"residuals.png": _residuals, "simulation.png": _simulation, "spectrum.png": _spectrum,
+           "steps.png": _steps}
+
+
+#: The figures each forked painter draws (:mod:`fricctl.cli._painters`).  Two shares because
+#: the machine of the target (issue 21) has two cores; the split balances the measured times
+#: (r40, load 4, wall, each drawn and saved: residuals 1.4 s; simulation, spectrum and steps
+#: 0.45 + 0.6 + 0.2 s).
+PAINTER_SHARES = (("residuals.png",), ("simulation.png", "spectrum.png", "steps.png"))
+
+
+def prepare_figures() -> None:
+    """What a painter does while the diagnosis runs: import what drawing the report imports
+    (matplotlib's figure, never pyplot) and draw a small figure with a legend, mathtext and a
+    PNG of the report's settings, thrown away: the first figure a process draws loads the
+    fonts, builds the mathtext parser and imports PIL (0.25-0.4 s CPU), which its first figure
+    of the report then does not wait for (r40: residuals 1.14-1.28 -> 0.72-1.00 s CPU, the
+    other three 0.88-1.07 -> 0.49-0.81 s).  Caches of pure functions only: the report's
+    bytes are the same (checked on the seven records of ``bench_diagnose.py records``)."""
+    import io
+
+    from matplotlib.figure import Figure
+
+    from ..figures import diagnosis  # noqa: F401
+
+    fig = Figure(figsize=(2, 1.5))
+    ax = fig.subplots()
+    ax.plot([0, 1], [0, 1], drawstyle="steps-post", label="a")
+    ax.legend()
+    ax.set_xlabel(r"velocity $\omega$ [rad/s]")
+    ax.set_title("t")
+    fig.savefig(io.BytesIO(), format="png", dpi=110, pil_kwargs={"compress_level": 1})
+
+
+def draw_figures(result, names, folder: Path, *, overwrite: bool) -> None:
+    """The figures ``names`` (keys of :data:`FIGURES`) of ``result`` drawn and saved into
+    ``folder``, one at a time (:func:`~fricctl.cli._output.save_figure`: atomically)."""
+    from ._output import save_figure
+
+    for name in names:
+        save_figure(FIGURES[name](result), folder / name, overwrite=overwrite)
+
+
+def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Path:
     """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``.
 
     A new folder is built beside and renamed into place when complete; into an existing
     folder each file is written atomically (``overwrite=False``: an existing file is refused,
-    also one another run writes meanwhile).  See :mod:`fricctl._atomic`.
+    also one another run writes meanwhile).  See :mod:`fricctl._atomic`.  ``painters``
+    (:class:`fricctl.cli._painters.Painters`): the figures are drawn by those processes while
+    this one writes the rest (the same bytes); None: drawn here, one after another.
     """
-    from matplotlib.figure import Figure  # not pyplot: a figure saved, never shown
+    from dataclasses import replace
 
     from .._atomic import atomic_folder, write_text
-    from ..figures.diagnosis import (plot_diagnosis, plot_residual_spectrum, plot_simulation,
-                                     plot_steps)
-    from ._output import save_figure
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--report: {out} exists and is not a folder")
     out.parent.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
-    figs = {}
-    fig1 = _margins(Figure(figsize=(11, 8.5)), rows=3, cols=2, top=0.5)
-    figs["residuals.png"] = plot_diagnosis(result, fig=fig1)
-    fig2 = _margins(Figure(figsize=(8, 5)), rows=2, cols=1, gap_h=0.55)
-    ax = fig2.subplots(2, 1, sharex=True)
-    plot_simulation(result, ax=ax[0], quantity="position")
-    plot_simulation(result, ax=ax[1], quantity="velocity")
-    figs["simulation.png"] = fig2
-    fig3 = _margins(Figure(figsize=(6.4, 3.6)))
-    plot_residual_spectrum(result, ax=fig3.subplots())
-    figs["spectrum.png"] = fig3
-    fig4 = _margins(Figure(figsize=(6.4, 3.6)), bottom=1.05)
-    plot_steps(result, ax=fig4.subplots())
-    figs["steps.png"] = fig4
     text = result.report() + "\n## Figures\n\n" + "\n".join(
-        f"![{n[:-4]}]({n})" for n in figs) + "\n"
+        f"![{n[:-4]}]({n})" for n in FIGURES) + "\n"
     with atomic_folder(out) as where:
-        for name, f in figs.items():
-            save_figure(f, where / name, overwrite=overwrite)
-        write_text(where / "report.md", text, overwrite=overwrite)
-        result.extended.save(where / "extended_model.json", overwrite=overwrite)
+        if painters is None:
+            draw_figures(result, FIGURES, where, overwrite=overwrite)
+        try:
+            if painters is not None:
+                # the models left out: the figures do not read them (a JointModel does not pickle)
+                drawn = replace(result, baseline=None, extended=None, supplied=None, fit=None)
+                painters.draw(drawn, where, overwrite=overwrite)
+            write_text(where / "report.md", text, overwrite=overwrite)
+            result.extended.save(where / "extended_model.json", overwrite=overwrite)
+            if painters is not None:
+                painters.wait()  # raises a painter's error (the folder removed, as serially)
+        except BaseException:  # an error, Ctrl-C: the painters still drawing are ended and
+            if painters is not None:  # reaped before the folder is removed
+                painters.stop()
+            raise
     return out

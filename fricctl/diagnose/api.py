@@ -85,7 +85,7 @@ def check_model_agrees(model: JointModel, run: Run, name: str = "model") -> None
 
 
 def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
-             folds: int = 8, progress: bool | None = None) -> Diagnosis:
+             folds: int = 8, progress: bool | None = None, on_baseline=None) -> Diagnosis:
     """Show what the model gets wrong on ``run``, name every cause the data support, extend
     the model with them, measure the gain.
 
@@ -103,6 +103,11 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
         Blocks of the blocked cross-validation (3 .. 20).
     progress : bool, optional
         Show a progress bar (tqdm) on stderr; default: when stderr is a terminal.
+    on_baseline : callable, optional
+        Called without arguments, in the baseline's thread, once the reported baseline's fit
+        (fit mode: a thread beside the selection) has ended, or at once with a nominal model:
+        from then on the diagnosis keeps one core busy (``fricctl diagnose --report`` starts
+        its painters then, :mod:`fricctl.cli._painters`).
 
     Returns
     -------
@@ -130,7 +135,14 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     ('time_delay',)
     """
     req = _request(run, model, window, folds, progress)
+    if on_baseline is not None and not callable(on_baseline):
+        raise ValueError(f"on_baseline must be callable or None, got {on_baseline!r}")
     setup = _setup(run, model, req)  # the reported baseline is fitted in a thread meanwhile
+    if on_baseline is not None:
+        if setup.ident is None:
+            on_baseline()
+        else:  # called in its thread when done (at once if it is already)
+            setup.ident.add_done_callback(lambda _: on_baseline())
     bar = _ProgressBar(req.show, run.n_samples)
     chain = _ChainShares(setup.base)
     try:
