@@ -247,7 +247,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
       (a loop that hunts wider at each slip, a drive that runs off); or, under a held
       reference, the joint swings and its largest error grows more than ``DRIVEN``-fold between
       the halves, whatever the excess does (a drive saturated away from its reference: the
-      bound grows with |Tc| and |omega|, so its excess can shrink).  Such a late first excess
+      bound grows with ``|Tc|`` and ``|omega|``, so its excess can shrink).  Such a late first excess
       that does not grow is *not judged* (``judged`` False, ``passed`` True, ``value`` NaN;
       the reason starts "too short to tell"): a transient that starts late -- a DOB whose
       estimate integrates the held torque up to the breakaway level over seconds at rest, then
