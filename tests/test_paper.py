@@ -687,6 +687,26 @@ def test_divergence_fails_a_sustained_envelope_after_a_large_transient():
             paper.divergence(_held(n, tm=wave(0.05, 0.05), q=swing), **bad)
 
 
+def test_divergence_fails_a_joint_driven_away_within_the_friction_bound():
+    # the review: a DOB whose nominal inertia is 10x the plant's slams the torque between its
+    # limits and parks the joint ~0.6 rad on the wrong side of a 30 deg step; the PD term grows
+    # with the error, so |Tm| stays within |Tc| + Fs + b|omega| and the torque test alone read
+    # "no divergence" over 3 s and 10 s
+    from fricctl.compensators.dob import DisturbanceObserver
+
+    p = P
+    step = np.deg2rad(30.0)
+    run = simulate(p, ctl.pd_control(1.125, 0.139, ctl.step(step)),
+                   DisturbanceObserver(inertia=10 * p.inertia, bandwidth=2000.0), duration=3.0)
+    d = paper.divergence(run)
+    assert not d.passed and d.judged and "driven away from its held reference" in d.reason
+    assert np.abs(run.reference[-1] - run.q_meas[-500:]).min() > 2 * step  # what the reason says
+    # the matched DOB on the same step ends at its reference: not driven away
+    ok = simulate(p, ctl.pd_control(1.125, 0.139, ctl.step(step)),
+                  DisturbanceObserver(inertia=p.inertia, bandwidth=200.0), duration=3.0)
+    assert "driven away" not in paper.divergence(ok).reason
+
+
 def test_divergence_of_a_first_excess_in_the_last_share_fails_only_what_grows():
     # 100 samples, 99 judged pairs, the last quarter from k = 75; nothing beyond the bound before
     # k = 88 (Tm(89)), after the last quarter's first half (so the steadiness test, which needs an

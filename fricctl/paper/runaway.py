@@ -234,7 +234,12 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     transient that dies out.  A runaway does not: a loop the compensator made unstable (a
     growing or a sustained oscillation, the drive at its saturation), an estimate that keeps
     the joint going.  An *episode* is a run of more than ``max_samples`` consecutive samples
-    beyond the bound (shorter ones are the sample delays :func:`wind_up` allows too).  The
+    beyond the bound (shorter ones are the sample delays :func:`wind_up` allows too).  A
+    closed-loop run whose reference is held through its last ``settle_share`` fails first if
+    its joint is driven away from that reference, whatever the torque does: its error stays
+    above :data:`DRIVEN` times the larger of its error at the start and ``motion_counts``
+    counts through the whole last share (a compensator slamming between the torque limits can
+    stay within the bound, whose ``|Tc|`` grows with the error).  Otherwise the
     run fails if an episode reaches into its last ``settle_share`` and either
 
     * has not ended: it began before that last share and lasts to the run's end; or
@@ -338,6 +343,10 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     if t.size - first <= max_samples:
         raise ValueError(f"run of {t.size + 1} samples: its last {settle_share:g} holds {t.size - first} "
                          f"samples, not more than max_samples = {max_samples}")
+    away = _driven_away(r, first, motion_counts)
+    if away is not None:
+        return RunawayCheck(name="divergence", value=math.inf, unit="%", limit=100.0 * decay,
+                            passed=False, reason=away)
     episodes = _true_runs(excess > EXCESS_TOL, max_samples)
     late = [(a, n) for a, n in episodes if a + n > first]
     t_settle = float(t[first])
@@ -400,6 +409,33 @@ def _half_peaks(excess: np.ndarray, episodes: list, lo: int, hi: int) -> list:
         inside = [excess[max(a, a0):min(a + b, a1)] for a, b in episodes if a < a1 and a + b > a0]
         peaks.append(float(max(x.max() for x in inside)) if inside else None)
     return [*peaks, mid]
+
+
+def _driven_away(r: SimResult, first: int, motion_counts: int) -> str | None:
+    """The reason of a closed-loop run whose joint ends driven away from its held reference, else
+    None: through the whole last share (from sample ``first``) its error stays above
+    :data:`DRIVEN` times the larger of its error at the start and ``motion_counts`` counts.
+
+    Whatever the torque does -- a drive pinned at its limits, a compensator slamming between
+    them, can stay within the friction bound (its ``|Tc|`` grows with the error) -- a loop that
+    holds a reference does not end farther from it than it started.  A joint that hunts crosses
+    its reference (its smallest error is near 0); one stuck in its dead band is within it."""
+    if r.info.controller == "open loop" or np.ptp(r.reference[first:]) > 0:
+        return None  # no reference held there
+    target = float(r.reference[-1])
+    e0 = abs(target - float(r.q_meas[0]))
+    res = r.info.encoder_resolution
+    floor = DRIVEN * max(e0, motion_counts * res)
+    if floor <= 0.0:
+        return None
+    e = np.abs(target - r.q_meas[first:])
+    if float(e.min()) <= floor:
+        return None
+    u = _units(r)
+    return (f"divergence: the joint driven away from its held reference: through the run's last "
+            f"{100 * (1 - first / max(r.q_meas.size - 1, 1)):.0f} % its error stays above "
+            f"{float(e.min()):.4g} {u.position}, more than {DRIVEN:g} x the larger of its error at the "
+            f"start ({e0:.4g} {u.position}) and {motion_counts} encoder counts")
 
 
 def _swing(r: SimResult, start: int) -> int:
