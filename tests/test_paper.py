@@ -705,6 +705,24 @@ def test_divergence_fails_a_joint_driven_away_within_the_friction_bound():
     ok = simulate(p, ctl.pd_control(1.125, 0.139, ctl.step(step)),
                   DisturbanceObserver(inertia=p.inertia, bandwidth=200.0), duration=3.0)
     assert "driven away" not in paper.divergence(ok).reason
+    # ... also without quantisation, and after a reference that went out and came back to the
+    # start (its error at the start 0: the reference's own travel sets the scale)
+    out_and_back = ctl.sequence([step, 0.0], [0.5, 2.5])
+    for ref, quantize in ((ctl.step(step), False), (out_and_back, True), (out_and_back, False)):
+        r = simulate(p, ctl.pd_control(1.125, 0.139, ref), DisturbanceObserver(
+            inertia=10 * p.inertia, bandwidth=2000.0), duration=3.0, quantize=quantize)
+        assert "driven away from its held reference" in paper.divergence(r).reason
+    # the second review: a DOB hunting by stick-slip around a 2 mrad step pauses 4.8 mrad past it
+    # through the last quarter of 3 s -- parked, held by friction, not driven: no runaway
+    from fricctl.compensators import make
+
+    d14 = designs(p)["fig13-14"]
+    hunt = simulate(p, ctl.pd_control(d14.kp, d14.kd, ctl.step(0.002)), make("dob", p, d14),
+                    duration=3.0)
+    last = hunt.q_meas[int(0.75 * hunt.q_meas.size):]
+    assert np.abs(0.002 - last).min() > 2 * 0.002 and np.ptp(last) == 0.0  # parked past it
+    d = paper.divergence(hunt)
+    assert d.passed and "driven away" not in d.reason
 
 
 def test_divergence_of_a_first_excess_in_the_last_share_fails_only_what_grows():

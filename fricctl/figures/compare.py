@@ -46,7 +46,7 @@ def plot_comparison(result, *, experiment: str, metric: str, ax=None):
                        for r in rows])
         hi = np.array([np.nan if r["metrics"][metric]["max"] is None else r["metrics"][metric]["max"]
                        for r in rows])
-        ok = np.array([r["runaway"]["passed"] == r["runaway"]["runs"] for r in rows])
+        ok = np.array([not r["runaway"]["failures"] for r in rows])  # not judged is not failed
         xi = x - 0.4 + width * (i + 0.5)
         color = f"C{i % 10}"
         ax.errorbar(xi, med, yerr=np.vstack([med - lo, hi - med]), fmt="none", capsize=2, lw=1,

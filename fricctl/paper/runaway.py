@@ -237,9 +237,11 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     beyond the bound (shorter ones are the sample delays :func:`wind_up` allows too).  A
     closed-loop run whose reference is held through its last ``settle_share`` fails first if
     its joint is driven away from that reference, whatever the torque does: its error stays
-    above :data:`DRIVEN` times the larger of its error at the start and ``motion_counts``
-    counts through the whole last share (a compensator slamming between the torque limits can
-    stay within the bound, whose ``|Tc|`` grows with the error).  Otherwise the
+    above :data:`DRIVEN` times the largest of its error at the start, the reference's distance
+    from its final value and ``motion_counts`` counts through the whole last share, the joint
+    moving there (a compensator slamming between
+    the torque limits can stay within the bound, whose ``|Tc|`` grows with the error; a joint at
+    rest is held by friction, not driven).  Otherwise the
     run fails if an episode reaches into its last ``settle_share`` and either
 
     * has not ended: it began before that last share and lasts to the run's end; or
@@ -413,19 +415,27 @@ def _half_peaks(excess: np.ndarray, episodes: list, lo: int, hi: int) -> list:
 
 def _driven_away(r: SimResult, first: int, motion_counts: int) -> str | None:
     """The reason of a closed-loop run whose joint ends driven away from its held reference, else
-    None: through the whole last share (from sample ``first``) its error stays above
-    :data:`DRIVEN` times the larger of its error at the start and ``motion_counts`` counts.
+    None: through the whole last share (from sample ``first``) the joint moves by more than
+    ``motion_counts`` counts and its error stays above :data:`DRIVEN` times the largest of its
+    error at the start, the reference's largest distance from its final value, and
+    ``motion_counts`` counts.
 
-    Whatever the torque does -- a drive pinned at its limits, a compensator slamming between
-    them, can stay within the friction bound (its ``|Tc|`` grows with the error) -- a loop that
-    holds a reference does not end farther from it than it started.  A joint that hunts crosses
-    its reference (its smallest error is near 0); one stuck in its dead band is within it."""
+    Whatever the torque does -- a compensator slamming between the torque limits can stay within
+    the friction bound (its ``|Tc|`` grows with the error) -- a loop that holds a reference does
+    not keep its joint moving farther from it than the joint or the reference ever started.  A
+    joint at rest in the last share is held by friction, not driven: a hunt's pause on the far
+    side of a small step (an integral action or a DOB slipping from side to side) may outlast
+    the last share, and is not judged here."""
     if r.info.controller == "open loop" or np.ptp(r.reference[first:]) > 0:
         return None  # no reference held there
+    res = r.info.encoder_resolution
+    moved = float(np.ptp(r.q_meas[first:]))
+    if (moved <= motion_counts * res) if res > 0 else moved == 0.0:
+        return None  # at rest: parked, not driven
     target = float(r.reference[-1])
     e0 = abs(target - float(r.q_meas[0]))
-    res = r.info.encoder_resolution
-    floor = DRIVEN * max(e0, motion_counts * res)
+    span = float(np.max(np.abs(r.reference - target)))
+    floor = DRIVEN * max(e0, span, motion_counts * res)
     if floor <= 0.0:
         return None
     e = np.abs(target - r.q_meas[first:])
@@ -433,9 +443,11 @@ def _driven_away(r: SimResult, first: int, motion_counts: int) -> str | None:
         return None
     u = _units(r)
     return (f"divergence: the joint driven away from its held reference: through the run's last "
-            f"{100 * (1 - first / max(r.q_meas.size - 1, 1)):.0f} % its error stays above "
-            f"{float(e.min()):.4g} {u.position}, more than {DRIVEN:g} x the larger of its error at the "
-            f"start ({e0:.4g} {u.position}) and {motion_counts} encoder counts")
+            f"{100 * (1 - first / max(r.q_meas.size - 1, 1)):.0f} % it moves over "
+            f"{moved:.4g} {u.position} and its error stays above {float(e.min()):.4g} "
+            f"{u.position}, more than {DRIVEN:g} x the largest of its error at the start "
+            f"({e0:.4g} {u.position}), the reference's distance from its final value "
+            f"({span:.4g} {u.position}) and {motion_counts} encoder counts")
 
 
 def _swing(r: SimResult, start: int) -> int:
