@@ -180,3 +180,17 @@ def test_the_literal_bench_runs_are_the_plant_alone_bit_for_bit(nets):
     ref = simulate(p, ctl.p_control(d.kp, ctl.step(np.deg2rad(25.0))), NoCompensation(), duration=3.0)
     np.testing.assert_array_equal(r11.run.q_meas, ref.q_meas)
     np.testing.assert_array_equal(r11.run.torque_motor, ref.torque_motor)
+
+
+def test_coulomb_claims_say_what_a_seed_draws():
+    # Fig. 16's Coulomb claims say what changes from seed to seed: the sensing noise where the bench
+    # has it, the ripple's phase alone where the ripple is its only random item (it listed noise
+    # levels of 0 there), nothing on a noise-free bench without ripple
+    from fricctl.paper.fig16 import _seeds_note
+
+    full = _seeds_note(bench("consistent"))
+    assert "encoder edge jitter 0.25 counts" in full and "phase drawn for each run" in full
+    ripple_only = _seeds_note(bench("consistent").with_sensing("a test", encoder_jitter=0.0,
+                                                                torque_noise=0.0))
+    assert "each seed draws the ripple's phase" in ripple_only and "jitter" not in ripple_only
+    assert "seed changes nothing" in _seeds_note(bench("literal"))

@@ -185,9 +185,11 @@ def _seeds_note(bench) -> str:
                                                        else "the same in every seed."))
     if s.noise_free and not random:
         return _SAME_EVERY_SEED + ripple
+    drawn = ("the ripple's phase" if s.noise_free else
+             f"the bench's sensing noise (encoder edge jitter {s.encoder_jitter:g} counts, torque noise "
+             f"{s.torque_noise:.3g} N*m)")
     return (f" The levels are the same in every seed (identified on the bench's noise-free records); the "
-            f"runs are not: each seed draws the bench's sensing noise (encoder edge jitter "
-            f"{s.encoder_jitter:g} counts, torque noise {s.torque_noise:.3g} N*m).{ripple}")
+            f"runs are not: each seed draws {drawn}.{ripple}")
 
 
 def _jitter_clause(bench) -> str:
