@@ -147,6 +147,18 @@ def _units(r: SimResult):
     return _units_of(r.info.units)
 
 
+def _held(r: SimResult, start: int) -> bool:
+    """Whether the run is closed loop with its reference held from sample ``start`` to its end
+    (the loop gets no new excitation there)."""
+    return r.info.controller != "open loop" and not np.ptp(r.reference[start:]) > 0
+
+
+def _diverged(limit: float, reason: str) -> RunawayCheck:
+    """A failed :func:`divergence` check without a finite measure (``value`` inf)."""
+    return RunawayCheck(name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
+                        reason=reason)
+
+
 def _longest_true_run(mask: np.ndarray) -> tuple[int, int]:
     """(length, start index) of the longest run of consecutive True values (0, -1 if none;
     the first of equally long ones)."""
@@ -239,10 +251,9 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     its joint is driven away from that reference, whatever the torque does: its error stays
     above :data:`DRIVEN` times the largest of its error at the start, the reference's distance
     from its final value and ``motion_counts`` counts through the whole last share, the joint
-    moving there (a compensator slamming between
-    the torque limits can stay within the bound, whose ``|Tc|`` grows with the error; a joint at
-    rest is held by friction, not driven).  Otherwise the
-    run fails if an episode reaches into its last ``settle_share`` and either
+    moving there (a compensator slamming between the torque limits can stay within the bound,
+    whose ``|Tc|`` grows with the error; a joint at rest is held by friction, not driven).
+    Otherwise the run fails if an episode reaches into its last ``settle_share`` and either
 
     * has not ended: it began before that last share and lasts to the run's end; or
     * has not decayed: its largest excess is at least ``decay`` times the largest excess of
@@ -254,13 +265,14 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
       (a loop that hunts wider at each slip, a drive that runs off); or, under a held
       reference, the joint swings and its largest error grows more than ``DRIVEN``-fold between
       the halves, whatever the excess does (a drive saturated away from its reference: the
-      bound grows with ``|Tc|`` and ``|omega|``, so its excess can shrink).  Such a late first excess
-      that does not grow is *not judged* (``judged`` False, ``passed`` True, ``value`` NaN;
+      bound grows with ``|Tc|`` and ``|omega|``, so its excess can shrink).  Such a late first
+      excess that does not grow is *not judged* (``judged`` False, ``passed`` True, ``value`` NaN;
       the reason starts "too short to tell"): a transient that starts late -- a DOB whose
       estimate integrates the held torque up to the breakaway level over seconds at rest, then
       creeps the joint to its reference -- has less record left than the last share gives every
-      earlier transient to die out, and no earlier excess to be measured against (that DOB, ``fricctl simulate --link --controller pd --rise-time 0.4 --damping 0.85
-      --compensation dob``, passes over 5 s: its excess ends before the last quarter); or
+      earlier transient to die out, and no earlier excess to be measured against (that DOB,
+      ``fricctl simulate --link --controller pd --rise-time 0.4 --damping 0.85 --compensation
+      dob``, passes over 5 s: its excess ends before the last quarter); or
     * is sustained: in a closed-loop run whose reference is held through that last share (the
       loop gets no new excitation there), both halves of the share hold an episode, the
       second half's largest excess is at least ``steady`` times the first's, and the joint
@@ -347,8 +359,7 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
                          f"samples, not more than max_samples = {max_samples}")
     away = _driven_away(r, first, motion_counts)
     if away is not None:
-        return RunawayCheck(name="divergence", value=math.inf, unit="%", limit=100.0 * decay,
-                            passed=False, reason=away)
+        return _diverged(100.0 * decay, away)
     episodes = _true_runs(excess > EXCESS_TOL, max_samples)
     late = [(a, n) for a, n in episodes if a + n > first]
     t_settle = float(t[first])
@@ -369,20 +380,17 @@ def divergence(run: SimResult, *, settle_share: float = SETTLE_SHARE, decay: flo
     peak_before = float(excess[:first].max())
     a, n = late[-1]
     if a < first and a + n == t.size:
-        return RunawayCheck(
-            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
-            reason=(f"divergence: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| from t = {t[a]:.3f} s "
-                    f"to the run's end ({n} samples, by up to {float(excess[a:].max()):.3f} "
-                    f"{u.torque}): it has not ended in {where}"))
+        return _diverged(limit, f"divergence: |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| from "
+                         f"t = {t[a]:.3f} s to the run's end ({n} samples, by up to "
+                         f"{float(excess[a:].max()):.3f} {u.torque}): it has not ended in {where}")
     sustained = _sustained(r, excess, late, first, steady, motion_counts)
     if sustained is not None:
-        return RunawayCheck(
-            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
-            reason=(f"divergence: a sustained envelope in {where}: |Tm(k+1)| exceeds |Tc(k)| + Fs + "
-                    f"b*|omega(k)| in both of its halves by up to {sustained[0]:.4f} and "
-                    f"{sustained[1]:.4f} {u.torque} ({100 * sustained[1] / sustained[0]:.0f} %, not "
-                    f"decaying: at least {100 * steady:g} %) while the joint swings {sustained[2]} "
-                    f"encoder counts with its reference held"))
+        return _diverged(limit, f"divergence: a sustained envelope in {where}: |Tm(k+1)| exceeds "
+                         f"|Tc(k)| + Fs + b*|omega(k)| in both of its halves by up to "
+                         f"{sustained[0]:.4f} and {sustained[1]:.4f} {u.torque} "
+                         f"({100 * sustained[1] / sustained[0]:.0f} %, not decaying: at least "
+                         f"{100 * steady:g} %) while the joint swings {sustained[2]} encoder counts "
+                         f"with its reference held")
     n_late = sum(a + n - max(a, first) for a, n in late)
     head = (f"in {where} |Tm(k+1)| exceeds |Tc(k)| + Fs + b*|omega(k)| for {n_late} samples by up "
             f"to {peak_late:.4f} {u.torque}")
@@ -426,12 +434,13 @@ def _driven_away(r: SimResult, first: int, motion_counts: int) -> str | None:
     joint at rest in the last share is held by friction, not driven: a hunt's pause on the far
     side of a small step (an integral action or a DOB slipping from side to side) may outlast
     the last share, and is not judged here."""
-    if r.info.controller == "open loop" or np.ptp(r.reference[first:]) > 0:
+    if not _held(r, first):
         return None  # no reference held there
     res = r.info.encoder_resolution
-    moved = float(np.ptp(r.q_meas[first:]))
-    if (moved <= motion_counts * res) if res > 0 else moved == 0.0:
+    swing = _swing(r, first)
+    if swing == 0 or (res > 0 and swing <= motion_counts):  # without quantisation any motion counts
         return None  # at rest: parked, not driven
+    moved = float(np.ptp(r.q_meas[first:]))
     target = float(r.reference[-1])
     e0 = abs(target - float(r.q_meas[0]))
     span = float(np.max(np.abs(r.reference - target)))
@@ -462,7 +471,7 @@ def _sustained(r: SimResult, excess: np.ndarray, late: list, first: int, steady:
                motion_counts: int):
     """``(peak of the first half, peak of the second half, swing [counts])`` of the last share
     (from ``first``) if its envelope of episodes is sustained (see :func:`divergence`), else None."""
-    if r.info.controller == "open loop" or np.ptp(r.reference[first:]) > 0:
+    if not _held(r, first):
         return None  # the excitation goes on: a repeated excess may be its own
     p1, p2, mid = _half_peaks(excess, late, first, excess.size)
     if p1 is None or p2 is None:
@@ -490,17 +499,18 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
       at least ``steady`` times the first's (the joint does not close on its reference)
 
     hold, or, with the reference held, the joint swings and its largest error grows more than
-    :data:`DRIVEN`-fold (driven away, whatever the excess does); that is, a torque beyond the bound that does not decay while the joint is driven away or
-    swings wider.  Anything else passes *not judged*: a transient that starts late (an observer
-    that reaches the breakaway level after seconds at rest and creeps to the reference) is not
-    told from the start of a runaway by so short a record."""
+    :data:`DRIVEN`-fold (driven away, whatever the excess does); that is, a torque beyond the
+    bound that does not decay while the joint is driven away or swings wider.  Anything else
+    passes *not judged*: a transient that starts late (an observer that reaches the breakaway
+    level after seconds at rest and creeps to the reference) is not told from the start of a
+    runaway by so short a record."""
     u = _units(r)
     s = int(np.flatnonzero(excess > EXCESS_TOL)[0])
     n = excess.size
     mid = s + max(1, (n - s) // 2)
     p1, p2 = float(excess[s:mid].max()), float(excess[mid:].max()) if mid < n else -math.inf
     swing = _swing(r, mid)
-    held = r.info.controller != "open loop" and not np.ptp(r.reference[s:]) > 0
+    held = _held(r, s)
     e = np.abs(r.reference - r.q_meas)[:n]
     e1, e2 = float(e[s:mid].max()), float(e[mid:].max()) if mid < n else 0.0
     since = (f"the run's first excess beyond the bound is at t = {t[s]:.3f} s, "
@@ -510,21 +520,17 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
            f", its largest error {e2 / res:.0f} against {e1 / res:.0f} encoder counts" if res > 0 else
            f", its largest error {e2:.3g} against {e1:.3g} {u.position}")
     if p2 >= steady * p1 and swing > motion_counts and (not held or e2 >= steady * e1):
-        return RunawayCheck(
-            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
-            reason=(f"divergence: {head}, with none before (a torque that grew): {since}; over the "
-                    f"second half of that time the excess grows to {p2:.4f} {u.torque} "
-                    f"({100 * p2 / p1:.0f} % of the first half's {p1:.4f} {u.torque}; at least "
-                    f"{100 * steady:g} % is not decaying) while the joint swings {swing} encoder "
-                    f"counts{err}"))
+        return _diverged(limit, f"divergence: {head}, with none before (a torque that grew): {since}; "
+                         f"over the second half of that time the excess grows to {p2:.4f} {u.torque} "
+                         f"({100 * p2 / p1:.0f} % of the first half's {p1:.4f} {u.torque}; at least "
+                         f"{100 * steady:g} % is not decaying) while the joint swings {swing} encoder "
+                         f"counts{err}")
     if held and swing > motion_counts and e2 > DRIVEN * e1:
         # a saturated runaway can shrink its excess (the bound grows with |Tc| and |omega| as the
         # joint is driven off): the error says it, whatever the excess does
-        return RunawayCheck(
-            name="divergence", value=math.inf, unit="%", limit=limit, passed=False,
-            reason=(f"divergence: {head}, with none before (the joint driven away): {since}; over "
-                    f"the second half of that time the joint swings {swing} encoder counts and its "
-                    f"error grows more than {DRIVEN:g}-fold{err}"))
+        return _diverged(limit, f"divergence: {head}, with none before (the joint driven away): "
+                         f"{since}; over the second half of that time the joint swings {swing} encoder "
+                         f"counts and its error grows more than {DRIVEN:g}-fold{err}")
     if p2 <= 0.0:
         seen = "it ended within the record"
     elif p2 < steady * p1:
@@ -541,8 +547,8 @@ def _first_excess(r: SimResult, t: np.ndarray, excess: np.ndarray, head: str, gi
         name="divergence", value=math.nan, unit="%", limit=limit, passed=True, judged=False,
         reason=(f"too short to tell: {head}, with none before: {since}, less than the "
                 f"{given:.3g} s (the run's last {100 * settle_share:g} %) an earlier transient is "
-                f"given to die out, and no earlier excess to compare it with; {seen}: not judged on this "
-                f"record{short}"))
+                f"given to die out, and no earlier excess to compare it with; {seen}: not judged on "
+                f"this record{short}"))
 
 
 def torque_check(run: SimResult, compensator, *, period: float | None = None) -> RunawayCheck:
