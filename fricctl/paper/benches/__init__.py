@@ -102,6 +102,12 @@ _V1_SENSING = {
 _RIPPLE_ITEMS = ("torque_ripple", "torque_ripple_period", "torque_ripple_phase")
 
 
+def _wave_generator_period(gear_ratio: float) -> float:
+    """The harmonic drive's ripple period in load-side position: twice per wave-generator (motor)
+    revolution, 2*pi/(2*n) [rad]."""
+    return math.pi / gear_ratio
+
+
 def _no_ripple(version: int, gear_ratio: float) -> dict:
     """The ripple entries of a version-``version`` file, which has none: amplitude 0, with the
     wave generator's period (twice per motor revolution, 2*pi/(2*n) load side) and phase 0."""
@@ -109,7 +115,8 @@ def _no_ripple(version: int, gear_ratio: float) -> dict:
     return {
         "torque_ripple": {"value": 0.0, "unit": "N*m", "source": "assumption",
                           "note": f"{why} (the plant receives the command alone)"},
-        "torque_ripple_period": {"value": math.pi / gear_ratio, "unit": "rad", "source": "derived",
+        "torque_ripple_period": {"value": _wave_generator_period(gear_ratio), "unit": "rad",
+                                 "source": "derived",
                                  "note": f"{why}; 2*pi/(2*n), the wave generator's (not read at "
                                          "amplitude 0)"},
         "torque_ripple_phase": {"value": 0.0, "unit": "rad", "source": "assumption",
@@ -383,7 +390,7 @@ class Bench:
         if period.source == "derived" and p.gear_ratio != self.settings["gear_ratio"].value:
             # the wave generator turns with the motor: twice per motor revolution, 2*pi/(2*n)
             sensing["torque_ripple_period"] = Setting(
-                value=math.pi / p.gear_ratio, unit=period.unit, source="derived",
+                value=_wave_generator_period(p.gear_ratio), unit=period.unit, source="derived",
                 note=f"2*pi/(2*n), n = {p.gear_ratio:g} (ActuatorParams.gear_ratio, given): twice per "
                      "wave-generator (motor) revolution")
         return Bench(name=self.name, description=self.description + " (plant: an ActuatorParams given)",
