@@ -116,8 +116,7 @@ def test_cli_motor_revolution_bad_value_exits_2(tmp_path, capsys, bad):
     assert "--motor-revolution" in cap.err
 
 
-# ----------------------------------------------------------------------------- EMPS (slow)
-@pytest.mark.slow
+# ----------------------------------------------------------------------------- EMPS
 def test_emps_ripple_of_one_motor_revolution_with_and_without_the_published_model(data_dir):
     # issue 21, item 4: the same causes with and without the published IDIM-LS model (Janot,
     # Gautier & Brunot 2019: M 95.1089 kg, Fv 203.5034 N*s/m, Fc 20.3935 N, offset -3.1648 N),

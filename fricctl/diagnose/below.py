@@ -67,7 +67,8 @@ class BelowLine:
     """The candidate."""
     score: float
     """Net held-out share of the remaining torque residual (sum of squares) its term removes:
-    :attr:`gross` less :attr:`chain` [-]."""
+    :attr:`gross` less :attr:`chain`; :attr:`gross` itself where the chain's share is not
+    measured (the gross share fails the test already) [-]."""
     gross: float
     """The held-out share before the measuring chain's is taken off [-]."""
     chain: float
