@@ -31,6 +31,10 @@ def test_reduction_p_is_the_variance_ratio_test_of_the_two_mean_squares():
     ps = [reduction_p(s, 800.0) for s in (0.02, 0.1, 0.18)]
     assert ps[0] > ps[1] > ps[2]
     assert math.isnan(reduction_p(0.1, math.nan))
+    # the limits the docstring and docs/limits.md state: p = 0.01 at 15 % for 800 degrees of
+    # freedom, at 7 % for 4000
+    assert reduction_p(0.14, 800.0) > 0.01 > reduction_p(0.16, 800.0)
+    assert reduction_p(0.065, 4000.0) > 0.01 > reduction_p(0.075, 4000.0)
 
 
 # ----------------------------------------------------------------------------- generator

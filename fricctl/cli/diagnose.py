@@ -36,7 +36,7 @@ named nothing that lower the held-out residual, supported first, each with ``sco
 coefficients, ``dof`` effective degrees of freedom), ``supported``, ``plausible``,
 ``reason``, ``parameters`` (what its fitted term sets: a ripple's period and amplitude ...),
 ``evidence``, ``simulation_score`` and ``motor_revolutions`` (a period over
-``motor_revolution``, given by ``--motor-revolution``).  A linear axis: ``# units: linear`` in the file or
+``motor_revolution``, given by ``--motor-revolution``; EMPS: the screw's lead, 0.0025 m).  A linear axis: ``# units: linear`` in the file or
 ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),

@@ -152,7 +152,7 @@ def reduction_p(share: float, dof: float) -> float:
     and after, ``1 / (1 - share)``, each with ``dof``.  The two residuals are of nested models
     on the same samples (positively correlated), which the test treats as independent: it is
     conservative (a reduction must stand out from the scatter of a mean square of ``dof``
-    degrees of freedom itself, e.g. about 7 % at 4000, 17 % at 800, for p = 0.01).  A share at
+    degrees of freedom itself: 15 % at 800, 7 % at 4000, for p = 0.01).  A share at
     or below 0 gives 1.
 
     Examples
