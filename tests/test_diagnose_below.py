@@ -120,6 +120,15 @@ def test_cli_motor_revolution_bad_value_exits_2(tmp_path, capsys, bad):
     assert "--motor-revolution" in cap.err
 
 
+def test_cli_motor_revolution_reaches_the_json(tmp_path, capsys):
+    rec = hidden_effect_record(np.random.default_rng([2121, 0]), cause="none", duration=10.0)
+    path = tmp_path / "run.csv"
+    rec.run.to_csv(path)
+    assert main(["diagnose", str(path), "--json", "--motor-revolution", "6.25"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["motor_revolution"] == 6.25 and isinstance(out["below_line"], list)
+
+
 # ----------------------------------------------------------------------------- EMPS
 def test_emps_ripple_of_one_motor_revolution_with_and_without_the_published_model(data_dir):
     # issue 21, item 4: the same causes with and without the published IDIM-LS model (Janot,

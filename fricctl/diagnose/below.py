@@ -110,11 +110,14 @@ class BelowLine:
     def sentence(self, torque_unit: str = "N*m", position_unit: str = "rad",
                  motor_revolution: float | None = None) -> str:
         """One line for the report: the shares, the test, the parameters."""
-        net = f"{100 * self.score:.1f} %"
-        gross = (f" (gross {100 * self.gross:.1f} %, the measuring chain's "
-                 f"{100 * self.chain:.1f} %)" if math.isfinite(self.chain) else "")
+        if math.isfinite(self.chain):
+            share = (f"{100 * self.score:.1f} % of what is left, net (gross "
+                     f"{100 * self.gross:.1f} %, the measuring chain's {100 * self.chain:.1f} %)")
+        else:
+            share = (f"{100 * self.gross:.1f} % of what is left, gross (the measuring chain's "
+                     f"share not measured)")
         test = f"F test p = {self.p_value:.2g} ({self.dof:.0f} effective degrees of freedom each)"
-        out = f"`{self.cause}`: removes {net} of what is left, net{gross}; {test}"
+        out = f"`{self.cause}`: removes {share}; {test}"
         if self.evidence:
             out += f"; {self.evidence}"
         for name, turns in self.motor_revolutions.items():
