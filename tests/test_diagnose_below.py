@@ -90,7 +90,13 @@ def test_entries_are_of_the_last_step_only_and_sorted():
     # cause, never one reported as not identifiable), supported first, then by net share
     rec = hidden_effect_record(np.random.default_rng([2121, 2]), cause="position_ripple",
                                strength=1.0, duration=20.0)
-    d = diagnose(rec.run)
+    d = diagnose(rec.run, motor_revolution=2 * math.pi)
+    # a named ripple's period is given in motor revolutions too (period / 2*pi), and only
+    # where the revolution is known
+    assert d.causes == ("position_ripple",)
+    turns = d.extended.friction.ripple_period / (2 * math.pi)
+    assert f"its period is {turns:#.3g} motor revolutions" in d.evidence
+    assert "motor revolutions" not in diagnose(rec.run).evidence
     last = {c for c, _ in d.last_ranking}
     for e in d.below_line:
         assert e.cause in last and e.cause not in d.causes

@@ -19,7 +19,7 @@ from ..plant.model import Provenance
 from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
-from .below import below_line
+from .below import PERIOD_PARAMETERS, below_line
 from .report import Diagnosis, Gain, evidence_text
 from .selection import Selection, forward_selection, speed_curve
 from .signals import Signals, estimate_signals, predict
@@ -165,7 +165,8 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     # fit, which cannot be cancelled once running (it ends in its thread, unused)
     if setup.ident is not None:
         setup = replace(setup, ident=setup.ident.result())
-    d = _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms())
+    d = _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms(),
+                   req.motor_revolution)
     return replace(d, below_line=below, motor_revolution=req.motor_revolution,
                    notes={**d.notes, **_below_notes(below)})
 
@@ -406,12 +407,13 @@ def _other_shape(setup: _Setup, sel: Selection) -> float:
 
 
 def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection,
-               ext: _Extension, chain_rms: float) -> Diagnosis:
+               ext: _Extension, chain_rms: float,
+               motor_revolution: float | None = None) -> Diagnosis:
     """The result: models with their provenance, held-out gain, evidence and report data;
     ``chain_rms`` is the measuring chain's floor (:meth:`_ChainShares.floor_rms`)."""
     sig, base = setup.sig, setup.base
     gain = _gain(sig, sel)
-    bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model)
+    bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model, motor_revolution)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted if setup.ident is None
                                     else _identified(setup.ident, run), run, sig, model)
@@ -610,14 +612,22 @@ class _ProgressBar:
 
 
 def _evidence_bodies(base: Baseline, selected: tuple, theta: np.ndarray,
-                     extended: JointModel) -> tuple:
-    """Each named cause's evidence clause, from its slice of the joint fit."""
+                     extended: JointModel, motor_revolution: float | None = None) -> tuple:
+    """Each named cause's evidence clause, from its slice of the joint fit; a period in
+    position it fits also in motor revolutions where ``motor_revolution`` is known."""
     out = []
     k = 3 if base.fit_mode else 0
+    values = extended.parameters()
     for s in selected:
         coef = theta[k:k + s.cause.n_extra]
         k += s.cause.n_extra
-        out.append(s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended))
+        body = s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended)
+        if motor_revolution is not None:
+            body += "".join(f"; its period is {values[c] / motor_revolution:#.3g} motor "
+                            f"revolutions (one revolution: {motor_revolution:.4g} "
+                            f"{base.labels.position})"
+                            for c in PERIOD_PARAMETERS if c in s.cause.changes and c in values)
+        out.append(body)
     return tuple(out)
 
 
