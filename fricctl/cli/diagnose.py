@@ -31,13 +31,15 @@ the re-simulation windows, the floor and the verdict, and the text says so); wit
 ``--model``, ``held_by_model`` (the causes whose effect the model held, removed to be
 judged), ``origin`` (per named cause: "found" or "held by the supplied model") and
 ``supplied`` (the model's parameters); ``below_line``: the candidates of the step that
-named nothing that lower the held-out residual, supported first, each with ``score`` (net),
-``gross``, ``chain``, ``p_value`` of the partial F test of the reduction (``k``
-coefficients, ``dof`` effective degrees of freedom), ``supported``, ``plausible``,
-``reason``, ``parameters`` (what its fitted term sets: a ripple's period and amplitude ...),
-``evidence``, ``simulation_score`` and ``motor_revolutions`` (a period over
-``motor_revolution``, given by ``--motor-revolution``; EMPS: the screw's lead, 0.0025 m).  A linear axis: ``# units: linear`` in the file or
-``--units linear``.
+named nothing that lower the held-out residual, supported first, each with ``score`` (net of
+the measuring chain's share; gross where ``chain`` is null), ``gross``, ``chain``,
+``p_value`` of the verdict's variance-ratio F test of the reduction (``dof`` effective
+degrees of freedom each), ``supported`` (the test at p < 0.01 and the checks a named cause
+passes), ``plausible``, ``reason``, ``parameters`` (what its fitted term sets: a ripple's
+period and amplitude ...), ``evidence``, ``simulation_score`` and ``motor_revolutions`` (a
+period over ``motor_revolution``, the travel of one motor revolution given by
+``--motor-revolution``; EMPS: the screw's lead, 0.0025 m).  A linear axis:
+``# units: linear`` in the file or ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),
 ``report.md`` and ``extended_model.json`` (a model file, version 2: provenance
