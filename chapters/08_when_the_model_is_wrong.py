@@ -26,6 +26,7 @@
 
 # %%
 import os
+from dataclasses import replace
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -34,7 +35,7 @@ from fricctl.bench.hidden_effects import hidden_effect_record
 from fricctl.controllers import Controller, sinusoid, step
 from fricctl.diagnose import MIN_SCORE, causes, diagnose, prediction_errors
 from fricctl.figures import plot_residual, plot_residual_spectrum, plot_simulation, plot_steps
-from fricctl.friction import Coulomb, Viscous
+from fricctl.friction import Coulomb, PositionRipple, Viscous
 from fricctl.params import PAPER_LINK_INERTIA, paper_actuator
 from fricctl.plant import JointModel
 from fricctl.simulate import simulate
@@ -216,23 +217,50 @@ if est is not None:
     assert a.torque_rms < 0.7 * b.torque_rms and a.simulation_rms < 0.7 * b.simulation_rms
     b, a = transfer["published"]  # against the published model itself, with its offset
     assert a.torque_rms < 0.95 * b.torque_rms and a.simulation_rms < 0.75 * b.simulation_rms
-    # where the rest lives: the periodogram in position of what the extended model leaves
-    # (sliding samples, bins of 0.1 mm), between 1 and 20 mm
-    keep = np.isfinite(df.residual_after)
-    q_s, r_s = df.position[keep], df.residual_after[keep] - np.mean(df.residual_after[keep])
-    width = 1e-4
-    binned = np.bincount(((q_s - q_s.min()) / width).astype(int), weights=r_s)
-    power = np.abs(np.fft.rfft(binned, n=8 * binned.size)) ** 2
-    nu = np.fft.rfftfreq(8 * binned.size, d=width)
-    band = (nu > 1 / 20e-3) & (nu < 1 / 1e-3)
-    period = 1 / nu[band][np.argmax(power[band])]
-    ranked = dict(df.last_ranking)
-    print(f"the rest's strongest period in position: {1e3 * period:.3f} mm (one motor revolution: "
-          f"2.5 mm); position_ripple would remove {100 * ranked['position_ripple']:.1f} %, "
-          f"presliding {100 * ranked['presliding']:.1f} % (the line: {100 * MIN_SCORE:.0f} %)")
-    assert abs(period - 2.5e-3) < 0.05e-3
-    assert 0.10 < ranked["position_ripple"] < MIN_SCORE
-    assert all(x < 0.05 for c, x in ranked.items() if c != "position_ripple")
+    # what the data support below the naming line: the diagnosis's own entries (a
+    # variance-ratio F test of each held-out reduction, the fitted term's parameters, the
+    # checks a named cause passes), the ripple's period against one motor revolution (the
+    # screw's lead, which `emps` attaches to the record)
+    ripples = {}
+    for name, dd in results.items():
+        print(f"{name}: below the naming line ({100 * MIN_SCORE:.0f} %):")
+        for e in dd.below_line:
+            print(f"  {e.sentence('N', 'm', est.motor_revolution)}")
+        ripples[name] = next(e for e in dd.below_line if e.cause == "position_ripple")
+        slide = next(e for e in dd.below_line if e.cause == "presliding")
+        # presliding: under 2 %, and the test cannot tell it from the scatter
+        assert not slide.supported and slide.score < 0.02 and slide.p_value >= 0.01
+        assert [e.cause for e in dd.below_line if e.supported] == ["position_ripple"]
+    for e in ripples.values():
+        assert e.supported and 0.10 < e.score < MIN_SCORE and e.p_value < 0.01
+        assert abs(e.parameters["ripple_period"] / est.motor_revolution - 1) < 0.01
+        assert abs(e.motor_revolutions["ripple_period"] - 1) < 0.01
+    assert ripples["published"].parameters["ripple_period"] == \
+        ripples["fitted baseline"].parameters["ripple_period"]  # one period, both ways
+    # transferred: the ripple term fitted on DATA_EMPS added to the extended model, which
+    # predicts DATA_EMPS_PULSES (fitted on neither)
+    def with_ripple(model, e):
+        p = e.parameters
+        return replace(model, friction=model.friction + PositionRipple(
+            p["ripple_amplitude"], p["ripple_period"], p["ripple_phase"]))
+
+    rippled = {}
+    for name, dd in results.items():
+        plus = with_ripple(dd.extended, ripples[name])
+        own = (prediction_errors(dd.extended, est), prediction_errors(plus, est))
+        rippled[name] = (transfer[name][1], prediction_errors(plus, val))
+        a, b = rippled[name]
+        print(f"{name} + ripple: DATA_EMPS (fitted there) force RMS {own[0].torque_rms:.3f} -> "
+              f"{own[1].torque_rms:.3f} N; PULSES force RMS {a.torque_rms:.3f} -> "
+              f"{b.torque_rms:.3f} N, simulation RMS {1e3 * a.simulation_rms:.4f} -> "
+              f"{1e3 * b.simulation_rms:.4f} mm")
+        assert own[1].torque_rms < 0.95 * own[0].torque_rms  # on its own record it helps
+        assert b.torque_rms > a.torque_rms  # on PULSES the force prediction gets worse
+        assert abs(b.simulation_rms / a.simulation_rms - 1) < 0.01  # the simulation: no change
+    dv = diagnose(val)
+    rv = next(e for e in dv.below_line if e.cause == "position_ripple")
+    print(f"PULSES diagnosed on its own: {' -> '.join(dv.causes)}; {rv.sentence('N', 'm')}")
+    assert dv.causes == ("asymmetry",) and not rv.supported and rv.score < MIN_SCORE
 
 # %% [markdown]
 # **Reading the EMPS result honestly.**  Both starting points tell the same story:
@@ -250,15 +278,31 @@ if est is not None:
 # record's median sliding speed -- an alias of the sampling -- so the ripple cause searches
 # only the periods the record resolves.  And the verdict says what is
 # left, both ways: **not explained** -- the held-out residual stays
-# more than twice the measuring chain's floor, and it depends most on velocity.  Part of
-# it is periodic in position: between 1 and 20 mm the periodogram of what is left peaks at
-# one motor revolution (the screw's lead, 2.5 mm; the peak is printed above), and the
-# ripple cause, searching only the periods the record resolves, finds that period -- but its
-# term removes less than the 19 % line (10 % of the RMS; its share is printed), so it is
-# reported in the ranking and not named.
-# The presliding at the reversals removes under 5 %, and so does every other cause of
-# the list: the largest part of what is left depends on velocity in a way none of them
-# captures.
+# more than twice the measuring chain's floor, and it depends most on velocity.
+#
+# **Below the naming line.**  The diagnosis also reports what the data support but what
+# does not reach the line (`below_line`): each candidate of the last step that lowers the
+# held-out residual, with its net share, a stated test -- the verdict's variance-ratio F test
+# of the held-out mean squares before and after the term, with the record's effective
+# degrees of freedom, at p < 0.01 -- its fitted physical parameters and the checks a named
+# cause passes.  Both ways, exactly one effect is supported: a **ripple periodic in
+# position** whose period lies within 1 % of **one motor revolution** (the screw's lead,
+# 2.5 mm, which [`emps`](#fricctl.datasets.emps) attaches to the record); it removes between
+# 10 % and the 19 % line of what is left, so it is reported, not named.  Both starting
+# points give the same period.  The **presliding at the reversals** removes under 2 % and
+# the test cannot tell it from the residual's scatter: not supported, and no other cause
+# of the list is either.
+#
+# **Does the ripple transfer?**  Added with the amplitude, period and phase fitted on
+# `DATA_EMPS.mat`, the ripple lowers the force RMS on that record by more than 5 % -- but on
+# `DATA_EMPS_PULSES.mat` it makes the force prediction *worse* (the RMS is printed above)
+# and leaves the simulated position unchanged (within 1 %).  Diagnosed on its own, the PULSES
+# record shows a ripple below the line too, which the test does not support there.  So the
+# ripple of one motor revolution is what the estimation record supports, and it does not
+# carry over as fitted.  Why, we have not shown: the data folder's README notes that the
+# PULSES position looks low-pass filtered after acquisition, which would shift such a
+# ripple's phase at the plateau speeds -- a hypothesis, not tested here.  The largest part of
+# what is left depends on velocity in a way no cause of the list captures.
 
 # %% [markdown]
 # ## Summary
@@ -275,8 +319,10 @@ if est is not None:
 #   published asymmetric model, and nothing else; the published offset was not needed, and
 #   the extended model predicted the held-out PULSES record better than the published model.
 # * The honest verdict on EMPS is *not explained*: the held-out residual stays above the
-#   measuring chain's floor and depends most on velocity; a ripple at one motor revolution
-#   is reported in the ranking, below the line.
+#   measuring chain's floor and depends most on velocity.  Below the naming line the data
+#   support a ripple at one motor revolution (the same period from both starting points),
+#   not the presliding; fitted on one record, the ripple does not improve the prediction of
+#   the other.
 # * The exercises show the limits: the smallest delay a record can show is one sample, a
 #   fitted baseline absorbs a wrong inertia, and a load-dependent term cannot be told from
 #   inertia and friction on a drive that never brakes.

@@ -188,7 +188,8 @@ def diagnose_args(draw, files):
     # only files that cannot be diagnosed (a diagnosis of a real record takes seconds)
     run = draw(_paths(files, "missing", "dir", "empty", "garbage", "model"))
     return ["diagnose", run, *_options(draw, {
-        "--window": _num("0.5"), "--model": _paths(files, "model", "missing", "dir", "badjson"),
+        "--window": _num("0.5"), "--motor-revolution": _num("0.0025"),
+        "--model": _paths(files, "model", "missing", "dir", "badjson"),
         "--units": st.sampled_from(["rotary", "x"]), "--report": _out(files, ""),
         "--json": None})]
 

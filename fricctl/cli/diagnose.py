@@ -30,8 +30,16 @@ re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl 
 the re-simulation windows, the floor and the verdict, and the text says so); with
 ``--model``, ``held_by_model`` (the causes whose effect the model held, removed to be
 judged), ``origin`` (per named cause: "found" or "held by the supplied model") and
-``supplied`` (the model's parameters).  A linear axis: ``# units: linear`` in the file or
-``--units linear``.
+``supplied`` (the model's parameters); ``below_line``: the candidates of the step that
+named nothing that lower the held-out residual, supported first, each with ``score`` (net of
+the measuring chain's share; gross where ``chain`` is null), ``gross``, ``chain``,
+``p_value`` of the verdict's variance-ratio F test of the reduction (``dof`` effective
+degrees of freedom each), ``supported`` (the test at p < 0.01 and the checks a named cause
+passes), ``plausible``, ``reason``, ``parameters`` (what its fitted term sets: a ripple's
+period and amplitude ...), ``evidence``, ``simulation_score`` and ``motor_revolutions`` (a
+period over ``motor_revolution``, the travel of one motor revolution given by
+``--motor-revolution``; EMPS: the screw's lead, 0.0025 m).  A linear axis:
+``# units: linear`` in the file or ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),
 ``report.md`` and ``extended_model.json`` (a model file, version 2: provenance
@@ -67,6 +75,10 @@ def register(subparsers) -> None:
                    help="override the record's '# units:' line")
     p.add_argument("--window", type=float, default=0.5, metavar="S",
                    help="re-simulation window [s] (default 0.5)")
+    p.add_argument("--motor-revolution", type=float, default=None, metavar="L",
+                   help="travel of one motor revolution in the record's position unit "
+                        "(rad or m; the transmission: 2*pi/n for a gear ratio n, a screw's "
+                        "lead): a period in position is then also given in motor revolutions")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--report", metavar="DIR", default=None,
                    help="write figures, report.md and extended_model.json to DIR")
@@ -96,6 +108,10 @@ def run(args) -> int:
                           [args.run, args.model], force=args.force)
         else:  # built beside, then renamed into place: the first existing ancestor must be writable
             check_new_folder("--report", out)
+    if args.motor_revolution is not None:  # checked before the record is read
+        from .. import _validate as v
+
+        v.real("--motor-revolution", args.motor_revolution, positive=True)
     record = load_record(args.run, units=args.units, max_samples=MAX_SAMPLES)  # counted first
     model = JointModel.load(args.model) if args.model else None
     if model is not None:
@@ -105,7 +121,8 @@ def run(args) -> int:
     with forked_painters(PAINTER_SHARES, draw_figures, prepare_figures,
                          wanted=args.report is not None) as painters:
         result = diagnose(record, model, window=args.window,
-                          on_baseline=None if painters is None else painters.start)
+                          on_baseline=None if painters is None else painters.start,
+                          motor_revolution=args.motor_revolution)
         if args.report:
             write_report(result, args.report, overwrite=args.force, painters=painters)
     if args.json:

@@ -33,7 +33,8 @@ environment variable (the folder that holds ``emps/DATA_EMPS.mat``).
 
 from __future__ import annotations
 
-from .emps_data import EMPS_SOURCE_HINT, EmpsData, emps, emps_file, load_record, record_length
+from .emps_data import (EMPS_MOTOR_REVOLUTION, EMPS_SOURCE_HINT, EmpsData, emps, emps_file,
+                        load_record, record_length)
 from .patterns import (PATTERN_COLUMNS, FrictionPatterns, PatternTable, read_patterns,
                        record_patterns, write_patterns)
 from .run import MIN_SAMPLES, TIME_STEP_RTOL, Run
@@ -42,6 +43,7 @@ from .table import Table, read_columns
 __all__ = [
     "Run",
     "EmpsData",
+    "EMPS_MOTOR_REVOLUTION",
     "emps",
     "emps_file",
     "load_record",

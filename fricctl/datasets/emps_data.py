@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +18,16 @@ import numpy as np
 from .. import _validate as v
 from .run import Run
 
-__all__ = ["EmpsData", "emps", "emps_file", "load_record", "EMPS_SOURCE_HINT", "EMPS_VARIABLES"]
+__all__ = ["EmpsData", "emps", "emps_file", "load_record", "EMPS_SOURCE_HINT", "EMPS_VARIABLES",
+           "EMPS_MOTOR_REVOLUTION"]
+
+#: Travel of the EMPS load per revolution of its motor: the ball screw's lead, 2.5 mm [m].
+#: From the data folder's ``emps/README.md`` ("one motor revolution = 2.5 mm of travel",
+#: with the encoder count of 5e-8 m on the load); the benchmark's PDF (Janot, Gautier &
+#: Brunot 2019) names the ball screw but its text does not state the lead.  Attached to the
+#: records :func:`emps` returns (:attr:`Run.motor_revolution`); :func:`emps_file` reads any
+#: file of the layout and does not assume it.
+EMPS_MOTOR_REVOLUTION = 2.5e-3
 
 #: Where to get the EMPS data when they are missing.
 EMPS_SOURCE_HINT = (
@@ -91,7 +100,8 @@ def emps(data_dir=None, *, kind: str = "estimation") -> EmpsData:
     -------
     EmpsData
         The :class:`Run` (linear axis; force ``gtau*vir`` [N], position ``qm`` [m],
-        reference ``qg`` [m]) and the raw fields.
+        reference ``qg`` [m], :attr:`~Run.motor_revolution` the screw's lead
+        :data:`EMPS_MOTOR_REVOLUTION`) and the raw fields.
 
     Raises
     ------
@@ -109,7 +119,8 @@ def emps(data_dir=None, *, kind: str = "estimation") -> EmpsData:
     path = _emps_folder(data_dir) / _EMPS_FILES[kind]
     if not path.is_file():
         raise FileNotFoundError(f"EMPS data: {path} not found; get " + EMPS_SOURCE_HINT)
-    return emps_file(path)
+    data = emps_file(path)
+    return replace(data, run=replace(data.run, motor_revolution=EMPS_MOTOR_REVOLUTION))
 
 
 #: Variables of a MATLAB file in the EMPS layout (``pulses_N`` only in the validation file).

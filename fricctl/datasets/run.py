@@ -45,6 +45,10 @@ class Run:
         Free text saying where the record comes from.
     units : {"rotary", "linear"}
         Axis kind; selects the labels N*m/rad or N/m.
+    motor_revolution : float or None
+        Travel of the recorded position per revolution of the motor (the transmission:
+        ``2*pi/n`` for a gear of ratio ``n``, the lead of a screw), same unit as
+        ``position``; None when unknown (positive and finite when given).
 
     Notes
     -----
@@ -76,9 +80,15 @@ class Run:
     """Provenance of the record (free text)."""
     units: str = "rotary"
     """``"rotary"`` (N*m, rad) or ``"linear"`` (N, m)."""
+    motor_revolution: float | None = field(default=None, metadata={"unit": "rad or m"})
+    """Travel of ``position`` per motor revolution (the transmission), or None (unknown)."""
 
     def __post_init__(self):
         v.choice("units", self.units, KINDS)
+        if self.motor_revolution is not None:
+            object.__setattr__(self, "motor_revolution", v.real(
+                "motor_revolution", self.motor_revolution, positive=True,
+                unit=units_of(self.units).position))
         v.text("source", self.source)
         names = ["t", "torque", "position"] + (["reference"] if self.reference is not None else [])
         arrays = {}

@@ -40,6 +40,11 @@ an engineer does when simulation and experiment disagree:
    (CasADi, :func:`fricctl.identify.fit_least_squares`), re-simulate, and report
    the held-out RMS before and after each step and overall, for the torque
    residual and for the windowed simulation error.
+5. **What the data support below the line.**  The candidates of the step that named
+   nothing that lower the held-out residual are reported with their net share, the
+   verdict's F test of the reduction, their fitted physical parameters and the checks a
+   named cause passes (:mod:`.below`): "supported" by the test and the checks, never by a
+   magnitude; not named.
 
 Every threshold is read off the record: the low-pass cut-off is the band the
 excitation reaches above the encoder's quantisation noise (at most half the
@@ -52,7 +57,8 @@ Modules
 model's torque along the record), :mod:`.windows` (the windowed re-simulation),
 :mod:`.crossval` (variants, their composition, blocked cross-validation, refits),
 :mod:`.causes` (one module per cause, and the registry), :mod:`.twin` (the
-effect-free twin), :mod:`.selection` (the forward selection), :mod:`.report`
+effect-free twin), :mod:`.selection` (the forward selection), :mod:`.below` (what the
+record supports below the naming line), :mod:`.report`
 (:class:`Diagnosis`), :mod:`.api` (the workflow).
 
 Notes
@@ -74,6 +80,7 @@ optimistic).
 from .api import (BYTES_PER_SAMPLE, MAX_SAMPLES, PredictionErrors, TorqueResidual,
                   check_model_agrees, diagnose, judged_by_removal, prediction_errors,
                   torque_residual)
+from .below import BelowLine
 from .causes import CAUSES, NOMINAL_ONLY
 from .report import Diagnosis, Gain
 from .selection import MIN_SCORE, Step
@@ -84,5 +91,5 @@ __all__ = [
     "WindowedSimulation", "Diagnosis", "diagnose", "windowed_simulation",
     "prediction_errors", "torque_residual", "Gain", "SimulationRMS", "TorqueResidual",
     "PredictionErrors", "Step", "MAX_SAMPLES", "BYTES_PER_SAMPLE", "check_model_agrees",
-    "judged_by_removal",
+    "judged_by_removal", "BelowLine",
 ]

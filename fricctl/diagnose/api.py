@@ -19,6 +19,7 @@ from ..plant.model import Provenance
 from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
+from .below import PERIOD_PARAMETERS, below_line
 from .report import Diagnosis, Gain, evidence_text
 from .selection import Selection, forward_selection, speed_curve
 from .signals import Signals, estimate_signals, predict
@@ -85,7 +86,8 @@ def check_model_agrees(model: JointModel, run: Run, name: str = "model") -> None
 
 
 def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
-             folds: int = 8, progress: bool | None = None, on_baseline=None) -> Diagnosis:
+             folds: int = 8, progress: bool | None = None, on_baseline=None,
+             motor_revolution: float | None = None) -> Diagnosis:
     """Show what the model gets wrong on ``run``, name every cause the data support, extend
     the model with them, measure the gain.
 
@@ -108,6 +110,11 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
         (fit mode: a thread beside the selection) has ended, or at once with a nominal model:
         from then on the diagnosis keeps one core busy (``fricctl diagnose --report`` starts
         its painters then, :mod:`fricctl.cli._painters`).
+    motor_revolution : float, optional
+        Travel of one motor revolution, in the record's position unit [rad] or [m]
+        (positive, finite); default: the record's own
+        (:attr:`~fricctl.datasets.Run.motor_revolution`, None when unknown).  A period in
+        position the diagnosis reports is then also given in motor revolutions.
 
     Returns
     -------
@@ -134,7 +141,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     >>> diagnose(rec.run).causes
     ('time_delay',)
     """
-    req = _request(run, model, window, folds, progress)
+    req = _request(run, model, window, folds, progress, motor_revolution)
     if on_baseline is not None and not callable(on_baseline):
         raise ValueError(f"on_baseline must be callable or None, got {on_baseline!r}")
     setup = _setup(run, model, req)  # the reported baseline is fitted in a thread meanwhile
@@ -145,18 +152,23 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
             setup.ident.add_done_callback(lambda _: on_baseline())
     bar = _ProgressBar(req.show, run.n_samples)
     chain = _ChainShares(setup.base)
+    simulate = _HeldOutSimulation.of(setup)
     try:
         sel = forward_selection(setup.problem, setup.base,
                                 causes.candidates(nominal=model is not None),
-                                chain, _HeldOutSimulation.of(setup),
-                                progress=bar.step if req.show else None)
+                                chain, simulate, progress=bar.step if req.show else None)
+        below = below_line(setup.problem, sel, chain, simulate,
+                           motor_revolution=req.motor_revolution)
     finally:
         bar.close()
     # waited for only here: a failed selection (or Ctrl-C) is not held up by the baseline's
     # fit, which cannot be cancelled once running (it ends in its thread, unused)
     if setup.ident is not None:
         setup = replace(setup, ident=setup.ident.result())
-    return _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms())
+    d = _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms(),
+                   req.motor_revolution)
+    return replace(d, below_line=below, motor_revolution=req.motor_revolution,
+                   notes={**d.notes, **_below_notes(below)})
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -169,9 +181,12 @@ class _Request:
     """Window of the re-simulation [s]."""
     show: bool
     """Whether a progress bar is shown."""
+    motor_revolution: float | None = None
+    """Travel of one motor revolution [rad] or [m], or None (unknown)."""
 
 
-def _request(run: Run, model: JointModel | None, window, folds, progress) -> _Request:
+def _request(run: Run, model: JointModel | None, window, folds, progress,
+             motor_revolution=None) -> _Request:
     """The arguments of :func:`diagnose` checked (in this order), before any work."""
     _check_run(run)
     if model is not None:
@@ -180,6 +195,11 @@ def _request(run: Run, model: JointModel | None, window, folds, progress) -> _Re
     folds = v.integer("folds", folds, low=3, high=20)
     window = v.real("window", window, positive=True, unit="s")
     show = sys.stderr.isatty() if progress is None else v.flag("progress", progress)
+    if motor_revolution is None:
+        motor_revolution = run.motor_revolution
+    else:
+        motor_revolution = v.real("motor_revolution", motor_revolution, positive=True,
+                                  unit=run.position_unit)
     if run.n_samples > MAX_SAMPLES:
         raise ValueError(
             f"run: {run.n_samples} samples; a diagnosis holds about {BYTES_PER_SAMPLE / 1e3:.1f} kB "
@@ -187,7 +207,7 @@ def _request(run: Run, model: JointModel | None, window, folds, progress) -> _Re
             f"{MAX_SAMPLES} samples (a {MEMORY_BUDGET / 1e9:g} GB budget): cut the record or "
             f"decimate it by "
             f"{math.ceil(run.n_samples / MAX_SAMPLES)}")
-    return _Request(folds=folds, window=window, show=show)
+    return _Request(folds=folds, window=window, show=show, motor_revolution=motor_revolution)
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -387,12 +407,13 @@ def _other_shape(setup: _Setup, sel: Selection) -> float:
 
 
 def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection,
-               ext: _Extension, chain_rms: float) -> Diagnosis:
+               ext: _Extension, chain_rms: float,
+               motor_revolution: float | None = None) -> Diagnosis:
     """The result: models with their provenance, held-out gain, evidence and report data;
     ``chain_rms`` is the measuring chain's floor (:meth:`_ChainShares.floor_rms`)."""
     sig, base = setup.sig, setup.base
     gain = _gain(sig, sel)
-    bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model)
+    bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model, motor_revolution)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted if setup.ident is None
                                     else _identified(setup.ident, run), run, sig, model)
@@ -431,6 +452,20 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, notes=_notes(sel), end_stops=stops)
+
+
+def _below_notes(below: tuple) -> dict:
+    """Why a number of a below-line entry is undefined (``notes``, by its JSON path)."""
+    notes = {}
+    for i, e in enumerate(below):
+        if not math.isfinite(e.chain):
+            notes[f"below_line[{i}].chain"] = ("not measured: the gross share fails the test "
+                                               "already (the net share can only be smaller)")
+        if not math.isfinite(e.simulation_score):
+            notes[f"below_line[{i}].simulation_score"] = (
+                "not computed: the term is not supported" if not e.supported else
+                "the held-out windows cannot be re-simulated with the term")
+    return notes
 
 
 def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection) -> str:
@@ -577,14 +612,22 @@ class _ProgressBar:
 
 
 def _evidence_bodies(base: Baseline, selected: tuple, theta: np.ndarray,
-                     extended: JointModel) -> tuple:
-    """Each named cause's evidence clause, from its slice of the joint fit."""
+                     extended: JointModel, motor_revolution: float | None = None) -> tuple:
+    """Each named cause's evidence clause, from its slice of the joint fit; a period in
+    position it fits also in motor revolutions where ``motor_revolution`` is known."""
     out = []
     k = 3 if base.fit_mode else 0
+    values = extended.parameters()
     for s in selected:
         coef = theta[k:k + s.cause.n_extra]
         k += s.cause.n_extra
-        out.append(s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended))
+        body = s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended)
+        if motor_revolution is not None:
+            body += "".join(f"; its period is {values[c] / motor_revolution:#.3g} motor "
+                            f"revolutions (one revolution: {motor_revolution:.4g} "
+                            f"{base.labels.position})"
+                            for c in PERIOD_PARAMETERS if c in s.cause.changes and c in values)
+        out.append(body)
     return tuple(out)
 
 

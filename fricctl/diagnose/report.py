@@ -124,6 +124,14 @@ class Diagnosis:
         (:func:`~fricctl.diagnose.api.judged_by_removal`); empty in fit mode.
     supplied : JointModel or None
         The model as supplied (None in fit mode).
+    below_line : tuple of BelowLine
+        The candidates of the step that named nothing that lower the held-out residual,
+        supported first (:mod:`.below`): each with its net share, the F test of the
+        reduction, its fitted physical parameters, whether the record can tell it, and (when
+        supported) its held-out simulation score.
+    motor_revolution : float or None
+        Travel of one motor revolution [rad] or [m] the periods are compared with (None:
+        unknown).
     """
 
     cause: str
@@ -155,6 +163,8 @@ class Diagnosis:
     end_stops: "EndStops | None" = None
     held: tuple = ()
     supplied: JointModel | None = None
+    below_line: tuple = ()
+    motor_revolution: float | None = None
 
     @property
     def origin(self) -> dict:
@@ -197,7 +207,9 @@ class Diagnosis:
             "end_stops": None if self.end_stops is None else self.end_stops.as_dict(),
             "origin": self.origin,
             "held_by_model": list(self.held),
-            "supplied": None if self.supplied is None else self.supplied.parameters()}
+            "supplied": None if self.supplied is None else self.supplied.parameters(),
+            "below_line": [e.as_dict() for e in self.below_line],
+            "motor_revolution": self.motor_revolution}
         notes = dict(self.notes or {})
         undefined: dict = {}
 
@@ -248,6 +260,7 @@ class Diagnosis:
             best = self.last_ranking[0]
             lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
                           f"{100 * best[1]:.1f} % of what is left (net)."]
+        lines += self._below_lines(u)
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
                       f"record's effect-free twin (the measuring chain alone leaves "
@@ -288,6 +301,28 @@ class Diagnosis:
         if self.fit is not None:
             lines += ["", "## Refit (CasADi least squares)", "", "```", self.fit.report(), "```"]
         return "\n".join(lines) + "\n"
+
+
+    def _below_lines(self, u) -> list:
+        """The report's sections on the last step's candidates below the naming line."""
+        if not self.below_line:
+            return []
+        from .below import TEST
+        from .verdict import SIGNIFICANCE
+
+        out = []
+        for title, group in (("Supported by the data but below the naming line",
+                              [e for e in self.below_line if e.supported]),
+                             ("Below the naming line, not supported",
+                              [e for e in self.below_line if not e.supported])):
+            if group:
+                out += ["", f"## {title}", ""]
+                out += [f"- {e.sentence(u.torque, u.position, self.motor_revolution)}"
+                        for e in group]
+        out += ["", f"Supported: the net reduction passes the {TEST}, at p < {SIGNIFICANCE:g}, "
+                    f"and the fitted term passes the checks a named cause passes; below the "
+                    f"naming line ({100 * MIN_SCORE:.0f} %) a cause is reported, not named."]
+        return out
 
 
 def _capital(text: str) -> str:

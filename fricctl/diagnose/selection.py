@@ -136,6 +136,12 @@ class Selection:
     """Held-out SSE per block of the baseline."""
     sim_before: WindowedSimulation | None = None
     sim_after: WindowedSimulation | None = None
+    final: "_State | None" = None
+    """Where the selection stood when it stopped (the model as it stands, its held-out
+    residual and simulation): what :mod:`.below` measures the last step's candidates on."""
+    last_scored: Mapping = field(default_factory=dict)
+    """The candidates of the step that named nothing, as scored there (``name ->``
+    :class:`_Scored`); empty when the last step named a cause."""
 
 
 def collinearity(problem: Problem, fixed: tuple, variant) -> float:
@@ -185,6 +191,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         (``done`` 0) and after each (for a progress bar).
     """
     state = _start(problem, base, candidates, simulate)
+    scored: dict = {}
     while state.remaining:
         sse_prev = float(np.sum(state.test))
         if not sse_prev > 0:
@@ -209,6 +216,7 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                         remaining=tuple(c for c in named.remaining if c.name not in rejected))
         if len(state.steps) == before:  # every told candidate re-simulated worse
             break
+        scored = {}  # a step that named a cause: its scores are not the last step's
     named = {s.cause.name for s in state.selected}
     aside = {k: r for k, r in state.aside.items() if k not in named and k not in state.not_told}
     return Selection(selected=state.selected, steps=state.steps,
@@ -216,7 +224,8 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
                      simulation_scores=state.simulation_scores,
                      not_identifiable={**state.not_told, **aside}, test=state.test,
                      baseline_test=state.baseline_test, sim_before=state.sim_before,
-                     sim_after=state.sim)
+                     sim_after=state.sim, final=state,
+                     last_scored=scored if state.last_ranking else {})
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

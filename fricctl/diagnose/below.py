@@ -1,0 +1,228 @@
+"""What the record supports below the naming line (issue 21, item 4).
+
+The forward selection (:mod:`.selection`) stops when no candidate removes
+:data:`~fricctl.diagnose.selection.MIN_SCORE` of what is left: a line for *naming* a cause
+(an effect that matters, a 10 % drop of the held-out RMS), not for what the data show.  This
+module reports the candidates of that last step that lower the held-out residual, each
+with:
+
+* its held-out share, gross and net of the measuring chain's share (the chain's share
+  measured on the record's effect-free twin, :mod:`.twin`, as for a named cause);
+* a stated statistical test, the verdict's (:func:`~fricctl.diagnose.verdict.reduction_p`):
+  the one-sided variance-ratio F test of the held-out mean squares before and after the
+  term, ``1/(1 - s)`` for a share ``s``, each with the effective degrees of freedom of the
+  residual of the model as it stands, counted as the verdict counts them (samples over the
+  integrated correlation time, :func:`~fricctl.diagnose.verdict.effective_dof`), at the
+  verdict's level :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`; first on the gross share
+  (a term that fails it is not fitted further: its net share can only be smaller), then on
+  the net share.  The test treats the two residuals as independent, which those of nested
+  models on the same samples are not: it is conservative, chosen so that a reduction counts
+  only when it stands out from the scatter of the residual's own mean square (a partial F
+  test with these degrees of freedom called a 0.1 % reduction significant on a 40 s,
+  1 kHz record, where the chain's share itself is measured only to that order);
+* its term fitted on all data after the causes named: the physical parameters the cause's
+  own extension sets (:attr:`~fricctl.diagnose.causes.Cause.changes`: a ripple's period and
+  amplitude, the bristles' stiffness and damping ...) and its evidence clause;
+* whether the record can tell it (the checks a named cause passes: not collinear with the
+  model's columns, and the cause's own ``identifiable``: a ripple period the record
+  resolves, a presliding length inside the range searched ...);
+* for a supported and plausible term, its held-out simulation score (the windowed
+  re-simulation of each block with the model fitted without it, as a step's).
+
+*Supported* means: the net reduction passes the F test and the term passes the checks.
+Nothing is decided by a magnitude.  A period in position is also given in motor revolutions
+when the travel of one revolution is known (:attr:`BelowLine.motor_revolutions`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .causes import Term
+from .crossval import full_fit
+from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _parts, _why_not_told)
+from .verdict import SIGNIFICANCE, effective_dof, reduction_p
+
+__all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
+
+#: The test, in words (for the report).
+TEST = ("verdict's one-sided variance-ratio F test of the held-out mean squares before and after "
+        "the term, each with the effective degrees of freedom of the residual of the model as it "
+        "stands (samples over its correlation time)")
+
+#: Fitted parameters that are a period in position: compared with one motor revolution
+#: when the record's transmission is known.
+PERIOD_PARAMETERS = ("ripple_period",)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BelowLine:
+    """A candidate of the step that named nothing, with what the record says of it."""
+
+    cause: str
+    """The candidate."""
+    score: float
+    """Net held-out share of the remaining torque residual (sum of squares) its term removes:
+    :attr:`gross` less :attr:`chain`; :attr:`gross` itself where the chain's share is not
+    measured (the gross share fails the test already) [-]."""
+    gross: float
+    """The held-out share before the measuring chain's is taken off [-]."""
+    chain: float
+    """The measuring chain's share (the same term on the record's effect-free twin) [-]; NaN
+    where not measured (the gross share fails the test already)."""
+    p_value: float
+    """p-value of the verdict's F test of the net reduction (of the gross one where the net
+    is not measured) [-]."""
+    dof: float
+    """Effective degrees of freedom of each mean square of the test [-]."""
+    supported: bool
+    """The net reduction passes the test at :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`
+    and the term can be told on this record (:attr:`plausible`)."""
+    plausible: bool | None
+    """The term fitted on all data passes the checks a named cause passes; None where not
+    fitted."""
+    reason: str = ""
+    """Why it is not supported (the test, or the check it fails), or ``""``."""
+    parameters: dict = field(default_factory=dict)
+    """The model parameters its fitted term sets (``{name: value}``, the model's units)."""
+    evidence: str = ""
+    """The cause's own evidence clause for the fitted term, or ``""``."""
+    simulation_score: float = math.nan
+    """Held-out share of the windowed simulation error (position, sum of squares) the term
+    removes [-]; NaN where not computed (not supported)."""
+    motor_revolutions: dict = field(default_factory=dict)
+    """Per fitted period in position (:data:`PERIOD_PARAMETERS`): the period in motor
+    revolutions [-]; empty where the travel of one revolution is not known."""
+
+    def as_dict(self) -> dict:
+        """The entry's JSON object."""
+        return {"cause": self.cause, "score": self.score, "gross": self.gross,
+                "chain": self.chain, "p_value": self.p_value, "dof": self.dof,
+                "supported": self.supported, "plausible": self.plausible,
+                "reason": self.reason or None, "parameters": dict(self.parameters),
+                "evidence": self.evidence or None, "simulation_score": self.simulation_score,
+                "motor_revolutions": dict(self.motor_revolutions)}
+
+    def sentence(self, torque_unit: str = "N*m", position_unit: str = "rad",
+                 motor_revolution: float | None = None) -> str:
+        """One line for the report: the shares, the test, the parameters."""
+        if math.isfinite(self.chain):
+            share = (f"{100 * self.score:.1f} % of what is left, net (gross "
+                     f"{100 * self.gross:.1f} %, the measuring chain's {100 * self.chain:.1f} %)")
+        else:
+            share = (f"{100 * self.gross:.1f} % of what is left, gross (the measuring chain's "
+                     f"share not measured)")
+        test = f"F test p = {self.p_value:.2g} ({self.dof:.0f} effective degrees of freedom each)"
+        out = f"`{self.cause}`: removes {share}; {test}"
+        if self.evidence:
+            out += f"; {self.evidence}"
+        for name, turns in self.motor_revolutions.items():
+            period = self.parameters[name]
+            out += (f"; period {_length(period, position_unit)} = {turns:#.3g} motor revolutions "
+                    f"(one revolution: {_length(motor_revolution, position_unit)})")
+        if math.isfinite(self.simulation_score):
+            out += (f"; held out, the re-simulation error (position, sum of squares) changes by "
+                    f"{-100 * self.simulation_score:+.1f} %")
+        if self.reason:
+            out += f"; not supported: {self.reason}"
+        return out + "."
+
+
+def _length(x: float | None, unit: str) -> str:
+    """A length in mm for a linear axis (its unit is m), else in the record's unit."""
+    if x is None:
+        return "unknown"
+    return f"{1e3 * x:.4g} mm" if unit == "m" else f"{x:.4g} {unit}"
+
+
+def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
+               motor_revolution: float | None = None) -> tuple:
+    """The candidates of the step that named nothing whose held-out share is positive, as
+    :class:`BelowLine` entries, supported first, then by net share (module notes).
+
+    Parameters
+    ----------
+    problem : Problem
+        The record's normal equations.
+    sel : Selection
+        The forward selection (its :attr:`~Selection.final` state and
+        :attr:`~Selection.last_scored`).
+    chain : callable
+        ``chain(floor, named, model)``, as :func:`~fricctl.diagnose.selection.forward_selection`
+        takes it.
+    simulate : callable
+        ``simulate(fold_models)``: the held-out windowed simulation.
+    motor_revolution : float, optional
+        Travel of one motor revolution, in the record's position unit [rad] or [m].
+    """
+    state, scored = sel.final, sel.last_scored
+    if state is None or not scored:
+        return ()
+    sig = problem.sig
+    sse_prev = float(np.sum(state.test))
+    if not sse_prev > 0:
+        return ()
+    dof = effective_dof(state.base.current_residual[sig.moving])
+    named = tuple(s.cause for s in state.selected)
+    fixed = tuple(s.variant for s in state.selected)
+    out = []
+    for name, s in scored.items():
+        if name in sel.not_identifiable or not s.gross > 0 or s.net >= MIN_SCORE:
+            continue
+        p = reduction_p(s.gross, dof)
+        if not p < SIGNIFICANCE:
+            out.append(BelowLine(cause=name, score=s.gross, gross=s.gross, chain=math.nan,
+                                 p_value=p, dof=dof, supported=False, plausible=None,
+                                 reason=_not_significant(p)))
+            continue
+        share = s.chain
+        if not s.gross >= MIN_SCORE:  # the selection measured the chain only at the line
+            share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+        net = s.gross - share
+        p = reduction_p(net, dof)
+        fit = full_fit(problem, state.base.variants(s.cause, None), fixed)
+        why = _why_not_told(problem, state, s.cause, fit, fixed)
+        entry = dict(cause=name, score=net, gross=s.gross, chain=share, p_value=p, dof=dof,
+                     plausible=why is None)
+        if fit is not None:
+            coef = fit.theta[fit.theta.size - s.cause.n_extra:]
+            term = Term(h=fit.variant.h, coef=coef)
+            extended = state.base.model(_parts(state.selected) + [(s.cause, fit.variant.h)],
+                                        fit.theta)
+            values = extended.parameters()
+            entry["parameters"] = {c: float(values[c]) for c in s.cause.changes if c in values}
+            entry["evidence"] = s.cause.evidence(state.base, term, extended)
+            if motor_revolution is not None:
+                entry["motor_revolutions"] = {c: entry["parameters"][c] / motor_revolution
+                                              for c in PERIOD_PARAMETERS
+                                              if c in entry["parameters"]}
+        reasons = []
+        if not p < SIGNIFICANCE:
+            reasons.append(_not_significant(p) + " once the measuring chain's share is taken off")
+        if why is not None:
+            reasons.append(f"the record cannot tell it: {why}")
+        entry["supported"] = not reasons
+        entry["reason"] = "; ".join(reasons)
+        if entry["supported"]:
+            entry["simulation_score"] = _simulation_score(state, s, simulate, sig.n_folds)
+        out.append(BelowLine(**entry))
+    return tuple(sorted(out, key=lambda e: (not e.supported, -e.score)))
+
+
+def _not_significant(p: float) -> str:
+    return (f"the F test cannot tell the reduction from the residual's scatter (p = {p:.2g} "
+            f">= {SIGNIFICANCE:g})")
+
+
+def _simulation_score(state, s, simulate, n_folds: int) -> float:
+    """Held-out share of the windowed simulation error (position) the term removes [-]."""
+    before = float(np.sum(state.sim.position_error ** 2))
+    if not (math.isfinite(before) and before > 0):
+        return math.nan
+    models = tuple(_fold_model(state, s.cause, s.cv, f) for f in range(n_folds))
+    after = float(np.sum(simulate(models).position_error ** 2))
+    return 1.0 - after / before if math.isfinite(after) else math.nan
