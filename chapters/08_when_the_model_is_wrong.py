@@ -261,6 +261,7 @@ if est is not None:
     rv = next(e for e in dv.below_line if e.cause == "position_ripple")
     print(f"PULSES diagnosed on its own: {' -> '.join(dv.causes)}; {rv.sentence('N', 'm')}")
     assert dv.causes == ("asymmetry",) and not rv.supported and rv.score < MIN_SCORE
+    assert rv.p_value >= 0.01  # "the test does not support it": the test's own verdict
 
 # %% [markdown]
 # **Reading the EMPS result honestly.**  Both starting points tell the same story:

@@ -38,7 +38,10 @@ degrees of freedom each), ``supported`` (the test at p < 0.01 and the checks a n
 passes), ``plausible``, ``reason``, ``parameters`` (what its fitted term sets: a ripple's
 period and amplitude ...), ``evidence``, ``simulation_score`` and ``motor_revolutions`` (a
 period over ``motor_revolution``, the travel of one motor revolution given by
-``--motor-revolution``; EMPS: the screw's lead, 0.0025 m).  A linear axis:
+``--motor-revolution``; EMPS: the screw's lead, 0.0025 m, which ``fricctl.datasets.emps``
+attaches and a .mat or CSV file does not carry: give it).  The supported entries come in the
+order a selection below the line takes them, each tested on what those before it leave.
+A linear axis:
 ``# units: linear`` in the file or ``--units linear``.
 ``undefined`` gives the reason for every null number.
 ``--report DIR`` writes the figures (PNG: residuals, simulation, spectrum, steps),

@@ -19,7 +19,7 @@ from ..plant.model import Provenance
 from . import causes
 from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
-from .below import PERIOD_PARAMETERS, below_line
+from .below import PERIOD_PARAMETERS, _length, below_line
 from .report import Diagnosis, Gain, evidence_text
 from .selection import Selection, forward_selection, speed_curve
 from .signals import Signals, estimate_signals, predict
@@ -624,8 +624,8 @@ def _evidence_bodies(base: Baseline, selected: tuple, theta: np.ndarray,
         body = s.cause.evidence(base, Term(h=s.variant.h, coef=coef), extended)
         if motor_revolution is not None:
             body += "".join(f"; its period is {values[c] / motor_revolution:#.3g} motor "
-                            f"revolutions (one revolution: {motor_revolution:.4g} "
-                            f"{base.labels.position})"
+                            f"revolutions (one revolution: "
+                            f"{_length(motor_revolution, base.labels.position)})"
                             for c in PERIOD_PARAMETERS if c in s.cause.changes and c in values)
         out.append(body)
     return tuple(out)

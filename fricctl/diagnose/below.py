@@ -26,11 +26,19 @@ with:
 * whether the record can tell it (the checks a named cause passes: not collinear with the
   model's columns, and the cause's own ``identifiable``: a ripple period the record
   resolves, a presliding length inside the range searched ...);
-* for a supported and plausible term, its held-out simulation score (the windowed
-  re-simulation of each block with the model fitted without it, as a step's).
+* for a term that passes the test and those checks, its held-out simulation score (the
+  windowed re-simulation of each block with the model fitted without it, as a step's), which
+  must not be worse (as for a named cause), and the generic alternatives a named cause must
+  beat (a sensor's scale error with a nominal model, a friction-speed curve of another shape):
+  where one removes more, what the term adds on top of it must pass the test.
 
-*Supported* means: the net reduction passes the F test and the term passes the checks.
-Nothing is decided by a magnitude.  A period in position is also given in motor revolutions
+*Supported* means: the net reduction passes the F test and the term passes every check.
+Below the line the selection goes on as above it: the best supported candidate is taken
+into the model and the rest are scored again on what it leaves, until none is supported, so
+that candidates competing for one part of the residual are not all called supported.
+Nothing is decided by a magnitude.  The test is run once per candidate and round at
+p < 0.01, with no correction for the several candidates tried; below about 470 effective
+degrees of freedom no share under the naming line can pass it.  A period in position is also given in motor revolutions
 when the travel of one revolution is known (:attr:`BelowLine.motor_revolutions`).
 """
 
@@ -43,8 +51,9 @@ from typing import Callable
 import numpy as np
 
 from .causes import Term
-from .crossval import full_fit
-from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _parts, _why_not_told)
+from .crossval import cross_validate, full_fit
+from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _name, _parts, _score,
+                        _Told, _why_not_told, sensor_scales, speed_curve)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
 
 __all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
@@ -122,8 +131,9 @@ class BelowLine:
             out += f"; {self.evidence}"
         for name, turns in self.motor_revolutions.items():
             period = self.parameters[name]
+            rev = motor_revolution if motor_revolution is not None else period / turns
             out += (f"; period {_length(period, position_unit)} = {turns:#.3g} motor revolutions "
-                    f"(one revolution: {_length(motor_revolution, position_unit)})")
+                    f"(one revolution: {_length(rev, position_unit)})")
         if math.isfinite(self.simulation_score):
             out += (f"; held out, the re-simulation error (position, sum of squares) changes by "
                     f"{-100 * self.simulation_score:+.1f} %")
@@ -142,7 +152,14 @@ def _length(x: float | None, unit: str) -> str:
 def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
                motor_revolution: float | None = None) -> tuple:
     """The candidates of the step that named nothing whose held-out share is positive, as
-    :class:`BelowLine` entries, supported first, then by net share (module notes).
+    :class:`BelowLine` entries: the supported ones in the order a forward selection below the
+    line takes them, then the others by net share (module notes).
+
+    Below the line the selection goes on as above it: the best supported candidate is taken
+    into the model and the others are scored again after it, until none is supported.  Each
+    supported entry's shares are of what the entries before it leave; the unsupported ones
+    are those of the last round (candidates that compete for one part of the residual are
+    not all supported: once the best is in, the others are tested on what it leaves).
 
     Parameters
     ----------
@@ -162,55 +179,115 @@ def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
     state, scored = sel.final, sel.last_scored
     if state is None or not scored:
         return ()
+    skip = set(sel.not_identifiable)
+    taken = []
+    while True:
+        sse_prev = float(np.sum(state.test))
+        if not sse_prev > 0:
+            return tuple(taken)
+        tried = [_entry(problem, state, s, sse_prev, chain, simulate, motor_revolution)
+                 for name, s in scored.items() if name not in skip]
+        entries = [t for t in tried if t is not None]
+        best = max((t for t in entries if t[0].supported), key=lambda t: t[0].score, default=None)
+        if best is None:
+            return tuple(taken) + tuple(sorted((e for e, _ in entries), key=lambda e: -e.score))
+        entry, fit = best
+        moved, rejected = _name(problem, state, (_Told(cause=scored[entry.cause].cause, fit=fit),),
+                                scored, (), sse_prev, simulate)
+        if rejected or len(moved.steps) == len(state.steps):  # cannot happen: checked above
+            return tuple(taken) + tuple(sorted((e for e, _ in entries), key=lambda e: -e.score))
+        taken.append(entry)
+        state = moved
+        if not state.remaining:
+            return tuple(taken)
+        scored = _score(problem, state, chain, float(np.sum(state.test)), None)
+
+
+def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callable,
+           motor_revolution: float | None):
+    """``(BelowLine, fit)`` of the scored candidate ``s`` on the model as it stands (``fit``
+    the term fitted on all data, None where not fitted), or None: it does not lower the
+    held-out residual, or it reaches the line."""
+    name = s.cause.name
+    if not s.gross > 0 or s.net >= MIN_SCORE:
+        return None
     sig = problem.sig
-    sse_prev = float(np.sum(state.test))
-    if not sse_prev > 0:
-        return ()
     dof = effective_dof(state.base.current_residual[sig.moving])
-    named = tuple(s.cause for s in state.selected)
-    fixed = tuple(s.variant for s in state.selected)
-    out = []
-    for name, s in scored.items():
-        if name in sel.not_identifiable or not s.gross > 0 or s.net >= MIN_SCORE:
-            continue
-        p = reduction_p(s.gross, dof)
-        if not p < SIGNIFICANCE:
-            out.append(BelowLine(cause=name, score=s.gross, gross=s.gross, chain=math.nan,
-                                 p_value=p, dof=dof, supported=False, plausible=None,
-                                 reason=_not_significant(p)))
-            continue
+    if s.gross >= MIN_SCORE:  # the selection measured the chain's share (at the line)
         share = s.chain
-        if not s.gross >= MIN_SCORE:  # the selection measured the chain only at the line
-            share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
-        net = s.gross - share
-        p = reduction_p(net, dof)
-        fit = full_fit(problem, state.base.variants(s.cause, None), fixed)
-        why = _why_not_told(problem, state, s.cause, fit, fixed)
-        entry = dict(cause=name, score=net, gross=s.gross, chain=share, p_value=p, dof=dof,
-                     plausible=why is None)
-        if fit is not None:
-            coef = fit.theta[fit.theta.size - s.cause.n_extra:]
-            term = Term(h=fit.variant.h, coef=coef)
-            extended = state.base.model(_parts(state.selected) + [(s.cause, fit.variant.h)],
-                                        fit.theta)
-            values = extended.parameters()
-            entry["parameters"] = {c: float(values[c]) for c in s.cause.changes if c in values}
-            entry["evidence"] = s.cause.evidence(state.base, term, extended)
-            if motor_revolution is not None:
-                entry["motor_revolutions"] = {c: entry["parameters"][c] / motor_revolution
-                                              for c in PERIOD_PARAMETERS
-                                              if c in entry["parameters"]}
-        reasons = []
+    else:
+        p = reduction_p(s.gross, dof)
+        if not p < SIGNIFICANCE:  # the net share can only be smaller: the chain is not asked
+            return (BelowLine(cause=name, score=s.gross, gross=s.gross, chain=math.nan,
+                              p_value=p, dof=dof, supported=False, plausible=None,
+                              reason=_not_significant(p)), None)
+        named = tuple(x.cause for x in state.selected)
+        share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+    net = s.gross - share
+    if not net > 0:
+        return None  # the measuring chain alone removes as much: nothing of the record's
+    p = reduction_p(net, dof)
+    fixed = tuple(x.variant for x in state.selected)
+    fit = full_fit(problem, state.base.variants(s.cause, None), fixed)
+    why = _why_not_told(problem, state, s.cause, fit, fixed)
+    entry = dict(cause=name, score=net, gross=s.gross, chain=share, p_value=p, dof=dof,
+                 plausible=why is None)
+    if fit is not None:
+        coef = fit.theta[fit.theta.size - s.cause.n_extra:]
+        term = Term(h=fit.variant.h, coef=coef)
+        extended = state.base.model(_parts(state.selected) + [(s.cause, fit.variant.h)], fit.theta)
+        values = extended.parameters()
+        entry["parameters"] = {c: float(values[c]) for c in s.cause.changes if c in values}
+        entry["evidence"] = s.cause.evidence(state.base, term, extended)
+        if motor_revolution is not None:
+            entry["motor_revolutions"] = {c: entry["parameters"][c] / motor_revolution
+                                          for c in PERIOD_PARAMETERS if c in entry["parameters"]}
+    reasons = []
+    if not p < SIGNIFICANCE:
+        reasons.append(_not_significant(p) + " once the measuring chain's share is taken off")
+    if why is not None:
+        reasons.append(f"the record cannot tell it: {why}")
+    if not reasons:  # the checks a named cause passes next: the re-simulation, the rivals
+        entry["simulation_score"] = sim = _simulation_score(state, s, simulate, sig.n_folds)
+        if math.isfinite(sim) and sim <= 0.0:
+            reasons.append(f"its extended model re-simulates the held-out windows worse "
+                           f"(position error, sum of squares, {-100 * sim:+.1f} %)")
+        else:
+            rival = _rival(problem, state, s, sse_prev, dof)
+            if rival is not None:
+                reasons.append(rival)
+    entry["supported"] = not reasons
+    entry["reason"] = "; ".join(reasons)
+    return BelowLine(**entry), fit
+
+
+def _rival(problem, state, s, sse_prev: float, dof: float) -> str | None:
+    """Why a generic alternative a named cause must beat (a sensor's scale error with a
+    nominal model; a friction-speed curve of another shape, for a cause that is not itself a
+    friction curve) explains the record better and leaves the term nothing the test can
+    tell on top of it, or None.  As :func:`~fricctl.diagnose.selection._scale_matches`, with
+    the test instead of the naming line for what the term adds on top."""
+    rivals = sensor_scales(problem, state.base, state.selected)
+    if not s.cause.friction_curve:
+        rivals += (speed_curve(problem, state.base, state.selected),)
+    fixed_for = _fixed_for(state.selected)
+    for rv in rivals:
+        if rv.test is None or not np.all(np.isfinite(rv.test)):
+            continue
+        sse_rival, sse_cause = float(np.sum(rv.test)), float(np.sum(s.test))
+        if sse_rival >= sse_cause - 1e-9 * sse_prev:
+            continue
+        cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
+                            lambda f: fixed_for(f) + (rv.variant,))
+        both = float(np.sum(np.where(np.isnan(cv.test), rv.test, cv.test)))
+        on_top = 1.0 - both / sse_rival if sse_rival > 0 else 0.0
+        p = reduction_p(on_top, dof)
         if not p < SIGNIFICANCE:
-            reasons.append(_not_significant(p) + " once the measuring chain's share is taken off")
-        if why is not None:
-            reasons.append(f"the record cannot tell it: {why}")
-        entry["supported"] = not reasons
-        entry["reason"] = "; ".join(reasons)
-        if entry["supported"]:
-            entry["simulation_score"] = _simulation_score(state, s, simulate, sig.n_folds)
-        out.append(BelowLine(**entry))
-    return tuple(sorted(out, key=lambda e: (not e.supported, -e.score)))
+            return (f"{rv.what} removes more of the held-out residual "
+                    f"({100 * (1 - sse_rival / sse_prev):.0f} % against {100 * s.gross:.0f} %) "
+                    f"and the term adds {100 * max(on_top, 0.0):.1f} % on top of it, which the "
+                    f"test cannot tell from the scatter (p = {p:.2g})")
+    return None
 
 
 def _not_significant(p: float) -> str:

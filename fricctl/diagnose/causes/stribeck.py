@@ -33,10 +33,14 @@ def _evidence(base, term, extended):
     fc = coulomb_level(base.fitted)
     w = np.abs(sig.w[sig.moving])
     rr = (base.residual * np.sign(sig.w))[sig.moving]
-    lo = rr[w < vs].mean() if np.any(w < vs) else float("nan")
-    hi = rr[w > 10 * vs].mean() if np.any(w > 10 * vs) else float("nan")
-    return (f"below |w| = {vs:.3g} {u.velocity} the baseline residual averages {lo:+.3g} {u.torque} "
-            f"in the direction of motion, above {10 * vs:.3g} {u.velocity} {hi:+.3g} {u.torque}; "
+    # a band the record's sliding samples never reach is said so (not a mean of nothing)
+    low, high = w < vs, w > 10 * vs
+    lo = (f"below |w| = {vs:.3g} {u.velocity} the baseline residual averages "
+          f"{rr[low].mean():+.3g} {u.torque} in the direction of motion" if np.any(low) else
+          f"no sliding sample below |w| = {vs:.3g} {u.velocity}")
+    hi = (f"above {10 * vs:.3g} {u.velocity} {rr[high].mean():+.3g} {u.torque}" if np.any(high)
+          else f"none above {10 * vs:.3g} {u.velocity}")
+    return (f"{lo}, {hi}; "
             f"fitted Stribeck excess {fr.stribeck_pos:.3g} {u.torque} "
             f"({100 * fr.stribeck_pos / max(fc, 1e-12):.0f} % of the Coulomb level {fc:.3g} "
             f"{u.torque}), Stribeck velocity {vs:.3g} {u.velocity}")
