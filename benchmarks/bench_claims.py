@@ -16,9 +16,15 @@ The named alternative of every ratio is the paper pipeline on the same seeds, in
 ``tests/test_paper.py::test_fricctl_pipeline_targets_over_20_seeds`` (slow) asserts the
 fricctl targets that are met.
 
-Usage: ``python benchmarks/bench_claims.py [--seeds 20] [--bench NAME] [--fast]``: on the bench
-``NAME`` of :data:`fricctl.paper.benches.BENCHES` (its plant, settings and sensing; default the
-literal one, whose plant is :func:`fricctl.params.paper_actuator`).
+Usage: ``python benchmarks/bench_claims.py [--seeds 20] [--bench NAME] [--ripple FRACTION]
+[--fast]``: on the bench ``NAME`` of :data:`fricctl.paper.benches.BENCHES` (its plant, settings
+and sensing; default the literal one, whose plant is :func:`fricctl.params.paper_actuator`).
+
+``--ripple FRACTION`` (issue 22, a sensitivity study, not a change of the bench): the amplitude of
+the drive's torque ripple for this run, as a fraction of the bench's maximum torque (0.01: 1 % of
+Tmax), in [0, 1]; the ripple's period and phase stay the bench's (the consistent bench draws the
+phase per run), the shipped bench file is not touched (:func:`bench_for`).  Without it, the
+bench's own amplitude.  The networks do not depend on it (they train on the clean records).
 """
 
 from __future__ import annotations
@@ -31,8 +37,9 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from fricctl import _validate as v
 from fricctl import paper
-from fricctl.paper.benches import BENCHES, PARAMS_BENCH, bench
+from fricctl.paper.benches import BENCHES, PARAMS_BENCH, Bench, bench
 from fricctl.paper.common import designs
 
 
@@ -41,18 +48,64 @@ def spread(x) -> str:
     return f"{np.median(x):.3g} [{x.min():.3g}, {x.max():.3g}]"
 
 
-def main() -> None:
+def ripple_fraction(x) -> float:
+    """The ``--ripple`` value checked: a real number in [0, 1] (a fraction of the maximum torque) [-].
+
+    Raises
+    ------
+    ValueError
+        Not a real number, not finite (NaN, inf), negative or above 1, naming ``--ripple``.
+    """
+    return v.real("--ripple", x, low=0.0, high=1.0, unit="(a fraction of the maximum torque)")
+
+
+def bench_for(name: str, ripple: float | None = None) -> Bench:
+    """The shipped bench ``name``, its torque ripple's amplitude set to ``ripple`` times its maximum
+    torque (:func:`ripple_fraction`; None: the bench's own amplitude).
+
+    Only the amplitude changes (:meth:`~fricctl.paper.benches.Bench.with_sensing`, provenance "a
+    sensitivity study"): the ripple's period and phase, the noise and the plant are the bench's, and
+    the shipped file is not touched.  ``ripple=0`` is the bench without a ripple.
+
+    Examples
+    --------
+    >>> b = bench_for("consistent", 0.005)
+    >>> round(b.sensing.torque_ripple / b.model.max_torque, 12), b.sensing.torque_ripple_phase
+    (0.005, 'random')
+    """
+    b = bench(name)
+    if ripple is None:
+        return b
+    f = ripple_fraction(ripple)
+    return b.with_sensing(f"a sensitivity study (bench_claims.py --ripple {f:g}): {f:g} x the maximum torque "
+                          f"{b.model.max_torque:.6g} N*m", torque_ripple=f * b.model.max_torque)
+
+
+def _ripple_arg(text: str) -> float:
+    """argparse's reading of ``--ripple``: a plain decimal number, checked (exit 2 naming it)."""
+    try:
+        return ripple_fraction(v.number_text("--ripple", text))
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def main(argv=None) -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--bench", choices=tuple(BENCHES), default=PARAMS_BENCH)
+    ap.add_argument("--ripple", type=_ripple_arg, default=None, metavar="FRACTION",
+                    help="amplitude of the drive's torque ripple for this run, a fraction of the bench's "
+                         "maximum torque in [0, 1] (default: the bench's own)")
     ap.add_argument("--fast", action="store_true", help="short training experiments")
-    args = ap.parse_args()
-    b = bench(args.bench)
+    args = ap.parse_args(argv)
+    b = bench_for(args.bench, args.ripple)
     p = b.actuator
     s = b.sensing
     print(f"bench {b.name}: encoder jitter {s.encoder_jitter:g} counts, torque noise {s.torque_noise:g} N*m, "
-          f"torque ripple {s.torque_ripple:g} N*m of period {s.torque_ripple_period:.6g} rad (phase "
-          f"{s.torque_ripple_phase}), velocity {s.velocity_estimate}; {'fast' if args.fast else 'full'} mode")
+          f"torque ripple {s.torque_ripple:g} N*m = {s.torque_ripple / b.model.max_torque:.4g} x Tmax"
+          f"{' (--ripple)' if args.ripple is not None else ''} of period {s.torque_ripple_period:.6g} rad "
+          f"(phase {s.torque_ripple_phase}), velocity {s.velocity_estimate}; "
+          f"{'fast' if args.fast else 'full'} mode")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn")) as ex:
@@ -94,6 +147,10 @@ def main() -> None:
         print(f"\n{name}: {sum(s.holds for s in paper_claims)} of {len(paper_claims)} paper claims hold "
               f"(>= 90 % of {args.seeds} seeds); not holding: "
               + ", ".join(f"{s.id} {s.n_passed}/{s.n_seeds}" for s in paper_claims if not s.holds))
+        print("  every claim, passed (R: failed by a runaway check): " + ", ".join(
+            f"{s.id}{' (extra)' if s.extra else ''} {s.n_passed}" + (f" R{s.runaway_failures}" if s.runaway_failures
+                                                                    else "")
+            for (pl, _), s in stats.items() if pl == name))
     kp = designs(b)["fig13-14"].kp
     g = float(np.median(g_fricctl))
     print(f"\ntrade-off of the fricctl pipeline's g = {g:.3f}: Fig. 14's stuck PD loop (Kp = {kp:.3f} N*m/rad) "
