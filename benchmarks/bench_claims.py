@@ -93,12 +93,16 @@ def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
     """Where the aged, compensated joint of Figs. 16-17 stops, per seed, against its stuck band.
 
     The paper's law at s = :data:`~fricctl.paper.common.AGED_SCALE` (PD + s*T^at, friction x s) at
-    rest: the loop settles at Tm = Kp*e/(1 - s*g), and the joint stays stuck while
-    ``|Tm + ripple| <= s*Fs``, so it stops within ``(s*Fs + A)*(1 - s*g)/Kp`` of the reference (g the
-    seed's gain at rest, the network linear near rest as ``why`` takes it; A the ripple's amplitude).
-    A seed's 0.3 deg is then either certain (band < 0.3 deg) or where its approach ended inside a
-    wider band.  Printed for the record; nothing here decides a claim.
+    rest: the loop climbs to its first fixed point Tm = Kp*e + s*T^at(Tm, 0), and the joint stays
+    stuck while ``|Tm + ripple| <= s*Fs``, so it stops within the band
+    :func:`~fricctl.bench.experiments.predicted_dead_zone` (the seed's network, breakaway s*Fs + A,
+    A the ripple's amplitude) / Kp of the reference; for a network linear near rest with gain g that
+    is ``(s*Fs + A)*(1 - s*g)/Kp``, the closed form of ``claims.md``'s "why" (printed beside it: the
+    networks are not exactly linear, and a stop may lie between the two).  A seed's 0.3 deg is then
+    either certain (band < 0.3 deg) or where its approach ended inside a wider band.  Printed for the
+    record; nothing here decides a claim.
     """
+    from fricctl.bench.experiments import predicted_dead_zone
     from fricctl.paper.common import AGED_SCALE
 
     s, fs, a = AGED_SCALE, b.actuator.static, b.sensing.torque_ripple
@@ -106,21 +110,24 @@ def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
     stats = {st.id: st for st in res.stats if st.pipeline == pipeline}
     e16, e17 = stats["fig16-nn"].values, stats["fig17-nn"].values
     g = np.array([res.runs[(pipeline, k)].gain_at_rest for k in res.seeds])
-    band0 = np.rad2deg(s * fs * (1 - s * g) / kp)
-    band = np.rad2deg((s * fs + a) * (1 - s * g) / kp)
+    linear = np.rad2deg((s * fs + a) * (1 - s * g) / kp)
+    band = np.rad2deg([predicted_dead_zone(res.runs[(pipeline, k)].net, s * fs + a, scale=s).largest / kp
+                       for k in res.seeds])
     count = np.rad2deg(b.actuator.encoder_resolution)
     limit = paper.ACCURACY_DEG
     print(f"\n{pipeline} pipeline, Figs. 16-17 at s = {s:g} (Kp = {kp:.4f} N*m/rad, Fs = {fs:.3f} N*m, "
-          f"A = {a:.4g} N*m): per seed g, the band (s*Fs + A)(1 - s*g)/Kp [deg] (without the ripple), "
-          "fig16-nn and fig17-nn |e_ss| [deg]")
-    for k, gk, bk, b0, x16, x17 in zip(res.seeds, g, band, band0, e16, e17):
-        print(f"  seed {k}: g {gk:.4f}, band {bk:.3f} ({b0:.3f}), fig16 {x16:.3f}, fig17 {x17:.3f}")
+          f"A = {a:.4g} N*m): per seed g, the stuck band of its network [deg] (linear near rest: "
+          "(s*Fs + A)(1 - s*g)/Kp), fig16-nn and fig17-nn |e_ss| [deg]")
+    for k, gk, bk, lk, x16, x17 in zip(res.seeds, g, band, linear, e16, e17):
+        print(f"  seed {k}: g {gk:.4f}, band {bk:.3f} (linear {lk:.3f}), fig16 {x16:.3f}, fig17 {x17:.3f}")
     inside = int(np.sum((e16 <= band + count) & (e17 <= band + count)))
-    print(f"  band > {limit:g} deg in {int(np.sum(band > limit))}/{len(g)} seeds (min {band.min():.3f} deg); "
+    print(f"  band > {limit:g} deg in {int(np.sum(band > limit))}/{len(g)} seeds (min {band.min():.3f} deg, "
+          f"linear {linear.min():.3f}); "
           f"both stops within the band (+1 count) in {inside}/{len(g)}; |e_ss| < {limit:g} deg inside a band "
           f"wider than it: fig16 {int(np.sum((e16 < limit) & (band > limit)))}, fig17 "
           f"{int(np.sum((e17 < limit) & (band > limit)))}; a band under {limit:g} deg needs "
-          f"g >= {(1 - np.deg2rad(limit) * kp / (s * fs + a)) / s:.4f} (s*g < 1: g < {1 / s:.4f})")
+          f"g >= {(1 - np.deg2rad(limit) * kp / (s * fs + a)) / s:.4f} in the linear form (s*g < 1: g < "
+          f"{1 / s:.4f}; s = 1 winds the torque up from g >= 1)")
 
 
 def main(argv=None) -> None:
