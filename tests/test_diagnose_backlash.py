@@ -173,6 +173,25 @@ def test_diagnose_names_backlash(axis, excitation):
     assert d.extended.backlash == pytest.approx(rec.magnitude["backlash"], rel=0.10)
 
 
+def test_no_gap_at_the_encoders_end_beside_a_drift_and_stops():
+    # issue 21, the slow stops sweep's record 7116 (a thermal drift alone, end stops): a dead
+    # band of 4 encoder counts -- the scan's first gap, its share falling monotonically from
+    # there (0.37 of the true model's residual at 4 counts, 0.12 at 20) -- was named beside
+    # the drift, 81 % of the inertia behind it.  Of what it removed 37 % lay at the one
+    # impact the stops' detector misses (the upper stop, hit once at 0.17 rad/s), the rest
+    # spread over the motion at the floor; with that contact masked it was named all the
+    # same (net 36 %).  A 4-count band removes 15-49 % of the true model's residual on
+    # eight records of the sweep, effect-free ones too: it fits the measuring chain.  A gap
+    # at the grid's lower end is not located, as one at its upper end is not.
+    from test_diagnose_stops import _rate_record
+
+    cause, rec = _rate_record(7116)
+    assert cause == "thermal_drift" and rec.causes == ("thermal_drift",)
+    d = diagnose(rec.run)
+    assert d.causes == ("thermal_drift",), d.report()
+    assert "lower end" in d.not_identifiable["backlash"], d.not_identifiable
+
+
 # ----------------------------------------------------------------------------- rates
 def _sweep(cause, cases, seed0):
     named = []
