@@ -76,7 +76,7 @@ def bench_for(name: str, ripple: float | None = None) -> Bench:
     b = bench(name)
     if ripple is None:
         return b
-    f = ripple_fraction(ripple)
+    f = ripple_fraction(ripple) + 0.0  # -0 read as 0
     return b.with_sensing(f"a sensitivity study (bench_claims.py --ripple {f:g}): {f:g} x the maximum torque "
                           f"{b.model.max_torque:.6g} N*m", torque_ripple=f * b.model.max_torque)
 

@@ -230,9 +230,13 @@ if est is not None:
         slide = next(e for e in dd.below_line if e.cause == "presliding")
         # presliding: under 2 %, and the test cannot tell it from the scatter
         assert not slide.supported and slide.score < 0.02 and slide.p_value >= 0.01
-        assert [e.cause for e in dd.below_line if e.supported] == ["position_ripple"]
+        assert not any(e.supported for e in dd.below_line)  # nothing supported below the line
+        assert dd.below_line[0].cause == "position_ripple"  # the largest entry
     for e in ripples.values():
-        assert e.supported and 0.10 < e.score < MIN_SCORE and e.p_value < 0.01
+        # 10 % to the line, but the test cannot tell it: p between 0.01 and 0.1, with fewer
+        # effective degrees of freedom after the term than before
+        assert not e.supported and 0.10 < e.score < MIN_SCORE and 0.01 <= e.p_value < 0.1
+        assert e.dof_after < 0.6 * e.dof
         assert abs(e.parameters["ripple_period"] / est.motor_revolution - 1) < 0.01
         assert abs(e.motor_revolutions["ripple_period"] - 1) < 0.01
     assert ripples["published"].parameters["ripple_period"] == \
@@ -281,26 +285,29 @@ if est is not None:
 # left, both ways: **not explained** -- the held-out residual stays
 # more than twice the measuring chain's floor, and it depends most on velocity.
 #
-# **Below the naming line.**  The diagnosis also reports what the data support but what
-# does not reach the line (`below_line`): each candidate of the last step that lowers the
-# held-out residual, with its net share, a stated test -- the verdict's variance-ratio F test
-# of the held-out mean squares before and after the term, with the record's effective
-# degrees of freedom, at p < 0.01 -- its fitted physical parameters and the checks a named
-# cause passes.  Both ways, exactly one effect is supported: a **ripple periodic in
-# position** whose period lies within 1 % of **one motor revolution** (the screw's lead,
-# 2.5 mm, which [`emps`](#fricctl.datasets.emps) attaches to the record); it removes between
-# 10 % and the 19 % line of what is left, so it is reported, not named.  Both starting
-# points give the same period.  The **presliding at the reversals** removes under 2 % and
-# the test cannot tell it from the residual's scatter: not supported, and no other cause
-# of the list is either.
+# **Below the naming line.**  The diagnosis also reports what does not reach the line
+# (`below_line`): each candidate of the last step that lowers the held-out residual, with its
+# net share, a stated test -- the verdict's variance-ratio F test of the held-out mean squares
+# before and after the term, each with its own residual's effective degrees of freedom, at
+# p < 0.01 -- its fitted physical parameters and the checks a named cause passes.  Both ways,
+# the largest entry is a **ripple periodic in position** whose period lies within 1 % of
+# **one motor revolution** (the screw's lead, 2.5 mm, which [`emps`](#fricctl.datasets.emps)
+# attaches to the record), and both starting points give the same period.  It removes
+# between 10 % and the 19 % line of what is left -- but the test cannot tell it from the
+# scatter at p < 0.01 (its p lies between 0.01 and 0.1, printed above): what the ripple
+# leaves correlates over longer times, so the residual after it has fewer than 60 % of the
+# effective degrees of freedom of the residual before it (both counts printed).  So it is
+# reported with its period and **not supported**.  The **presliding at the reversals**
+# removes under 2 %, also not supported, and no other cause of the list is either.
 #
-# **Does the ripple transfer?**  Added with the amplitude, period and phase fitted on
+# **Does the ripple transfer?**  Added anyway, with the amplitude, period and phase fitted on
 # `DATA_EMPS.mat`, the ripple lowers the force RMS on that record by more than 5 % -- but on
 # `DATA_EMPS_PULSES.mat` it makes the force prediction *worse* (the RMS is printed above)
 # and leaves the simulated position unchanged (within 1 %).  Diagnosed on its own, the PULSES
-# record shows a ripple below the line too, which the test does not support there.  So the
-# ripple of one motor revolution is what the estimation record supports, and it does not
-# carry over as fitted.  Why, we have not shown: the data folder's README notes that the
+# record shows a ripple below the line too, which the test does not support there either.
+# So a ripple of one motor revolution is what the estimation record suggests, at a period a
+# screw drive makes plausible; the test does not confirm it, and it does not carry over as
+# fitted.  Why, we have not shown: the data folder's README notes that the
 # PULSES position looks low-pass filtered after acquisition, which would shift such a
 # ripple's phase at the plateau speeds -- a hypothesis, not tested here.  The largest part of
 # what is left depends on velocity in a way no cause of the list captures.
@@ -320,10 +327,10 @@ if est is not None:
 #   published asymmetric model, and nothing else; the published offset was not needed, and
 #   the extended model predicted the held-out PULSES record better than the published model.
 # * The honest verdict on EMPS is *not explained*: the held-out residual stays above the
-#   measuring chain's floor and depends most on velocity.  Below the naming line the data
-#   support a ripple at one motor revolution (the same period from both starting points),
-#   not the presliding; fitted on one record, the ripple does not improve the prediction of
-#   the other.
+#   measuring chain's floor and depends most on velocity.  Below the naming line the
+#   largest entry is a ripple at one motor revolution (the same period from both starting
+#   points), which the test does not support at p < 0.01, nor the presliding; fitted on one
+#   record, the ripple does not improve the prediction of the other.
 # * The exercises show the limits: the smallest delay a record can show is one sample, a
 #   fitted baseline absorbs a wrong inertia, and a load-dependent term cannot be told from
 #   inertia and friction on a drive that never brakes.

@@ -30,11 +30,11 @@ re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl 
 the re-simulation windows, the floor and the verdict, and the text says so); with
 ``--model``, ``held_by_model`` (the causes whose effect the model held, removed to be
 judged), ``origin`` (per named cause: "found" or "held by the supplied model") and
-``supplied`` (the model's parameters); ``below_line``: the candidates of the step that
-named nothing that lower the held-out residual, supported first, each with ``score`` (net of
+``supplied`` (the model's parameters); ``below_line``: the candidates below the naming line
+that lower the held-out residual, supported first, each with ``score`` (net of
 the measuring chain's share; gross where ``chain`` is null), ``gross``, ``chain``,
 ``p_value`` of the verdict's variance-ratio F test of the reduction (``dof`` effective
-degrees of freedom each), ``supported`` (the test at p < 0.01 and the checks a named cause
+degrees of freedom before, ``dof_after`` after), ``supported`` (the test at p < 0.01 and the checks a named cause
 passes), ``plausible``, ``reason``, ``parameters`` (what its fitted term sets: a ripple's
 period and amplitude ...), ``evidence``, ``simulation_score`` and ``motor_revolutions`` (a
 period over ``motor_revolution``, the travel of one motor revolution given by

@@ -10,11 +10,13 @@ with:
   measured on the record's effect-free twin, :mod:`.twin`, as for a named cause);
 * a stated statistical test, the verdict's (:func:`~fricctl.diagnose.verdict.reduction_p`):
   the one-sided variance-ratio F test of the held-out mean squares before and after the
-  term, ``1/(1 - s)`` for a share ``s``, each with the effective degrees of freedom of the
-  residual of the model as it stands, counted as the verdict counts them (samples over the
-  integrated correlation time, :func:`~fricctl.diagnose.verdict.effective_dof`), at the
-  verdict's level :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`; first on the gross share
-  (a term that fails it is not fitted further: its net share can only be smaller), then on
+  term, ``1/(1 - s)`` for a share ``s``, each with the effective degrees of freedom of its
+  own residual -- the model as it stands, and the model with the term fitted on all data --
+  counted as the verdict counts them (samples over the integrated correlation time,
+  :func:`~fricctl.diagnose.verdict.effective_dof`; taking a term out can lengthen the
+  residual's correlation and so lower the count after it), at the verdict's level
+  :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`; first on the gross share (a term that
+  fails it is not asked for the chain's share: its net share can only be smaller), then on
   the net share.  The test treats the two residuals as independent, which those of nested
   models on the same samples are not: it is conservative, chosen so that a reduction counts
   only when it stands out from the scatter of the residual's own mean square (a partial F
@@ -37,8 +39,8 @@ Below the line the selection goes on as above it: the best supported candidate i
 into the model and the rest are scored again on what it leaves, until none is supported, so
 that candidates competing for one part of the residual are not all called supported.
 Nothing is decided by a magnitude.  The test is run once per candidate and round at
-p < 0.01, with no correction for the several candidates tried; below about 470 effective
-degrees of freedom no share under the naming line can pass it.  A period in position is also given in motor revolutions
+p < 0.01, with no correction for the several candidates tried; below about 490 effective
+degrees of freedom (before and after alike) no share under the naming line can pass it.  A period in position is also given in motor revolutions
 when the travel of one revolution is known (:attr:`BelowLine.motor_revolutions`).
 """
 
@@ -52,16 +54,17 @@ import numpy as np
 
 from .causes import Term
 from .crossval import cross_validate, full_fit
-from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _name, _parts, _score,
-                        _Told, _why_not_told, sensor_scales, speed_curve)
+from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _name, _parts, _residual,
+                        _score, _Told, _why_not_told, sensor_scales, speed_curve)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
 
 __all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
 
 #: The test, in words (for the report).
 TEST = ("verdict's one-sided variance-ratio F test of the held-out mean squares before and after "
-        "the term, each with the effective degrees of freedom of the residual of the model as it "
-        "stands (samples over its correlation time)")
+        "the term, each with the effective degrees of freedom of its own residual (the model as "
+        "it stands, and with the term fitted on all data: samples over the residual's "
+        "correlation time)")
 
 #: Fitted parameters that are a period in position: compared with one motor revolution
 #: when the record's transmission is known.
@@ -70,7 +73,8 @@ PERIOD_PARAMETERS = ("ripple_period",)
 
 @dataclass(frozen=True, kw_only=True)
 class BelowLine:
-    """A candidate of the step that named nothing, with what the record says of it."""
+    """A candidate below the naming line, with what the record says of it: one taken in a
+    round below the line, or one of the last round (:func:`below_line`)."""
 
     cause: str
     """The candidate."""
@@ -87,13 +91,18 @@ class BelowLine:
     """p-value of the verdict's F test of the net reduction (of the gross one where the net
     is not measured) [-]."""
     dof: float
-    """Effective degrees of freedom of each mean square of the test [-]."""
+    """Effective degrees of freedom of the mean square before the term [-]."""
+    dof_after: float
+    """Effective degrees of freedom of the mean square after it (the residual with the term
+    fitted on all data; :attr:`dof` where no term could be fitted) [-]."""
     supported: bool
-    """The net reduction passes the test at :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`
-    and the term can be told on this record (:attr:`plausible`)."""
+    """The net reduction passes the test at :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`,
+    the term can be told on this record (:attr:`plausible`), its model re-simulates the
+    held-out windows no worse, and no generic rival leaves it nothing the test can tell."""
     plausible: bool | None
-    """The term fitted on all data passes the checks a named cause passes; None where not
-    fitted."""
+    """The term fitted on all data passes the checks a named cause passes before it is
+    tried (:func:`~fricctl.diagnose.selection._why_not_told`; False where no variant fits);
+    None where not checked (the test fails first)."""
     reason: str = ""
     """Why it is not supported (the test, or the check it fails), or ``""``."""
     parameters: dict = field(default_factory=dict)
@@ -102,7 +111,8 @@ class BelowLine:
     """The cause's own evidence clause for the fitted term, or ``""``."""
     simulation_score: float = math.nan
     """Held-out share of the windowed simulation error (position, sum of squares) the term
-    removes [-]; NaN where not computed (not supported)."""
+    removes [-]; NaN where not computed (the test or the checks before it fail) or where
+    the windows cannot be re-simulated."""
     motor_revolutions: dict = field(default_factory=dict)
     """Per fitted period in position (:data:`PERIOD_PARAMETERS`): the period in motor
     revolutions [-]; empty where the travel of one revolution is not known."""
@@ -111,6 +121,7 @@ class BelowLine:
         """The entry's JSON object."""
         return {"cause": self.cause, "score": self.score, "gross": self.gross,
                 "chain": self.chain, "p_value": self.p_value, "dof": self.dof,
+                "dof_after": self.dof_after,
                 "supported": self.supported, "plausible": self.plausible,
                 "reason": self.reason or None, "parameters": dict(self.parameters),
                 "evidence": self.evidence or None, "simulation_score": self.simulation_score,
@@ -125,8 +136,12 @@ class BelowLine:
         else:
             share = (f"{100 * self.gross:.1f} % of what is left, gross (the measuring chain's "
                      f"share not measured)")
-        test = f"F test p = {self.p_value:.2g} ({self.dof:.0f} effective degrees of freedom each)"
+        test = (f"F test p = {self.p_value:.2g} ({self.dof:.0f} and {self.dof_after:.0f} effective "
+                f"degrees of freedom, before and after)")
         out = f"`{self.cause}`: removes {share}; {test}"
+        if self.score >= MIN_SCORE:
+            out += (" (at the naming line only once the entries taken below it are in the model, "
+                    "which the selection does not do: reported, not named)")
         if self.evidence:
             out += f"; {self.evidence}"
         for name, turns in self.motor_revolutions.items():
@@ -206,33 +221,22 @@ def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
 def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callable,
            motor_revolution: float | None):
     """``(BelowLine, fit)`` of the scored candidate ``s`` on the model as it stands (``fit``
-    the term fitted on all data, None where not fitted), or None: it does not lower the
-    held-out residual, or it reaches the line."""
+    the term fitted on all data, None where no variant fits), or None: it does not lower the
+    held-out residual (gross, or net of the measuring chain's share).  A candidate that
+    reached the line in the selection's last step was set aside there (not told) and is not
+    passed here; one that reaches it in a later round below the line is reported as it is."""
     name = s.cause.name
-    if not s.gross > 0 or s.net >= MIN_SCORE:
+    if not s.gross > 0:
         return None
     sig = problem.sig
     dof = effective_dof(state.base.current_residual[sig.moving])
-    if s.gross >= MIN_SCORE:  # the selection measured the chain's share (at the line)
-        share = s.chain
-    else:
-        p = reduction_p(s.gross, dof)
-        if not p < SIGNIFICANCE:  # the net share can only be smaller: the chain is not asked
-            return (BelowLine(cause=name, score=s.gross, gross=s.gross, chain=math.nan,
-                              p_value=p, dof=dof, supported=False, plausible=None,
-                              reason=_not_significant(p)), None)
-        named = tuple(x.cause for x in state.selected)
-        share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
-    net = s.gross - share
-    if not net > 0:
-        return None  # the measuring chain alone removes as much: nothing of the record's
-    p = reduction_p(net, dof)
     fixed = tuple(x.variant for x in state.selected)
     fit = full_fit(problem, state.base.variants(s.cause, None), fixed)
-    why = _why_not_told(problem, state, s.cause, fit, fixed)
-    entry = dict(cause=name, score=net, gross=s.gross, chain=share, p_value=p, dof=dof,
-                 plausible=why is None)
+    after = dof
+    entry = dict(cause=name, gross=s.gross, dof=dof)
     if fit is not None:
+        after = effective_dof(_residual(problem, fixed + (fit.variant,), fit.theta)[sig.moving])
+        after = after if math.isfinite(after) and after > 0 else dof
         coef = fit.theta[fit.theta.size - s.cause.n_extra:]
         term = Term(h=fit.variant.h, coef=coef)
         extended = state.base.model(_parts(state.selected) + [(s.cause, fit.variant.h)], fit.theta)
@@ -242,6 +246,22 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
         if motor_revolution is not None:
             entry["motor_revolutions"] = {c: entry["parameters"][c] / motor_revolution
                                           for c in PERIOD_PARAMETERS if c in entry["parameters"]}
+    entry["dof_after"] = after
+    if s.gross >= MIN_SCORE:  # the selection measured the chain's share (at the line)
+        share = s.chain
+    else:
+        p = reduction_p(s.gross, dof, after)
+        if not p < SIGNIFICANCE:  # the net share can only be smaller: the chain is not asked
+            return (BelowLine(**entry, score=s.gross, chain=math.nan, p_value=p, supported=False,
+                              plausible=None, reason=_not_significant(p)), fit)
+        named = tuple(x.cause for x in state.selected)
+        share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+    net = s.gross - share
+    if not net > 0:
+        return None  # the measuring chain alone removes as much: nothing of the record's
+    p = reduction_p(net, dof, after)
+    why = _why_not_told(problem, state, s.cause, fit, fixed)
+    entry.update(score=net, chain=share, p_value=p, plausible=why is None)
     reasons = []
     if not p < SIGNIFICANCE:
         reasons.append(_not_significant(p) + " once the measuring chain's share is taken off")
@@ -253,7 +273,7 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
             reasons.append(f"its extended model re-simulates the held-out windows worse "
                            f"(position error, sum of squares, {-100 * sim:+.1f} %)")
         else:
-            rival = _rival(problem, state, s, sse_prev, dof)
+            rival = _rival(problem, state, s, sse_prev, dof, after)
             if rival is not None:
                 reasons.append(rival)
     entry["supported"] = not reasons
@@ -261,7 +281,7 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
     return BelowLine(**entry), fit
 
 
-def _rival(problem, state, s, sse_prev: float, dof: float) -> str | None:
+def _rival(problem, state, s, sse_prev: float, dof: float, after: float) -> str | None:
     """Why a generic alternative a named cause must beat (a sensor's scale error with a
     nominal model; a friction-speed curve of another shape, for a cause that is not itself a
     friction curve) explains the record better and leaves the term nothing the test can
@@ -281,7 +301,7 @@ def _rival(problem, state, s, sse_prev: float, dof: float) -> str | None:
                             lambda f: fixed_for(f) + (rv.variant,))
         both = float(np.sum(np.where(np.isnan(cv.test), rv.test, cv.test)))
         on_top = 1.0 - both / sse_rival if sse_rival > 0 else 0.0
-        p = reduction_p(on_top, dof)
+        p = reduction_p(on_top, dof, after)
         if not p < SIGNIFICANCE:
             return (f"{rv.what} removes more of the held-out residual "
                     f"({100 * (1 - sse_rival / sse_prev):.0f} % against {100 * s.gross:.0f} %) "

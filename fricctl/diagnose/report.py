@@ -125,10 +125,12 @@ class Diagnosis:
     supplied : JointModel or None
         The model as supplied (None in fit mode).
     below_line : tuple of BelowLine
-        The candidates of the step that named nothing that lower the held-out residual,
-        supported first (:mod:`.below`): each with its net share, the F test of the
-        reduction, its fitted physical parameters, whether the record can tell it, and (when
-        supported) its held-out simulation score.
+        The candidates below the naming line that lower the held-out residual
+        (:func:`~fricctl.diagnose.below.below_line`): the supported ones in the order a
+        selection below the line takes them, then the last round's others by net share; each
+        with its net share, the F test of the reduction (each mean square with its own
+        effective degrees of freedom), its fitted physical parameters, whether the record can
+        tell it, and its held-out simulation score where the checks before it pass.
     motor_revolution : float or None
         Travel of one motor revolution [rad] or [m] the periods are compared with (None:
         unknown).

@@ -138,35 +138,40 @@ def effective_dof(residual: np.ndarray) -> float:
     return r.size / max(correlation_time(r), 1.0) if r.size > 2 else math.nan
 
 
-def variance_ratio_p(ratio2: float, dof: float) -> float:
+def variance_ratio_p(ratio2: float, dof: float, dof_after: float | None = None) -> float:
     """The verdict's test: one-sided variance-ratio F test of two mean squares whose ratio is
-    ``ratio2``, each with ``dof`` effective degrees of freedom (:func:`effective_dof`) [-]."""
-    return float(stats.f.sf(ratio2, dof, dof))
+    ``ratio2``, the first with ``dof`` effective degrees of freedom (:func:`effective_dof`),
+    the second with ``dof_after`` (default: ``dof``) [-]."""
+    return float(stats.f.sf(ratio2, dof, dof if dof_after is None else dof_after))
 
 
-def reduction_p(share: float, dof: float) -> float:
+def reduction_p(share: float, dof: float, dof_after: float | None = None) -> float:
     """p-value of a held-out residual reduction by the verdict's test [-].
 
-    A term that removes the fraction ``share`` of a held-out residual (sum of squares) of
-    ``dof`` effective degrees of freedom: :func:`variance_ratio_p` of the mean squares before
-    and after, ``1 / (1 - share)``, each with ``dof``.  The two residuals are of nested models
-    on the same samples (positively correlated), which the test treats as independent: it is
-    conservative (a reduction must stand out from the scatter of a mean square of ``dof``
-    degrees of freedom itself: 15 % at 800, 7 % at 4000, for p = 0.01).  A share at
-    or below 0 gives 1.
+    A term that removes the fraction ``share`` of a held-out residual (sum of squares):
+    :func:`variance_ratio_p` of the mean squares before and after, ``1 / (1 - share)``, each
+    with its residual's own effective degrees of freedom (``dof`` before, ``dof_after`` after;
+    default the same).  The two residuals are of nested models on the same samples
+    (positively correlated), which the test treats as independent: it is conservative (a
+    reduction must stand out from the scatter of a mean square itself: with 800 degrees of
+    freedom each 15 %, with 4000 7 %, for p = 0.01).  A share at or below 0 gives 1.
 
     Examples
     --------
     >>> reduction_p(0.0, 500.0), reduction_p(0.3, 500.0) < 1e-4
     (1.0, True)
+    >>> reduction_p(0.16, 772.0) < 0.01 < reduction_p(0.16, 772.0, 293.0)
+    True
     """
-    if not (math.isfinite(share) and math.isfinite(dof) and dof > 0):
+    after = dof if dof_after is None else dof_after
+    if not (math.isfinite(share) and math.isfinite(dof) and dof > 0 and math.isfinite(after)
+            and after > 0):
         return math.nan
     if share <= 0.0:
         return 1.0
     if share >= 1.0:
         return 0.0
-    return variance_ratio_p(1.0 / (1.0 - share), dof)
+    return variance_ratio_p(1.0 / (1.0 - share), dof, after)
 
 
 def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict, *,
