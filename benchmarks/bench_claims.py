@@ -89,6 +89,18 @@ def _ripple_arg(text: str) -> float:
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
+def _seeds_arg(text: str) -> int:
+    """argparse's reading of ``--seeds``: a whole number in 1 .. MAX_SEEDS, checked when the
+    command is parsed (exit 2 naming it), not deep in the run."""
+    from fricctl.cli.reproduce import _count
+    from fricctl.paper.reproduce import MAX_SEEDS
+
+    try:
+        return _count("--seeds", text, 1, MAX_SEEDS)  # what `fricctl reproduce --seeds` reads
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
     """Where the aged, compensated joint of Figs. 16-17 stops, per seed, against its stuck band.
 
@@ -132,7 +144,7 @@ def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--seeds", type=int, default=20)
+    ap.add_argument("--seeds", type=_seeds_arg, default=20)
     ap.add_argument("--bench", choices=tuple(BENCHES), default=PARAMS_BENCH)
     ap.add_argument("--ripple", type=_ripple_arg, default=None, metavar="FRACTION",
                     help="amplitude of the drive's torque ripple for this run, a fraction of the bench's "

@@ -102,3 +102,18 @@ def test_ripple_zero_is_the_ripple_free_bench(bc):
     np.testing.assert_array_equal(r0.torque_motor, rf.torque_motor)
     r1, _ = _step_run(bc.bench_for("consistent", 0.01), 7)
     assert not np.array_equal(r1.q, r0.q)
+
+
+@pytest.mark.parametrize("text", ["0", "-3", "2.5", "abc", "", "1001"])
+def test_seeds_on_the_command_line_exit_2_naming_it(bc, capsys, text):
+    # refused when the command is parsed (it failed deep in the run before, --seeds 0 included)
+    with pytest.raises(SystemExit) as e:
+        bc.main([f"--seeds={text}"])
+    assert e.value.code == 2
+    assert "argument --seeds" in capsys.readouterr().err
+
+
+def test_ripple_minus_zero_is_zero(bc):
+    # "--ripple -0" was printed "-0 x the maximum torque": it is read as 0
+    r = bc.bench_for("consistent", -0.0).sensing.torque_ripple
+    assert r == 0.0 and math.copysign(1.0, r) == 1.0
