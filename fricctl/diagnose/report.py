@@ -261,7 +261,8 @@ class Diagnosis:
         if self.last_ranking:
             best = self.last_ranking[0]
             lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
-                          f"{100 * best[1]:.1f} % of what is left (net)."]
+                          f"{100 * best[1]:.1f} % of what is left (net of the measuring chain's "
+                          f"share, which is measured only where the gross share reaches the line)."]
         lines += self._below_lines(u)
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
