@@ -28,6 +28,11 @@ def test_reduction_p_is_the_variance_ratio_test_of_the_two_mean_squares():
     for share, dof in ((0.05, 4000.0), (0.16, 772.0), (0.3, 50.0)):
         assert reduction_p(share, dof) == pytest.approx(
             stats.f.sf(1.0 / (1.0 - share), dof, dof), rel=1e-12)
+    # each mean square with its own count: F(dof before, dof after), told apart both ways round
+    for share, d1, d2 in ((0.16, 772.0, 293.0), (0.16, 293.0, 772.0), (0.05, 4000.0, 2500.0)):
+        assert reduction_p(share, d1, d2) == pytest.approx(
+            stats.f.sf(1.0 / (1.0 - share), d1, d2), rel=1e-12)
+    assert reduction_p(0.16, 772.0, 293.0) != pytest.approx(reduction_p(0.16, 293.0, 772.0), rel=1e-3)
     ps = [reduction_p(s, 800.0) for s in (0.02, 0.1, 0.18)]
     assert ps[0] > ps[1] > ps[2]
     assert math.isnan(reduction_p(0.1, math.nan))

@@ -3,8 +3,9 @@
 The forward selection (:mod:`.selection`) stops when no candidate removes
 :data:`~fricctl.diagnose.selection.MIN_SCORE` of what is left: a line for *naming* a cause
 (an effect that matters, a 10 % drop of the held-out RMS), not for what the data show.  This
-module reports the candidates of that last step that lower the held-out residual, each
-with:
+module reports the candidates of that last step that lower the held-out residual -- and,
+once a supported one is taken into the model below the line, those of the next round (see
+*Supported* below) -- each with:
 
 * its held-out share, gross and net of the measuring chain's share (the chain's share
   measured on the record's effect-free twin, :mod:`.twin`, as for a named cause);
@@ -94,7 +95,8 @@ class BelowLine:
     """Effective degrees of freedom of the mean square before the term [-]."""
     dof_after: float
     """Effective degrees of freedom of the mean square after it (the residual with the term
-    fitted on all data; :attr:`dof` where no term could be fitted) [-]."""
+    fitted on all data; :attr:`dof` where no term could be fitted or the count is not a
+    positive number) [-]."""
     supported: bool
     """The net reduction passes the test at :data:`~fricctl.diagnose.verdict.SIGNIFICANCE`,
     the term can be told on this record (:attr:`plausible`), its model re-simulates the
@@ -166,9 +168,9 @@ def _length(x: float | None, unit: str) -> str:
 
 def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
                motor_revolution: float | None = None) -> tuple:
-    """The candidates of the step that named nothing whose held-out share is positive, as
+    """The candidates below the naming line whose held-out share is positive, as
     :class:`BelowLine` entries: the supported ones in the order a forward selection below the
-    line takes them, then the others by net share (module notes).
+    line takes them, then the last round's others by net share (module notes).
 
     Below the line the selection goes on as above it: the best supported candidate is taken
     into the model and the others are scored again after it, until none is supported.  Each
@@ -286,7 +288,10 @@ def _rival(problem, state, s, sse_prev: float, dof: float, after: float) -> str 
     nominal model; a friction-speed curve of another shape, for a cause that is not itself a
     friction curve) explains the record better and leaves the term nothing the test can
     tell on top of it, or None.  As :func:`~fricctl.diagnose.selection._scale_matches`, with
-    the test instead of the naming line for what the term adds on top."""
+    the test instead of the naming line for what the term adds on top; the test's counts
+    are those of the term's own (``dof`` before, ``after`` with the term), not re-counted on
+    the rival's residuals (an approximation: the rival removes more, so its residual's count
+    may differ)."""
     rivals = sensor_scales(problem, state.base, state.selected)
     if not s.cause.friction_curve:
         rivals += (speed_curve(problem, state.base, state.selected),)

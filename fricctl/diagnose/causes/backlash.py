@@ -187,7 +187,9 @@ def _identifiable(base, term):
     if gap < (MIN_COUNTS - 1e-9) * count:
         return (f"the fitted gap ({gap / count:.3g} encoder counts) is below the "
                 f"{MIN_COUNTS:g} counts the encoder resolves")
-    if gap <= lo * 10.0 ** (0.5 / SCAN_PER_DECADE) * (1 + 1e-9):
+    if gap < lo * 10.0 ** (0.5 / SCAN_PER_DECADE) * (1 - 1e-9):
+        # (strictly below the midpoint to the second point: a variant at the midpoint is also
+        # the second point's half step down, a peak inside the scan, and is not refused)
         # the mirror of the upper end: the best gap at the grid's first point means the
         # share still grows towards gaps the encoder cannot resolve -- no peak is located.
         # A dead band that small coasts the load across the encoder's own steps: its
