@@ -225,7 +225,7 @@ if est is not None:
     for name, dd in results.items():
         print(f"{name}: below the naming line ({100 * MIN_SCORE:.0f} %):")
         for e in dd.below_line:
-            print(f"  {e.sentence('N', 'm', est.motor_revolution)}")
+            print(f"  {e.sentence('N', 'm')}")
         ripples[name] = next(e for e in dd.below_line if e.cause == "position_ripple")
         slide = next(e for e in dd.below_line if e.cause == "presliding")
         # presliding: under 2 %, and the test cannot tell it from the scatter

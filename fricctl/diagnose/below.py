@@ -54,9 +54,10 @@ from typing import Callable
 import numpy as np
 
 from .causes import Term
-from .crossval import cross_validate, full_fit
-from .selection import (MIN_SCORE, Selection, _fixed_for, _fold_model, _name, _parts, _residual,
-                        _score, _Told, _why_not_told, sensor_scales, speed_curve)
+from .crossval import full_fit
+from .selection import (MIN_SCORE, Selection, _name, _parts, _residual, _score, _Told,
+                        _why_not_told, rival_on_top, sensor_scales, simulation_score, speed_curve,
+                        term_trial)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
 
 __all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
@@ -129,9 +130,9 @@ class BelowLine:
                 "evidence": self.evidence or None, "simulation_score": self.simulation_score,
                 "motor_revolutions": dict(self.motor_revolutions)}
 
-    def sentence(self, torque_unit: str = "N*m", position_unit: str = "rad",
-                 motor_revolution: float | None = None) -> str:
-        """One line for the report: the shares, the test, the parameters."""
+    def sentence(self, torque_unit: str = "N*m", position_unit: str = "rad") -> str:
+        """One line for the report: the shares, the test, the parameters (a period also in
+        motor revolutions, the revolution read back from the two)."""
         if math.isfinite(self.chain):
             share = (f"{100 * self.score:.1f} % of what is left, net (gross "
                      f"{100 * self.gross:.1f} %, the measuring chain's {100 * self.chain:.1f} %)")
@@ -148,9 +149,8 @@ class BelowLine:
             out += f"; {self.evidence}"
         for name, turns in self.motor_revolutions.items():
             period = self.parameters[name]
-            rev = motor_revolution if motor_revolution is not None else period / turns
             out += (f"; period {_length(period, position_unit)} = {turns:#.3g} motor revolutions "
-                    f"(one revolution: {_length(rev, position_unit)})")
+                    f"(one revolution: {_length(period / turns, position_unit)})")
         if math.isfinite(self.simulation_score):
             out += (f"; held out, the re-simulation error (position, sum of squares) changes by "
                     f"{-100 * self.simulation_score:+.1f} %")
@@ -159,10 +159,8 @@ class BelowLine:
         return out + "."
 
 
-def _length(x: float | None, unit: str) -> str:
+def _length(x: float, unit: str) -> str:
     """A length in mm for a linear axis (its unit is m), else in the record's unit."""
-    if x is None:
-        return "unknown"
     return f"{1e3 * x:.4g} mm" if unit == "m" else f"{x:.4g} {unit}"
 
 
@@ -202,28 +200,39 @@ def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
         sse_prev = float(np.sum(state.test))
         if not sse_prev > 0:
             return tuple(taken)
-        tried = [_entry(problem, state, s, sse_prev, chain, simulate, motor_revolution)
+        dof = effective_dof(state.base.current_residual[problem.sig.moving])
+        tried = [_entry(problem, state, s, sse_prev, dof, chain, simulate, motor_revolution)
                  for name, s in scored.items() if name not in skip]
         entries = [t for t in tried if t is not None]
-        best = max((t for t in entries if t[0].supported), key=lambda t: t[0].score, default=None)
-        if best is None:
-            return tuple(taken) + tuple(sorted((e for e, _ in entries), key=lambda e: -e.score))
-        entry, fit = best
-        moved, rejected = _name(problem, state, (_Told(cause=scored[entry.cause].cause, fit=fit),),
-                                scored, (), sse_prev, simulate)
-        if rejected or len(moved.steps) == len(state.steps):  # cannot happen: checked above
-            return tuple(taken) + tuple(sorted((e for e, _ in entries), key=lambda e: -e.score))
-        taken.append(entry)
+        best = max((t for t in entries if t.line.supported), key=lambda t: t.line.score,
+                   default=None)
+        if best is not None:  # a supported term has re-simulated no worse: _name takes it
+            moved, _ = _name(problem, state, (_Told(cause=best.cause, fit=best.fit),), scored,
+                             (), sse_prev, simulate, made={best.cause.name: best.trial})
+        if best is None or len(moved.steps) == len(state.steps):
+            return tuple(taken) + tuple(sorted((t.line for t in entries), key=lambda e: -e.score))
+        taken.append(best.line)
         state = moved
         if not state.remaining:
             return tuple(taken)
         scored = _score(problem, state, chain, float(np.sum(state.test)), None)
 
 
-def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callable,
+@dataclass(frozen=True, kw_only=True, eq=False)
+class _Tried:
+    """A candidate of a round below the line: its entry, its term fitted on all data (None
+    where no variant fits) and its held-out trial (None where not simulated)."""
+
+    line: BelowLine
+    cause: object
+    fit: object = None
+    trial: object = None
+
+
+def _entry(problem, state, s, sse_prev: float, dof: float, chain: Callable, simulate: Callable,
            motor_revolution: float | None):
-    """``(BelowLine, fit)`` of the scored candidate ``s`` on the model as it stands (``fit``
-    the term fitted on all data, None where no variant fits), or None: it does not lower the
+    """:class:`_Tried` of the scored candidate ``s`` on the model as it stands, whose
+    residual has ``dof`` effective degrees of freedom, or None: it does not lower the
     held-out residual (gross, or net of the measuring chain's share).  A candidate that
     reached the line in the selection's last step was set aside there (not told) and is not
     passed here; one that reaches it in a later round below the line is reported as it is."""
@@ -231,7 +240,6 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
     if not s.gross > 0:
         return None
     sig = problem.sig
-    dof = effective_dof(state.base.current_residual[sig.moving])
     fixed = tuple(x.variant for x in state.selected)
     fit = full_fit(problem, state.base.variants(s.cause, None), fixed)
     after = dof
@@ -254,8 +262,9 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
     else:
         p = reduction_p(s.gross, dof, after)
         if not p < SIGNIFICANCE:  # the net share can only be smaller: the chain is not asked
-            return (BelowLine(**entry, score=s.gross, chain=math.nan, p_value=p, supported=False,
-                              plausible=None, reason=_not_significant(p)), fit)
+            return _Tried(line=BelowLine(**entry, score=s.gross, chain=math.nan, p_value=p,
+                                         supported=False, plausible=None,
+                                         reason=_not_significant(p)), cause=s.cause, fit=fit)
         named = tuple(x.cause for x in state.selected)
         share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
     net = s.gross - share
@@ -264,13 +273,14 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
     p = reduction_p(net, dof, after)
     why = _why_not_told(problem, state, s.cause, fit, fixed)
     entry.update(score=net, chain=share, p_value=p, plausible=why is None)
-    reasons = []
+    reasons, tried = [], None
     if not p < SIGNIFICANCE:
         reasons.append(_not_significant(p) + " once the measuring chain's share is taken off")
     if why is not None:
         reasons.append(f"the record cannot tell it: {why}")
     if not reasons:  # the checks a named cause passes next: the re-simulation, the rivals
-        entry["simulation_score"] = sim = _simulation_score(state, s, simulate, sig.n_folds)
+        tried = term_trial(problem, state, s.cause, s.cv, simulate)
+        entry["simulation_score"] = sim = simulation_score(state, tried)
         if math.isfinite(sim) and sim <= 0.0:
             reasons.append(f"its extended model re-simulates the held-out windows worse "
                            f"(position error, sum of squares, {-100 * sim:+.1f} %)")
@@ -280,34 +290,29 @@ def _entry(problem, state, s, sse_prev: float, chain: Callable, simulate: Callab
                 reasons.append(rival)
     entry["supported"] = not reasons
     entry["reason"] = "; ".join(reasons)
-    return BelowLine(**entry), fit
+    return _Tried(line=BelowLine(**entry), cause=s.cause, fit=fit, trial=tried)
 
 
 def _rival(problem, state, s, sse_prev: float, dof: float, after: float) -> str | None:
     """Why a generic alternative a named cause must beat (a sensor's scale error with a
     nominal model; a friction-speed curve of another shape, for a cause that is not itself a
     friction curve) explains the record better and leaves the term nothing the test can
-    tell on top of it, or None.  As :func:`~fricctl.diagnose.selection._scale_matches`, with
-    the test instead of the naming line for what the term adds on top; the test's counts
+    tell on top of it, or None.  As :func:`~fricctl.diagnose.selection._scale_matches`
+    (:func:`~fricctl.diagnose.selection.rival_on_top`), with the test instead of the naming
+    line for what the term adds on top; the test's counts
     are those of the term's own (``dof`` before, ``after`` with the term), not re-counted on
     the rival's residuals (an approximation: the rival removes more, so its residual's count
     may differ)."""
     rivals = sensor_scales(problem, state.base, state.selected)
     if not s.cause.friction_curve:
         rivals += (speed_curve(problem, state.base, state.selected),)
-    fixed_for = _fixed_for(state.selected)
     for rv in rivals:
-        if rv.test is None or not np.all(np.isfinite(rv.test)):
+        on_top = rival_on_top(problem, state, s, rv, sse_prev)
+        if on_top is None:
             continue
-        sse_rival, sse_cause = float(np.sum(rv.test)), float(np.sum(s.test))
-        if sse_rival >= sse_cause - 1e-9 * sse_prev:
-            continue
-        cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
-                            lambda f: fixed_for(f) + (rv.variant,))
-        both = float(np.sum(np.where(np.isnan(cv.test), rv.test, cv.test)))
-        on_top = 1.0 - both / sse_rival if sse_rival > 0 else 0.0
         p = reduction_p(on_top, dof, after)
         if not p < SIGNIFICANCE:
+            sse_rival = float(np.sum(rv.test))
             return (f"{rv.what} removes more of the held-out residual "
                     f"({100 * (1 - sse_rival / sse_prev):.0f} % against {100 * s.gross:.0f} %) "
                     f"and the term adds {100 * max(on_top, 0.0):.1f} % on top of it, which the "
@@ -318,13 +323,3 @@ def _rival(problem, state, s, sse_prev: float, dof: float, after: float) -> str 
 def _not_significant(p: float) -> str:
     return (f"the F test cannot tell the reduction from the residual's scatter (p = {p:.2g} "
             f">= {SIGNIFICANCE:g})")
-
-
-def _simulation_score(state, s, simulate, n_folds: int) -> float:
-    """Held-out share of the windowed simulation error (position) the term removes [-]."""
-    before = float(np.sum(state.sim.position_error ** 2))
-    if not (math.isfinite(before) and before > 0):
-        return math.nan
-    models = tuple(_fold_model(state, s.cause, s.cv, f) for f in range(n_folds))
-    after = float(np.sum(simulate(models).position_error ** 2))
-    return 1.0 - after / before if math.isfinite(after) else math.nan

@@ -320,7 +320,7 @@ class Diagnosis:
                               [e for e in self.below_line if not e.supported])):
             if group:
                 out += ["", f"## {title}", ""]
-                out += [f"- {e.sentence(u.torque, u.position, self.motor_revolution)}"
+                out += [f"- {e.sentence(u.torque, u.position)}"
                         for e in group]
         out += ["", f"Supported: the net reduction passes the {TEST}, at p < {SIGNIFICANCE:g}, "
                     f"and the fitted term passes the checks a named cause passes (told on this "

@@ -508,24 +508,34 @@ def _scale_matches(problem: Problem, state: _State, s: "_Scored", scale: SensorS
     leaves it nothing to add (held out), or None: no nominal model, the candidate removes at
     least as much, or on top of the scale it still removes :data:`MIN_SCORE` of what the
     scale leaves (an effect of its own beside a scale error)."""
-    if scale.test is None or not np.all(np.isfinite(scale.test)):
+    on_top = rival_on_top(problem, state, s, scale, sse_prev)
+    if on_top is None or on_top >= MIN_SCORE:
         return None
-    sse_scale, sse_cause = float(np.sum(scale.test)), float(np.sum(s.test))
-    # strictly more, beyond round-off: once an inertia is named, a scale of the model's torque
-    # spans what a friction level does (the same fit): the cause of the list is kept
-    if sse_scale >= sse_cause - 1e-9 * sse_prev:
-        return None
-    fixed_for = _fixed_for(state.selected)
-    cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
-                        lambda f: fixed_for(f) + (scale.variant,))
-    both = float(np.sum(np.where(np.isnan(cv.test), scale.test, cv.test)))
-    on_top = 1.0 - both / sse_scale if sse_scale > 0 else 0.0
-    if on_top >= MIN_SCORE:
-        return None
+    sse_scale = float(np.sum(scale.test))
     return (f"tried, rejected: {scale.what} removes more of the held-out residual "
             f"({100 * (1 - sse_scale / sse_prev):.0f} % against {100 * s.gross:.0f} %) and the "
             f"term adds {100 * max(on_top, 0.0):.0f} % on top of it: the record cannot tell the "
             f"two apart")
+
+
+def rival_on_top(problem: Problem, state: _State, s: "_Scored", rival: SensorScale,
+                 sse_prev: float) -> float | None:
+    """What the candidate ``s`` removes of the held-out residual ``rival`` leaves, the two
+    cross-validated together [-]; None where the rival is not held out (no nominal model)
+    or does not remove strictly more than the candidate alone (beyond round-off: once an
+    inertia is named, a scale of the model's torque spans what a friction level does, the
+    same fit, and the cause of the list is kept).  Read against the naming line by
+    :func:`_scale_matches` and against the F test below it (:mod:`.below`)."""
+    if rival.test is None or not np.all(np.isfinite(rival.test)):
+        return None
+    sse_rival, sse_cause = float(np.sum(rival.test)), float(np.sum(s.test))
+    if sse_rival >= sse_cause - 1e-9 * sse_prev:
+        return None
+    fixed_for = _fixed_for(state.selected)
+    cv = cross_validate(problem, lambda f: state.base.variants(s.cause, f),
+                        lambda f: fixed_for(f) + (rival.variant,))
+    both = float(np.sum(np.where(np.isnan(cv.test), rival.test, cv.test)))
+    return 1.0 - both / sse_rival if sse_rival > 0 else 0.0
 
 
 def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | None,
@@ -545,24 +555,19 @@ def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | 
 
 
 def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: tuple,
-          sse_prev: float, simulate) -> tuple:
+          sse_prev: float, simulate, made: Mapping[str, "_Trial"] | None = None) -> tuple:
     """Name the best told candidate whose models simulate the held-out windows better and
     move the model on by its term.  Returns ``(state, rejected)``: the candidates whose
     extended models re-simulate the held-out windows worse are tried and rejected, with
     the reason (issue 21: a term that lowers the torque residual but makes the model
     simulate worse is not a physical cause); when every told one is rejected, the state is
     returned unchanged.  Where the windows cannot be re-simulated at all (NaN), the
-    simulation does not judge."""
-    trials = {}
-    for t in told:
-        models = tuple(_fold_model(state, t.cause, scored[t.cause.name].cv, f)
-                       for f in range(problem.sig.n_folds))
-        trials[t.cause.name] = _Trial(fold_models=models, sim=simulate(models))
-    pb = float(np.sum(state.sim.position_error ** 2))
-    # the baseline's windows not simulated (NaN) or none at all (0): the simulation does not judge
-    sim_score = {n: (1.0 - float(np.sum(tr.sim.position_error ** 2)) / pb
-                     if math.isfinite(pb) and pb > 0 else math.nan)
-                 for n, tr in trials.items()}
+    simulation does not judge.  ``made``: trials already made (:func:`term_trial`, by cause
+    name), not made again."""
+    trials = {t.cause.name: (made or {}).get(t.cause.name)
+                           or term_trial(problem, state, t.cause, scored[t.cause.name].cv, simulate)
+              for t in told}
+    sim_score = {n: simulation_score(state, tr) for n, tr in trials.items()}
     rejected = {}
     for t in told:
         sc = sim_score[t.cause.name]
@@ -626,6 +631,24 @@ def _residual(problem: Problem, parts: tuple, theta: np.ndarray) -> np.ndarray:
 def _parts(selected: tuple) -> list:
     """``(cause, h)`` of each named cause (the hyper-parameter chosen on all data)."""
     return [(s.cause, s.variant.h) for s in selected]
+
+
+def term_trial(problem: Problem, state: _State, cause: Cause, cv: BlockedCV,
+               simulate: Callable[[Sequence], WindowedSimulation]) -> _Trial:
+    """The model as it stands with ``cause``'s term added in each fold (its blocked
+    cross-validation ``cv``), and those models' held-out windowed simulation."""
+    models = tuple(_fold_model(state, cause, cv, f) for f in range(problem.sig.n_folds))
+    return _Trial(fold_models=models, sim=simulate(models))
+
+
+def simulation_score(state: _State, tried: _Trial) -> float:
+    """Held-out share of the windowed simulation error (position, sum of squares) the trial's
+    term removes [-]; NaN where the model as it stands has no simulated window (NaN) or none
+    at all (0): the simulation does not judge."""
+    pb = float(np.sum(state.sim.position_error ** 2))
+    if not (math.isfinite(pb) and pb > 0):
+        return math.nan
+    return 1.0 - float(np.sum(tried.sim.position_error ** 2)) / pb
 
 
 def _fold_model(state: _State, cause: Cause, cv: BlockedCV, f: int) -> JointModel:
