@@ -115,14 +115,14 @@ def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
     record; nothing here decides a claim.
     """
     from fricctl.bench.experiments import predicted_dead_zone
-    from fricctl.paper.common import AGED_SCALE
+    from fricctl.paper.common import AGED_SCALE, gain_for_band, stuck_band
 
     s, fs, a = AGED_SCALE, b.actuator.static, b.sensing.torque_ripple
     kp = designs(b)["fig16-17"].kp
     stats = {st.id: st for st in res.stats if st.pipeline == pipeline}
     e16, e17 = stats["fig16-nn"].values, stats["fig17-nn"].values
     g = np.array([res.runs[(pipeline, k)].gain_at_rest for k in res.seeds])
-    linear = np.rad2deg((s * fs + a) * (1 - s * g) / kp)
+    linear = np.rad2deg(stuck_band(s * fs + a, g, kp, s))
     band = np.rad2deg([predicted_dead_zone(res.runs[(pipeline, k)].net, s * fs + a, scale=s).largest / kp
                        for k in res.seeds])
     count = np.rad2deg(b.actuator.encoder_resolution)
@@ -138,7 +138,7 @@ def stops(res, b: Bench, pipeline: str = "fricctl") -> None:
           f"both stops within the band (+1 count) in {inside}/{len(g)}; |e_ss| < {limit:g} deg inside a band "
           f"wider than it: fig16 {int(np.sum((e16 < limit) & (band > limit)))}, fig17 "
           f"{int(np.sum((e17 < limit) & (band > limit)))}; a band under {limit:g} deg needs "
-          f"g >= {(1 - np.deg2rad(limit) * kp / (s * fs + a)) / s:.4f} in the linear form (s*g < 1: g < "
+          f"g >= {gain_for_band(np.deg2rad(limit), s * fs + a, kp, s):.4f} in the linear form (s*g < 1: g < "
           f"{1 / s:.4f}; s = 1 winds the torque up from g >= 1)")
 
 

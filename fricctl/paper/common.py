@@ -28,7 +28,7 @@ from .runaway import RunawayCheck
 
 __all__ = ["ACCURACY_DEG", "STICK_MIN_DURATION", "AGED_SCALE", "SS_WINDOW", "designs",
            "stick_intervals_after_motion", "restarts", "periods_with_motion", "FIG18_PERIODS",
-           "sign_changes", "last_window", "deg",
+           "sign_changes", "last_window", "deg", "stuck_band", "gain_for_band",
            "StepRun", "step_run", "LinkRuns", "link_runs", "read_only", "linear_prediction",
            "OpenLoopChecks", "LinkFigure", "COULOMB_AT_FS", "COULOMB_AT_FC", "CoulombLevels",
            "uncompensated_dead_zone", "coulomb_levels", "Oscillation", "oscillation", "sensed"]
@@ -53,6 +53,19 @@ CYCLE_WINDOW = 1.0
 #: Coulomb level), both scaled by s like the network (:class:`CoulombLevels`).
 COULOMB_AT_FS = "Coulomb at Fs"
 COULOMB_AT_FC = "Coulomb at Fc"
+
+
+def stuck_band(breakaway: float, gain: float, kp: float, scale: float = 1.0) -> float:
+    """Half-width of the band a stuck, compensated PD loop stops in [rad]: with the
+    compensation ``scale * T^at`` linear near rest (gain at rest ``gain``), the stuck loop
+    settles at ``Tm = Kp*e / (1 - scale*gain)``, so the joint breaks away once that reaches
+    ``breakaway`` [N*m]: ``breakaway * (1 - scale*gain) / kp``."""
+    return breakaway * (1 - scale * gain) / kp
+
+
+def gain_for_band(band: float, breakaway: float, kp: float, scale: float = 1.0) -> float:
+    """The gain at rest whose :func:`stuck_band` is ``band`` [rad] [-]."""
+    return (1 - band * kp / breakaway) / scale
 
 
 def designs(bench) -> Mapping[str, Design]:

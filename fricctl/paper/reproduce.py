@@ -27,7 +27,7 @@ from ..nn.pipelines import PIPELINES
 from ..params import ActuatorParams
 from .benches import Bench, as_bench
 from .claims import paper_claims
-from .common import AGED_SCALE, designs
+from .common import AGED_SCALE, designs, gain_for_band, stuck_band
 from .network import PaperNetwork, pipeline_velocity, train_paper_network
 from .registry import paper_figures
 from .sweep import SweepResult, robustness_sweep
@@ -175,7 +175,7 @@ class PaperResults:
         fs = p.static
         kp14 = designs(self.bench)["fig13-14"].kp
         kp16 = designs(self.bench)["fig16-17"].kp
-        g_needed = 1 - np.deg2rad(0.3) * kp14 / fs
+        g_needed = gain_for_band(np.deg2rad(0.3), fs, kp14)
         out = []
         for name in self.pipelines:
             g = np.array([self.runs[(name, s)].gain_at_rest for s in self.seeds])
@@ -186,7 +186,7 @@ class PaperResults:
                     "stuck PD loop stops anywhere within +-Fs*(1 - g)/Kp of the reference: with "
                     f"Fs = {fs:.3f} N*m and Fig. 14's Kp = {kp14:.3f} N*m/rad ")
             if gm < 1:
-                text += (f"that is +-{np.rad2deg(fs * (1 - gm) / kp14):.2f} deg. A dead-zone reduction of x "
+                text += (f"that is +-{np.rad2deg(stuck_band(fs, gm, kp14)):.2f} deg. A dead-zone reduction of x "
                          f"is a gain g = 1 - 1/x: the paper's ~6x (g = 0.83) leaves +-"
                          f"{np.rad2deg(fs / 6 / kp14):.2f} deg, and < 0.3 deg from every approach needs "
                          f"g >= {g_needed:.3f} (a reduction >= {1 / (1 - g_needed):.0f}x).")
@@ -197,9 +197,9 @@ class PaperResults:
             out.append(text)
             if gm < 1:
                 sg = AGED_SCALE * gm
-                band = AGED_SCALE * fs * (1 - sg) / kp16
+                band = stuck_band(AGED_SCALE * fs, gm, kp16, AGED_SCALE)
                 # the g whose band AGED_SCALE*Fs*(1 - s*g)/Kp is the paper's 0.3 deg
-                g_aged = (1 - np.deg2rad(0.3) * kp16 / (AGED_SCALE * fs)) / AGED_SCALE
+                g_aged = gain_for_band(np.deg2rad(0.3), AGED_SCALE * fs, kp16, AGED_SCALE)
                 out.append(
                     f"**{name} pipeline, Figs. 16-17 (s = {AGED_SCALE:g}, friction x {AGED_SCALE:g}):** "
                     f"the stuck loop's gain is s*g = {sg:.3f}, which leaves "
