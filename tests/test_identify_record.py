@@ -418,3 +418,14 @@ def test_a_long_closed_loop_record_drifting_in_its_replay_is_not_refined_at_any_
     assert any("trial step(s) whose simulation" in w for w in ident.refined.warnings)
     assert np.array_equal(ident.result.estimates, ident.start.estimates)
     assert any("the equation error is reported" in w for w in ident.result.warnings)
+
+
+def test_a_disagreement_without_standard_errors_is_worded_not_divided():
+    # a parameter at a bound has std 0 in both estimators: the warning says so (it printed
+    # "inf std" with a divide-by-zero warning)
+    import warnings as _w
+    with _w.catch_warnings():
+        _w.simplefilter("error")
+        assert I.record._apart_text("coulomb", 0.1, 0.2, 0.0) == (
+            "coulomb 0.1 vs 0.2 (neither estimator gives it a standard error)")
+        assert I.record._apart_text("viscous", 1.0, 1.5, 0.1) == "viscous 1 vs 1.5 (5.0 std)"

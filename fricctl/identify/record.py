@@ -424,6 +424,14 @@ def identify_record(run, *, model: str = "coulomb_viscous", offset: bool | None 
                                 end_stops=stops)
 
 
+def _apart_text(name: str, equation: float, didim: float, std: float) -> str:
+    """One parameter on which the two estimators disagree, for the warning: the gap in
+    combined standard errors, or that neither estimator gave one (a parameter at a bound)."""
+    gap = (f"{abs(equation - didim) / std:.1f} std" if std > 0
+           else "neither estimator gives it a standard error")
+    return f"{name} {equation:.4g} vs {didim:.4g} ({gap})"
+
+
 def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
     """The warnings of step 6."""
     out = []
@@ -438,8 +446,7 @@ def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
                      "record with this model (an effect it lacks: fricctl diagnose)")
     elif fit.apart:
         out.append("the equation error and the simulation error disagree beyond their standard "
-                   "errors on " + ", ".join(f"{n} {a:.4g} vs {b:.4g} ({abs(a - b) / c:.1f} std)"
-                                            for n, a, b, c in fit.apart)
+                   "errors on " + ", ".join(_apart_text(*row) for row in fit.apart)
                    + ": the simulation error (DIDIM) is reported; the encoder's quantisation "
                      "biases the equation error (errors in variables), or the record holds an "
                      "effect the model lacks (fricctl diagnose)")
