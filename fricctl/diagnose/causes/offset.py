@@ -87,7 +87,8 @@ def _inject(rng, act):
 CAUSE = Cause(
     name="offset", order=155,
     physical="a constant torque acts on the joint (or, the same on a rigid joint, a Coulomb "
-             "level that differs between the directions)",
+             "level that differs between the directions; or a load of position, such as "
+             "gravity, that is constant over the record's travel)",
     changes=("offset",),
     params=("offset",), variants=_variants, extend=_extend, evidence=_evidence,
     inject=_inject, remove=_remove)
