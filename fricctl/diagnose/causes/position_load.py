@@ -4,7 +4,11 @@ Regressors: ``LP(sin(2*pi*q/P))`` and ``LP(cos(2*pi*q/P))`` (free in sign) for t
 ``P`` of :data:`CYCLES`: the record's travel ``span`` (filtered position, sliding samples)
 covers ``span/P`` = 1/16 .. 1.9 periods of the load (steps of 0.1 from 0.3); then a finer
 grid (:data:`FINE`, steps of 0.01) around the best of them on the training residual of the
-model as it stands (per block left out, again after each named cause).
+model as it stands (per block left out, again after each named cause).  A block left out
+that reaches further beyond the other blocks' travel than that travel is long
+(:data:`MAX_REACH`; a joint that drifts) is not tested by this cause -- it stays the model
+as it stands, in the held-out residual and in the re-simulation: a wave fitted over one
+travel does not tell the load that far beyond it.
 Bench: ``m*g*r*sin(q/n + phi)``, gravity on an off-centre link behind a final ratio ``n`` =
 4 .. 8 (period 25 .. 50 rad), ``m*g*r`` = 0.3 .. 0.8 Fc, random phase.
 
@@ -54,6 +58,14 @@ MAX_CYCLES = 1.95
 MIN_SHAPE_SHARE = 1.0 - 0.9 ** 2
 #: Fewest encoder counts the travel must span for a shape over it to be resolved [-].
 MIN_COUNTS = 200
+#: Farthest a held-out block's travel may reach beyond the training blocks' travel, in lengths
+#: of that travel, for the block to test the load [-]: a wave fitted over a travel and carried
+#: further beyond it than that travel is long tests the extrapolation, not the load (a long
+#: wave over a short travel is nearly a line, its coefficients large).  Issue 21's pairs: a
+#: drifting record's first block reached 2.7 training travels (24.5 rad beyond 9.2 rad), and the
+#: fold's fit, 26 times the Coulomb level, made that block's held-out residual 20 times larger;
+#: the blocks of eight records with the load hidden alone (tests' seeds) reach at most 0.81.
+MAX_REACH = 1.0
 
 
 def _travel(sig) -> tuple:
@@ -115,12 +127,31 @@ def _best_cycles(base, span) -> dict:
     return best
 
 
+def reach(sig, fold) -> float:
+    """How far block ``fold``'s sliding samples reach beyond the travel of the other blocks'
+    sliding samples (the training travel), in lengths of that travel [-] (filtered position;
+    0 inside it, inf when the training travel has no length)."""
+    m = sig.moving
+    held, train = m & (sig.folds == fold), m & (sig.folds != fold)
+    if not (np.any(held) and np.any(train)):
+        return 0.0
+    lo, hi = float(np.min(sig.qf[train])), float(np.max(sig.qf[train]))
+    out = max(lo - float(np.min(sig.qf[held])), float(np.max(sig.qf[held])) - hi, 0.0)
+    if out == 0.0:
+        return 0.0
+    return out / (hi - lo) if hi > lo else math.inf
+
+
 def _variants(base, fold):
     """:data:`CYCLES`, and :data:`FINE` around the one that fits the residual of the model
-    as it stands best on the training blocks."""
+    as it stands best on the training blocks; none for a block left out that reaches further
+    beyond the training travel than :data:`MAX_REACH` of its length: the block stays the model
+    as it stands."""
     lo, hi = _travel(base.sig)
     span = hi - lo
     if not span > 0:
+        return []
+    if fold is not None and reach(base.sig, fold) > MAX_REACH:
         return []
     coarse = [_variant(base, c, span) for c in CYCLES]
     best = _best_cycles(base, span)[fold]
