@@ -103,13 +103,15 @@ def _identifiable(base, term):
                 f"not determine it (the drive brakes on {100 * _braking(base):.1f} % of the "
                 f"sliding samples)")
     # with a nominal model there are no baseline columns for the selection's collinearity test
-    # to see it: without braking the column is the nominal torque itself, which a scale error
-    # of the recorded torque (a sensor gain, a torque constant) fits exactly as well
+    # to see it: without braking the column is the nominal torque itself (with the terms named
+    # before it: the torque of the model as it stands), which a scale error of the recorded
+    # torque (a sensor gain, a torque constant) fits exactly as well
     if not base.fit_mode and _outside_model_torque(base) < SCALE_SHARE:
         return (f"the drive brakes on {100 * _braking(base):.1f} % of the sliding samples: its "
-                f"column is the nominal model's own torque (only "
-                f"{100 * _outside_model_torque(base):.2g} % of it lies outside), which a scale "
-                f"error of the recorded torque (a sensor gain, a torque constant) fits as well")
+                f"column is the model's own torque (the nominal one with any term named before "
+                f"it; only {100 * _outside_model_torque(base):.2g} % of it lies outside), which a "
+                f"scale error of the recorded torque (a sensor gain, a torque constant) fits as "
+                f"well")
     return None
 
 
