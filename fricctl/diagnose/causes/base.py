@@ -237,6 +237,15 @@ class Baseline:
             return self.columns @ self.theta
         return self.reference.copy()
 
+    @property
+    def current_torque(self) -> np.ndarray:
+        """The low-passed torque the model *as it stands* needs along the measured motion
+        (:attr:`model_torque` until a cause is named; then the baseline with the named
+        causes' terms, refitted with them: :meth:`advanced`) [N*m]."""
+        if self._current is None:
+            return self.model_torque
+        return self.reference + self.target - self._current
+
     @cached_property
     def model_torque_raw(self) -> np.ndarray:
         """:attr:`model_torque` before the low-pass, sample by sample [N*m]."""

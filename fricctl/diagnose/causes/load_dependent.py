@@ -1,10 +1,10 @@
 """Load-dependent friction: friction grows with the transmitted torque |Tm| (mesh friction).
 
-Regressor: ``LP(|T| * sign(w))`` with ``T`` the torque the baseline model needs along the
-measured motion (:attr:`~fricctl.diagnose.causes.base.Baseline.model_torque`), not the
-recorded one, and the braking phases (torque against the motion) read from the recorded
-torque: ``LP(T) - 2*LP(T*[Tm*sign(w) < 0])``; coefficient ``mu`` in
-[0, :data:`MAX_LOAD_COEFFICIENT`].
+Regressor: ``LP(|T| * sign(w))`` with ``T`` the torque the model *as it stands* needs along
+the measured motion (:attr:`~fricctl.diagnose.causes.base.Baseline.current_torque`: the
+baseline, with the terms of the causes already named), not the recorded one, and the braking
+phases (torque against the motion) read from the recorded torque:
+``LP(T) - 2*LP(T*[Tm*sign(w) < 0])``; coefficient ``mu`` in [0, :data:`MAX_LOAD_COEFFICIENT`].
 Bench: mu = 0.08 .. 0.20 (friction + mu*|Tm|; harmonic drives lose 10-30 %).
 
 Notes
@@ -18,6 +18,15 @@ braking phases it is the baseline's own prediction: collinear with the baseline'
 columns, which the selection reports as "cannot be told"; with a nominal model it is the
 nominal torque, which a scale error of the recorded torque fits as well: the cause's own
 identifiability test reports it (:data:`SCALE_SHARE`).
+
+Why the model *as it stands*, made again after each named cause: the simulation applies
+``mu*|Tm|`` to the whole recorded torque, the part a named drag, ripple or Stribeck excess
+drives included.  A column built on the baseline alone leaves that part out, and the named
+term, refitted with the column, takes up ``mu`` times itself (a drag ``c*w*|w|`` comes back as
+about ``(1 + mu)*c``): the fit then counts the load on that part twice when it is simulated,
+and the extended model re-simulated worse than without the term although the true one
+re-simulates far better (issue 21's pairs: load with drag, ripple, thermal drift, compliance,
+Stribeck, backlash).
 """
 
 from __future__ import annotations
@@ -41,12 +50,16 @@ SCALE_SHARE = 1e-3
 
 
 def _column(base):
-    # |T|*sign(w) = T - 2*T*[T*sign(w) < 0]: the baseline's own (low-passed) prediction, less
-    # twice the model's torque where the recorded torque brakes (opposes the motion) -- so
-    # without braking the column is the baseline's prediction exactly, and neither the
-    # recorded noise nor the model's low-pass ringing at starts and stops enters it
+    # |T|*sign(w) = T - 2*T*[T*sign(w) < 0]: the (low-passed) prediction of the model as it
+    # stands, less twice the model's torque where the recorded torque brakes (opposes the
+    # motion) -- so without braking the column is that prediction exactly, and neither the
+    # recorded noise nor the model's low-pass ringing at starts and stops enters it.  The
+    # baseline's torque is taken sample by sample (its raw columns); what the named causes
+    # add to it is known low-passed only, and is smooth (a drag, a ripple, a drift)
     braking = (base.torque * base.sign < 0).astype(float)
-    return base.model_torque - 2.0 * base.sig.filt(base.model_torque_raw * braking)
+    now = base.current_torque
+    raw = base.model_torque_raw + (now - base.model_torque)
+    return now - 2.0 * base.sig.filt(raw * braking)
 
 
 def _variants(base, fold):
@@ -74,9 +87,10 @@ def _evidence(base, term, extended):
 
 
 def _outside_model_torque(base) -> float:
-    """Share of the column's energy (sliding samples) outside the model's own torque [-]."""
+    """Share of the column's energy (sliding samples) outside the torque of the model as it
+    stands [-]."""
     m = base.sig.moving
-    c, t = _column(base)[m], base.model_torque[m]
+    c, t = _column(base)[m], base.current_torque[m]
     cc, tt = float(c @ c), float(t @ t)
     if cc == 0.0 or tt == 0.0:
         return 1.0
@@ -89,13 +103,15 @@ def _identifiable(base, term):
                 f"not determine it (the drive brakes on {100 * _braking(base):.1f} % of the "
                 f"sliding samples)")
     # with a nominal model there are no baseline columns for the selection's collinearity test
-    # to see it: without braking the column is the nominal torque itself, which a scale error
-    # of the recorded torque (a sensor gain, a torque constant) fits exactly as well
+    # to see it: without braking the column is the nominal torque itself (with the terms named
+    # before it: the torque of the model as it stands), which a scale error of the recorded
+    # torque (a sensor gain, a torque constant) fits exactly as well
     if not base.fit_mode and _outside_model_torque(base) < SCALE_SHARE:
         return (f"the drive brakes on {100 * _braking(base):.1f} % of the sliding samples: its "
-                f"column is the nominal model's own torque (only "
-                f"{100 * _outside_model_torque(base):.2g} % of it lies outside), which a scale "
-                f"error of the recorded torque (a sensor gain, a torque constant) fits as well")
+                f"column is the model's own torque (the nominal one with any term named before "
+                f"it; only {100 * _outside_model_torque(base):.2g} % of it lies outside), which a "
+                f"scale error of the recorded torque (a sensor gain, a torque constant) fits as "
+                f"well")
     return None
 
 
@@ -108,5 +124,6 @@ CAUSE = Cause(
     name="load_dependent", order=30,
     physical="friction grows with the transmitted torque |Tm|",
     changes=("load_coefficient",),
-    params=("load_coefficient",), variants=_variants, extend=_extend, evidence=_evidence,
+    params=("load_coefficient",), variants=_variants, per_step=True, extend=_extend,
+    evidence=_evidence,
     identifiable=_identifiable, inject=_inject)
