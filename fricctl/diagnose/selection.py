@@ -329,10 +329,17 @@ def _start(problem: Problem, base: Baseline, candidates: tuple,
 
 
 def _fixed_for(selected: tuple) -> Callable[[int], tuple]:
-    """Per fold, the variants of the causes named (chosen on that fold's training blocks)."""
+    """Per fold, the variants of the causes named (chosen on that fold's training blocks).
+
+    A named cause with no variant for a fold (a block it cannot test, e.g. one reaching far
+    beyond :mod:`.causes.position_load`'s training travel) stays out of that fold at every
+    later step, as it was at the step that named it and as the twin leaves it out
+    (:func:`fricctl.diagnose.twin.chain_shares`).  Filling it with the all-data variant put
+    the term back on that block one step later: what it then removed there was credited to
+    whichever candidate was scored (issue 21's review: seven causes above the line beside a
+    named load on a drifting record)."""
     def fixed_for(f):
-        return tuple(s.fold_variants[f] if s.fold_variants[f] is not None else s.variant
-                     for s in selected)
+        return tuple(s.fold_variants[f] for s in selected if s.fold_variants[f] is not None)
     return fixed_for
 
 
@@ -652,10 +659,12 @@ def simulation_score(state: _State, tried: _Trial) -> float:
 
 
 def _fold_model(state: _State, cause: Cause, cv: BlockedCV, f: int) -> JointModel:
-    """The model fitted without block ``f``: the named causes and ``cause`` on top (the
-    model as it stands where ``cause`` has no fit for that block)."""
+    """The model fitted without block ``f``: the named causes that have a variant for that
+    fold and ``cause`` on top (the model as it stands where ``cause`` has no fit for that
+    block)."""
     fit = cv.fits[f]
     if fit is None:
         return state.fold_models[f]
-    parts = [(s.cause, (s.fold_variants[f] or s.variant).h) for s in state.selected]
+    parts = [(s.cause, s.fold_variants[f].h) for s in state.selected
+             if s.fold_variants[f] is not None]  # as :func:`_fixed_for` leaves them
     return state.base.model(parts + [(cause, fit.h)], fit.theta)
