@@ -9,6 +9,7 @@ coefficients (reference: those coefficients).
 
 import numpy as np
 
+from fricctl.datasets import Run
 from fricctl.diagnose.causes import REGISTRY, Baseline
 from fricctl.diagnose.crossval import Problem, baseline_fit, full_fit
 from fricctl.diagnose.signals import estimate_signals
@@ -46,7 +47,8 @@ def test_load_term_beside_a_named_drag_recovers_both():
     drag = full_fit(problem, base.variants(REGISTRY["drag"]))
     assert drag is not None
     # the model as it stands: the baseline with the drag, refitted with it
-    stands = base.advanced(drag.variant.y - problem.design(drag.variant) @ drag.theta)
+    pred = problem.design(drag.variant) @ drag.theta
+    stands = base.advanced(drag.variant.y - pred, pred)
     load = full_fit(problem, stands.variants(REGISTRY["load_dependent"]), (drag.variant,))
     assert load is not None
     inertia, b, fc, c, mu = load.theta
@@ -61,3 +63,27 @@ def test_load_term_beside_a_named_drag_recovers_both():
     expected = base.model_torque - 2.0 * sig.filt(base.model_torque_raw * braking)
     (v0,) = base.variants(REGISTRY["load_dependent"])
     np.testing.assert_array_equal(v0.extra[:, 0], expected)
+
+
+def test_the_model_torque_after_a_named_delay_is_its_prediction():
+    # a named delay shifts the composed target: the model's torque is what its columns
+    # predict, not the undelayed recorded torque less the residual (the review of issue 21:
+    # that carried target - delayed target, 14 % of the model torque's RMS on a pairs record,
+    # into the load term's own regressor)
+    run = _drag_and_load_record()
+    ts = run.t[1] - run.t[0]
+    # recorded 3 samples before the joint receives it: a delay of 3 samples
+    shifted = Run(t=run.t, torque=np.concatenate([run.torque[3:], np.full(3, run.torque[-1])]),
+                  position=run.position, reference=run.reference, source=run.source)
+    sig = estimate_signals(shifted, 8)
+    base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
+    problem = Problem(sig, base.columns)
+    delay = full_fit(problem, base.variants(REGISTRY["time_delay"]))
+    assert delay is not None and delay.variant.y is not base.target
+    pred = problem.design(delay.variant) @ delay.theta
+    stands = base.advanced(delay.variant.y - pred, pred)
+    np.testing.assert_array_equal(stands.current_torque, pred)  # fit mode: no reference
+    m = sig.moving
+    gap = base.target - delay.variant.y  # what the old reading added to the model torque
+    # (measured 3 % of the model torque's RMS here: the old reading was not the prediction)
+    assert np.sqrt(np.mean(gap[m] ** 2)) > 0.01 * np.sqrt(np.mean(pred[m] ** 2)), ts

@@ -239,7 +239,8 @@ class HiddenEffectRecord:
         """The causes the diagnosis is expected to name on this record: each hidden cause
         that weighs at least :data:`fricctl.diagnose.MIN_SCORE` (:meth:`weights`), where a
         position load whose shape over the record's travel no record could tell from a
-        constant is expected as the ``offset`` it is on this record.
+        constant is expected as the ``offset`` it is on this record (where that constant
+        weighs at the line itself).
 
         That is :mod:`fricctl.diagnose.causes.position_load`'s identifiability rule read on
         the ground truth: the true load, against the best constant torque in its place,
@@ -254,11 +255,16 @@ class HiddenEffectRecord:
         weights = self.weights(folds)
         out = {c for c, w in weights.items() if w >= MIN_SCORE}
         if "position_load" in out:
-            share, sig = self._reader(folds, signals=True)
+            share, sig, constant = self._reader(folds, signals=True)
             lo, hi = pl._travel(sig)
+            undone = self._undone("position_load")
             if (sig.resolution > 0 and hi - lo < pl.MIN_COUNTS * sig.resolution
-                    or share(self._undone("position_load"), constant=True) < pl.MIN_SHAPE_SHARE):
-                out = (out - {"position_load"}) | {"offset"}
+                    or share(undone, constant=True) < pl.MIN_SHAPE_SHARE):
+                out = out - {"position_load"}
+                # the constant in the load's place is expected only where it weighs at the
+                # line itself (an offset hidden too is expected on its own weight)
+                if constant(undone) >= MIN_SCORE:
+                    out = out | {"offset"}
         return out
 
     def _undone(self, name: str) -> dict:
@@ -278,7 +284,8 @@ class HiddenEffectRecord:
         baseline's columns projected off when the record has no nominal model;
         ``share(d, constant=True)`` also projects a constant torque off both (what the truth
         removes beyond the best constant in place of what ``d`` lacks); with ``signals``,
-        ``(share, the record's signals)``."""
+        ``(share, the record's signals, constant)``, ``constant(d)`` the share of ``d``'s
+        residual that the best constant torque removes."""
         from ..diagnose.signals import estimate_signals, predict
         from ..diagnose.stops import end_stops
 
@@ -302,7 +309,12 @@ class HiddenEffectRecord:
             r = predict(d if isinstance(d, JointModel) else JointModel.from_dict(d), sig)
             return 1.0 - sse(truth, cols) / sse(r.residual[m], cols)
 
-        return (share, sig) if signals else share
+        def constant(d):
+            r = predict(JointModel.from_dict(d), sig).residual[m]
+            cols = base if self.nominal is None else base[:, :0]
+            return 1.0 - sse(r, np.column_stack([cols, one])) / sse(r, cols)
+
+        return (share, sig, constant) if signals else share
 
 
 # ----------------------------------------------------------------------------- excitation

@@ -595,7 +595,9 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
                                           variant=fit.variant),)
     model = state.base.model(_parts(selected), fit.theta)  # the model as it now stands
     fixed = tuple(x.variant for x in state.selected) + (fit.variant,)
-    base = state.base.advanced(_residual(problem, fixed, fit.theta))
+    comp = compose(fixed)
+    prediction = problem.design(comp) @ fit.theta
+    base = state.base.advanced(comp.y - prediction, prediction)
     nmov = max(int(problem.sig.moving.sum()), 1)
     step = Step(cause=cause.name, score=s.net, gross=s.gross, chain=s.chain,
                 torque_rms_before=math.sqrt(sse_prev / nmov),

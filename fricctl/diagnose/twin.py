@@ -237,7 +237,8 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
         if full is not None:
             done = done + (full.variant,)
             comp = compose(done)
-            tb = tb.advanced(comp.y - problem.design(comp) @ full.theta)
+            prediction = problem.design(comp) @ full.theta
+            tb = tb.advanced(comp.y - prediction, prediction)
     base_sse = float(np.sum(test))
     shares: dict = {}
 

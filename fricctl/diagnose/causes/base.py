@@ -188,6 +188,7 @@ class Baseline:
         self._variants: dict = {}
         self._step = 0
         self._current: np.ndarray | None = None
+        self._prediction: np.ndarray | None = None
 
     @property
     def labels(self) -> Units:
@@ -212,9 +213,11 @@ class Baseline:
         is named; :meth:`advanced`) [N*m]."""
         return self.residual if self._current is None else self._current
 
-    def advanced(self, residual: np.ndarray) -> "Baseline":
+    def advanced(self, residual: np.ndarray, prediction: np.ndarray) -> "Baseline":
         """The baseline once a cause is named: ``residual`` is the new model's residual on all
-        samples.
+        samples, ``prediction`` what its columns predict there (``residual`` is the composed
+        target minus ``prediction``; the composed target is the delayed one once a delay is
+        named, so the prediction is kept, not recovered from :attr:`target`).
 
         A new object; this one is left as it was, so that whoever holds it (the diagnosis,
         an earlier step) still sees the model it was given.  The values computed once per
@@ -224,6 +227,7 @@ class Baseline:
         """
         new = copy.copy(self)
         new._current = np.asarray(residual, dtype=float)
+        new._prediction = np.asarray(prediction, dtype=float)
         new._step = self._step + 1
         new._variants = dict(self._variants)
         return new
@@ -244,7 +248,7 @@ class Baseline:
         causes' terms, refitted with them: :meth:`advanced`) [N*m]."""
         if self._current is None:
             return self.model_torque
-        return self.reference + self.target - self._current
+        return self.reference + self._prediction
 
     @cached_property
     def model_torque_raw(self) -> np.ndarray:
