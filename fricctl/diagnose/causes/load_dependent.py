@@ -27,6 +27,13 @@ about ``(1 + mu)*c``): the fit then counts the load on that part twice when it i
 and the extended model re-simulated worse than without the term although the true one
 re-simulates far better (issue 21's pairs: load with drag, ripple, thermal drift, compliance,
 Stribeck, backlash).
+
+Not done: the other order.  Once this cause is named its column stays the one it was named
+with (the selection keeps a named cause's variant), so a drag or ripple named *after* it is
+again refitted beside a column that leaves its torque out and comes back about ``(1 + mu)``
+times itself (measured 1.25 on the test record of ``tests/test_diagnose_load_dependent.py``,
+against 1.03 in this order); remaking a named per-step column needs the selection to refit
+the named causes (a fixed-point pass), which it does not.
 """
 
 from __future__ import annotations
