@@ -9,13 +9,13 @@ coefficients (reference: those coefficients).
 
 import numpy as np
 
+from _open_loop import open_loop_run
 from fricctl.datasets import Run
 from fricctl.diagnose.causes import REGISTRY, Baseline
 from fricctl.diagnose.crossval import Problem, baseline_fit, full_fit
 from fricctl.diagnose.signals import estimate_signals
 from fricctl.friction import Coulomb, Drag, LoadDependent, Viscous
 from fricctl.plant import RigidJoint
-from fricctl.simulate import Schedule, simulate_schedule
 
 DRAG = 0.004      # N*m*s^2/rad^2: 0.14 N*m at 6 rad/s, about the Coulomb level
 LOAD = 0.2        # friction + 0.2*|Tm|
@@ -29,14 +29,7 @@ def _drag_and_load_record():
     ff = 0.45 * np.sin(2 * np.pi * 0.4 * t) + 0.2 * np.sin(2 * np.pi * 1.3 * t + 1.0)
     joint = RigidJoint(inertia=5e-3, friction=Viscous(0.01) + Coulomb(0.15) + Drag(DRAG)
                        + LoadDependent(LOAD))
-    zeros = np.zeros(t.size)
-    start = np.zeros(t.size, dtype=bool)
-    start[0] = True
-    sim = simulate_schedule(joint, Schedule(kp=zeros, kd=zeros, reference=zeros, feedforward=ff,
-                                            segment_start=start),
-                            sample_time=ts, max_torque=5.0, encoder_resolution=3.14e-5,
-                            noise=np.random.default_rng(5).normal(0, 0.002, t.size))
-    return sim.to_run()
+    return open_loop_run(joint, ff, ts, noise_seed=5)
 
 
 def test_load_term_beside_a_named_drag_recovers_both():

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from _open_loop import open_loop_run
 from scipy.optimize import lsq_linear
 
 from fricctl._json import json_safe
@@ -129,14 +130,7 @@ def test_no_braking_leaves_the_load_term_collinear():
     t = np.arange(0, 20, ts)
     ff = 0.3 * (1.2 + np.sin(2 * np.pi * 0.5 * t))  # 0.06 .. 0.66 N*m, always > 0
     joint = RigidJoint(inertia=5e-3, friction=Viscous(0.02) + Coulomb(0.1) + LoadDependent(0.15))
-    zeros = np.zeros(t.size)
-    start = np.zeros(t.size, dtype=bool)
-    start[0] = True
-    sim = simulate_schedule(joint, Schedule(kp=zeros, kd=zeros, reference=zeros, feedforward=ff,
-                                            segment_start=start),
-                            sample_time=ts, max_torque=5.0, encoder_resolution=3.14e-5,
-                            noise=np.random.default_rng(3).normal(0, 0.002, t.size))
-    run = sim.to_run()
+    run = open_loop_run(joint, ff, ts, noise_seed=3)
     sig = estimate_signals(run, 8)
     base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
     v = base.variants(REGISTRY["load_dependent"])[0]
