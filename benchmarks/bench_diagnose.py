@@ -223,7 +223,7 @@ def issue21():
         if kind == "new":
             for cause in NEW_CAUSES:
                 s2 = [r for r in sel if r["label"].startswith(cause + " ")]
-                as_other = sum(cause not in r["expected"] for r in s2)
+                as_other = sum(bool(r["expected"] - set(r["hidden"])) for r in s2)
                 print(f"  {cause}: {sum(r['named'] == r['expected'] for r in s2)}/{len(s2)} "
                       f"named exactly" + (f" ({as_other} of them expected as another cause)"
                                           if as_other else ""))
