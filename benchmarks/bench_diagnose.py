@@ -224,9 +224,12 @@ def issue21():
             for cause in NEW_CAUSES:
                 s2 = [r for r in sel if r["label"].startswith(cause + " ")]
                 as_other = sum(bool(r["expected"] - set(r["hidden"])) for r in s2)
+                below = sum(not r["expected"] for r in s2)
+                named = sum(cause in r["named"] for r in s2)
                 print(f"  {cause}: {sum(r['named'] == r['expected'] for r in s2)}/{len(s2)} "
-                      f"named exactly" + (f" ({as_other} of them expected as another cause)"
-                                          if as_other else ""))
+                      f"named exactly as expected, {named}/{len(s2)} named {cause}"
+                      + (f"; {as_other} expected as another cause" if as_other else "")
+                      + (f"; {below} below the line (expected none)" if below else ""))
         for r in sel:
             if r["named"] != r["expected"] or (r["explained"] and r["ratio"] > 2):
                 print(f"  - {r['label']}: expected {sorted(r['expected']) or ['none']}, named "
