@@ -65,7 +65,7 @@ FIT_CAUSES = HIDDEN_CAUSES[1:]
 def _row(rec, kind: str, label: str, t0: float) -> dict:
     d = diagnose(rec.run, rec.nominal)
     weights = rec.weights()
-    expected = rec.expected()
+    expected = rec.expected(weights=weights)
     return dict(kind=kind, label=label, hidden=tuple(c for c in rec.causes if c != "none"),
                 weights=weights, expected=expected, named=set(d.causes) - {"none"},
                 seconds=time.perf_counter() - t0)
@@ -165,7 +165,7 @@ def _row_full(rec, kind: str, label: str, t0: float) -> dict:
     """:func:`_row` with the verdict (explained, residual over floor) and the stops found."""
     d = diagnose(rec.run, rec.nominal)
     weights = rec.weights() if rec.foreign == "none" else {}
-    expected = rec.expected() if rec.foreign == "none" else set()
+    expected = rec.expected(weights=weights) if rec.foreign == "none" else set()
     return dict(kind=kind, label=label, hidden=tuple(c for c in rec.causes if c != "none"),
                 weights=weights, expected=expected, named=set(d.causes) - {"none"},
                 explained=d.explained, ratio=d.verdict.residual_over_floor,

@@ -65,3 +65,4 @@ def test_expected_applies_the_line():
     w = rec.weights()
     assert w["stribeck"] < MIN_SCORE <= w["time_delay"]
     assert rec.expected() == {"time_delay"}
+    assert rec.expected(weights=w) == {"time_delay"}  # the weights at hand, not made again

@@ -207,7 +207,8 @@ class HiddenEffectRecord:
         if self.without_foreign is None:
             raise ValueError(f"foreign_weight: the foreign effect {self.foreign!r} is not a "
                              "friction law of the true model")
-        return self._reader(folds, exclude_stops=False)(self.without_foreign)
+        read = self._reader(folds, exclude_stops=False)
+        return read.share(read.residual(self.without_foreign))
 
     def weights(self, folds: int = 8) -> dict:
         """How much each hidden effect weighs on this record: per cause, the share of the
@@ -217,30 +218,23 @@ class HiddenEffectRecord:
 
         Both residuals, the truth's and the one with the effect undone, are read the same
         way: with the baseline's columns (``I*a``, ``b*w``, ``Fc*sign(w)``) projected off
-        both when the baseline is refitted.  (Until issue 21's last session only the second
-        was projected: the truth's own misfit on the measured signals, which the refitted
-        baseline partly takes up, counted against the effect, and weights of -4 % to -36 %
-        came out for effects the diagnosis names.)
+        both when the baseline is refitted (projected off the second alone, the truth's own
+        misfit on the measured signals, which the refitted baseline partly takes up, counted
+        against the effect: weights of -4 % to -36 % for effects the diagnosis names).
 
         An effect below :data:`fricctl.diagnose.MIN_SCORE` does not lower the residual by
         10 % of its RMS on this record: the diagnosis is not expected to name it
         (:meth:`expected`).  Contacts with end stops are left out as the diagnosis leaves
         them out (their impacts are no effect's: with them in, every weight read negative).
         """
-        share = self._reader(folds)
-        out = {}
-        for name in self.causes:
-            if name == causes.NONE:
-                continue
-            out[name] = share(self._undone(name))
-        return out
+        return self._weights(self._reader(folds))
 
-    def expected(self, folds: int = 8) -> set:
+    def expected(self, folds: int = 8, weights: dict | None = None) -> set:
         """The causes the diagnosis is expected to name on this record: each hidden cause
-        that weighs at least :data:`fricctl.diagnose.MIN_SCORE` (:meth:`weights`), where a
-        position load whose shape over the record's travel no record could tell from a
-        constant is expected as the ``offset`` it is on this record (where that constant
-        weighs at the line itself).
+        that weighs at least :data:`fricctl.diagnose.MIN_SCORE` (:meth:`weights`; pass them
+        as ``weights`` where they are at hand), where a position load whose shape over the
+        record's travel no record could tell from a constant is expected as the ``offset`` it
+        is on this record (where that constant weighs at the line itself).
 
         That is :mod:`fricctl.diagnose.causes.position_load`'s identifiability rule read on
         the ground truth: the true load, against the best constant torque in its place,
@@ -252,23 +246,30 @@ class HiddenEffectRecord:
         from ..diagnose import MIN_SCORE
         from ..diagnose.causes import position_load as pl
 
-        weights = self.weights(folds)
+        read = None
+        if weights is None:
+            read = self._reader(folds)
+            weights = self._weights(read)
         out = {c for c, w in weights.items() if w >= MIN_SCORE}
         if "position_load" in out:
-            share, sig, constant = self._reader(folds, signals=True)
-            lo, hi = pl._travel(sig)
-            undone = self._undone("position_load")
-            if (sig.resolution > 0 and hi - lo < pl.MIN_COUNTS * sig.resolution
-                    or share(undone, constant=True) < pl.MIN_SHAPE_SHARE):
+            read = read or self._reader(folds)
+            lo, hi = pl._travel(read.sig)
+            undone = read.residual(self._undone("position_load"))
+            if (read.sig.resolution > 0 and hi - lo < pl.MIN_COUNTS * read.sig.resolution
+                    or read.share(undone, constant=True) < pl.MIN_SHAPE_SHARE):
                 out = out - {"position_load"}
                 # the constant in the load's place is expected only where it weighs at the
                 # line itself (an offset hidden too is expected on its own weight)
-                if constant(undone) >= MIN_SCORE:
+                if read.constant(undone) >= MIN_SCORE:
                     out = out | {"offset"}
         return out
 
-    def _undone(self, name: str) -> dict:
-        """The true model's content with the effect ``name`` undone, the others kept."""
+    def _weights(self, read: "_Reader") -> dict:
+        return {name: read.share(read.residual(self._undone(name)))
+                for name in self.causes if name != causes.NONE}
+
+    def _undone(self, name: str) -> JointModel:
+        """The true model with the effect ``name`` undone, the others kept."""
         d = _full_dict(self.truth)
         free = _full_dict(self.effect_free)
         for key in causes.get(name).changes:
@@ -276,45 +277,53 @@ class HiddenEffectRecord:
                 d["friction"][key] = free["friction"][key]
             elif key in d:
                 d[key] = free[key]
-        return d
+        return JointModel.from_dict(d)
 
-    def _reader(self, folds: int, exclude_stops: bool = True, signals: bool = False):
-        """``share(d)``: the share of the residual of the model content ``d`` (sum of
-        squares, sliding samples) that the truth's removes, both residuals with the refitted
-        baseline's columns projected off when the record has no nominal model;
-        ``share(d, constant=True)`` also projects a constant torque off both (what the truth
-        removes beyond the best constant in place of what ``d`` lacks); with ``signals``,
-        ``(share, the record's signals, constant)``, ``constant(d)`` the share of ``d``'s
-        residual that the best constant torque removes."""
-        from ..diagnose.signals import estimate_signals, predict
+    def _reader(self, folds: int, exclude_stops: bool = True) -> "_Reader":
+        """The record read through the diagnosis's signals, its end stops' contacts left out
+        (unless ``exclude_stops`` is False), for :meth:`weights` and the like."""
         from ..diagnose.stops import end_stops
 
         stops = end_stops(self.run) if exclude_stops else None
-        sig = estimate_signals(self.run, v.integer("folds", folds, low=3, high=20),
-                               exclude=stops.mask if stops is not None and stops.found else None)
-        m = sig.moving
+        exclude = stops.mask if stops is not None and stops.found else None
+        return _Reader(self, v.integer("folds", folds, low=3, high=20), exclude)
+
+
+class _Reader:
+    """A hidden-effect record's torque residuals on its sliding samples, the way the labels
+    read them: ``residual(model)``; ``share(r)``, the share of residual ``r`` (sum of squares)
+    that the truth's removes, both with the refitted baseline's columns projected off when
+    the record has no nominal model, and ``constant=True`` a constant torque too (what the
+    truth removes beyond the best constant in place of what ``r``'s model lacks);
+    ``constant(r)``, the share of ``r`` the best constant torque removes."""
+
+    def __init__(self, record: HiddenEffectRecord, folds: int, exclude):
+        from ..diagnose.signals import estimate_signals
+
+        self.sig = sig = estimate_signals(record.run, folds, exclude=exclude)
+        self._m = m = sig.moving
         base = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
-        one = sig.filt(np.ones(sig.t.size))[m][:, None]
-        truth = predict(self.truth, sig).residual[m]
+        self._cols = base if record.nominal is None else base[:, :0]
+        self._with_one = np.column_stack([self._cols, sig.filt(np.ones(sig.t.size))[m]])
+        self._truth = self.residual(record.truth)
 
-        def sse(r, cols):
-            if cols.shape[1]:
-                r = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
-            return float(np.sum(r ** 2))
+    def residual(self, model: JointModel) -> np.ndarray:
+        from ..diagnose.signals import predict
 
-        def share(d, constant=False):
-            cols = base if self.nominal is None else base[:, :0]
-            if constant:
-                cols = np.column_stack([cols, one])
-            r = predict(d if isinstance(d, JointModel) else JointModel.from_dict(d), sig)
-            return 1.0 - sse(truth, cols) / sse(r.residual[m], cols)
+        return predict(model, self.sig).residual[self._m]
 
-        def constant(d):
-            r = predict(JointModel.from_dict(d), sig).residual[m]
-            cols = base if self.nominal is None else base[:, :0]
-            return 1.0 - sse(r, np.column_stack([cols, one])) / sse(r, cols)
+    @staticmethod
+    def _sse(r: np.ndarray, cols: np.ndarray) -> float:
+        if cols.shape[1]:
+            r = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
+        return float(np.sum(r ** 2))
 
-        return (share, sig, constant) if signals else share
+    def share(self, r: np.ndarray, constant: bool = False) -> float:
+        cols = self._with_one if constant else self._cols
+        return 1.0 - self._sse(self._truth, cols) / self._sse(r, cols)
+
+    def constant(self, r: np.ndarray) -> float:
+        return 1.0 - self._sse(r, self._with_one) / self._sse(r, self._cols)
 
 
 # ----------------------------------------------------------------------------- excitation
