@@ -26,8 +26,8 @@ if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult
 
 __all__ = ["Variant", "Problem", "FoldFit", "BlockedCV", "FullFit", "solve", "compose",
-           "cross_validate", "full_fit", "baseline_fit", "casadi_refit", "BASELINE_PARAMS",
-           "empty_variant"]
+           "advance", "cross_validate", "full_fit", "baseline_fit", "casadi_refit",
+           "BASELINE_PARAMS", "empty_variant"]
 
 #: Names of the rigid baseline's coefficients (fit mode), in column order.
 BASELINE_PARAMS = ("inertia", "viscous", "coulomb")
@@ -79,6 +79,16 @@ class Variant:
 def empty_variant(y: np.ndarray) -> Variant:
     """The variant that adds nothing (the model as it stands)."""
     return Variant(h=None, extra=np.zeros((y.size, 0)), y=y, signs=())
+
+
+def advance(base, problem: "Problem", parts: Sequence[Variant], theta: np.ndarray):
+    """``base`` (a :class:`~fricctl.diagnose.causes.Baseline`) moved on to the model of the
+    composed ``parts`` with coefficients ``theta``
+    (:meth:`~fricctl.diagnose.causes.Baseline.advanced`): its residual and its prediction,
+    both of the composed target (the delayed one where a delay is among the parts)."""
+    comp = compose(parts)
+    prediction = problem.design(comp) @ theta
+    return base.advanced(comp.y - prediction, prediction)
 
 
 def compose(parts: Sequence[Variant]) -> Variant:

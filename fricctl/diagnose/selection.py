@@ -43,7 +43,7 @@ import numpy as np
 
 from ..plant import JointModel
 from .causes import Baseline, Cause, Term
-from .crossval import BlockedCV, FullFit, Problem, compose, cross_validate, full_fit
+from .crossval import BlockedCV, FullFit, Problem, advance, compose, cross_validate, full_fit
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
@@ -595,9 +595,7 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
                                           variant=fit.variant),)
     model = state.base.model(_parts(selected), fit.theta)  # the model as it now stands
     fixed = tuple(x.variant for x in state.selected) + (fit.variant,)
-    comp = compose(fixed)
-    prediction = problem.design(comp) @ fit.theta
-    base = state.base.advanced(comp.y - prediction, prediction)
+    base = advance(state.base, problem, fixed, fit.theta)
     nmov = max(int(problem.sig.moving.sum()), 1)
     step = Step(cause=cause.name, score=s.net, gross=s.gross, chain=s.chain,
                 torque_rms_before=math.sqrt(sse_prev / nmov),

@@ -44,7 +44,7 @@ from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import Schedule, simulate_schedule
 from .causes import Baseline
-from .crossval import Problem, compose, cross_validate, empty_variant, full_fit
+from .crossval import Problem, advance, cross_validate, empty_variant, full_fit
 from .signals import Signals, delay_in_samples, estimate_signals
 
 __all__ = ["Twin", "FeedbackGains", "effect_free_twin", "feedback_gains", "chain_shares",
@@ -236,9 +236,7 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
         full = full_fit(problem, tb.variants(cause, None), done)
         if full is not None:
             done = done + (full.variant,)
-            comp = compose(done)
-            prediction = problem.design(comp) @ full.theta
-            tb = tb.advanced(comp.y - prediction, prediction)
+            tb = advance(tb, problem, done, full.theta)
     base_sse = float(np.sum(test))
     shares: dict = {}
 
