@@ -67,6 +67,14 @@ def deflection_scale(model, sigma0: float) -> float:
     return min(model.coulomb_pos, model.coulomb_neg) / sigma0
 
 
-def level_along(model, n, tm):
-    """The level along a measured motion: Coulomb in the deflection's direction + load [N*m]."""
-    return np.where(n >= 0, model.coulomb_pos, model.coulomb_neg) + model.load_coefficient * np.abs(tm)
+def level_along(model, n, omega, tm):
+    """The level ``g`` along a measured motion, not scaled [N*m]: every level law (Coulomb,
+    Stribeck at the measured speed, load) in the deflection's direction -- the ``g`` the
+    plant's state equation slides at.
+
+    (Coulomb and load alone until 2026-11-28: a LuGre joint's Stribeck hump, which the plant
+    simulates, was missing from the torque along the motion, so a record's labels weighed the
+    hump of a Stribeck hidden beside presliding at 0 % and the diagnosis's residual of such a
+    model ignored it.)
+    """
+    return model.level(omega, np.where(n >= 0, 1.0, -1.0), tm)

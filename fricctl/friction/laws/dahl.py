@@ -60,7 +60,7 @@ def _compiled(w, z, g, dahl_sigma0, dahl_exponent):
 
 def _along_motion(model, q, w, tm, t):
     n = bristle_state(q, deflection_scale(model, model.dahl_sigma0), 0.0, model.dahl_exponent)
-    return model.scale_at(t) * (level_along(model, n, tm) * n + model.rate_terms(w)) + model.ripple(q)
+    return model.scale_at(t) * (level_along(model, n, w, tm) * n + model.rate_terms(w)) + model.ripple(q)
 
 
 def _initial(model, q):

@@ -55,7 +55,7 @@ def _compiled(w, z, g, lugre_sigma0, lugre_sigma1):
 def _along_motion(model, q, w, tm, t):
     n = bristle_state(q, deflection_scale(model, model.lugre_sigma0), 0.0, 1.0)
     damp = model.lugre_sigma1 * w * (1 - np.sign(w) * n)
-    return (model.scale_at(t) * (level_along(model, n, tm) * n + model.rate_terms(w))
+    return (model.scale_at(t) * (level_along(model, n, w, tm) * n + model.rate_terms(w))
             + model.ripple(q) + damp)
 
 
