@@ -11,9 +11,10 @@ Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load behind 
 of total width ``g`` driven by the measured motion
 (:func:`~fricctl.diagnose.signals.backlash_load`: rigid contact, the load free inside the
 gap), for gaps around the best peaks of a fine scan (:func:`scan`: 40 per decade from
-:data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, plastic contact),
-the best also with the restitutions of :data:`RESTITUTIONS` (a contact that bounces the load
-back into the gap); hyper-parameter ``(gap, restitution)``;
+:data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, plastic contact,
+of the residual of the model as it stands: made again after each cause named), the best
+also with the restitutions of :data:`RESTITUTIONS` (a contact that bounces the load back
+into the gap); hyper-parameter ``(gap, restitution)``;
 coefficient: the load inertia behind the gap (>= 0; at most
 :data:`MAX_LOAD_SHARE` of the total inertia fitted with it).  The extension sets the gap,
 the load inertia and a stiff contact (:func:`contact`: rigid within the band the record
