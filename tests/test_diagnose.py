@@ -7,6 +7,7 @@ not chosen after looking at results.  Every cause, hidden and named, is tested i
 ``test_diagnose_causes.py`` (parametrised over the cause registry).
 """
 
+import dataclasses
 import json
 import math
 
@@ -189,6 +190,17 @@ def test_report_and_json():
     assert text.startswith("# Diagnosis: `thermal_drift`") and "Held-out gain" in text
     assert "| 1 | thermal_drift |" in text  # the steps table
     assert d.evidence in text and "friction level changes" in d.evidence
+    # a last step stopped by a candidate above the line that cannot be told says so where it
+    # gives that candidate's score (issue 21's pair [12102, 43, 1]: "backlash, removes 57.5 %"
+    # alone read as if the naming line had stopped it); one below the line gives its score
+    why = "the fitted gap (3.89 encoder counts) is at the lower end"
+    over = dataclasses.replace(d, last_ranking=(("backlash", MIN_SCORE + 0.3),),
+                               not_identifiable={"backlash": why})
+    stop = next(s for s in over.report().splitlines() if s.startswith("Stopped"))
+    assert stop.endswith(f"; not named: cannot be told on this record, because {why}."), stop
+    under = dataclasses.replace(over, last_ranking=(("backlash", MIN_SCORE / 2),))
+    stop = next(s for s in under.report().splitlines() if s.startswith("Stopped"))
+    assert "not named" not in stop and stop.endswith("reaches the line)."), stop
 
 
 def test_prediction_errors():

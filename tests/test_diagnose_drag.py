@@ -71,3 +71,26 @@ def test_injection_sizes_the_drag_against_coulomb():
         assert m["speed"] == act.top_speed == 6.0  # the default: 6 x travel (1 rad) per second
         assert 0.3 * act.coulomb <= m["coefficient"] * m["speed"] ** 2 <= 0.8 * act.coulomb
         assert inj.truth.friction == (act.friction() + Drag(m["coefficient"])).model()
+
+
+def test_evidence_against_a_model_without_coulomb_friction_gives_no_share():
+    # a fitted baseline may hold no Coulomb friction (its bound, 0: issue 21's pair
+    # [12102, 43, 1], fitted on a delayed record); the drag's size was then given as
+    # "14003820618838 % of the Coulomb level 0 N*m" (a share of the 1e-12 floor).  With a
+    # level it is the plain ratio (hand calculation: 0.05 / 0.25 = 20 %)
+    from dataclasses import replace
+
+    from fricctl.diagnose.causes import Baseline, Term
+    from fricctl.diagnose.causes.base import coulomb_share
+    from fricctl.diagnose.signals import estimate_signals
+    from fricctl.friction import Viscous
+
+    rec = hidden_effect_record(np.random.default_rng([2030, 1]), cause="none", duration=10.0,
+                               nominal=True)
+    bare = replace(rec.nominal, friction=Viscous(rec.nominal.friction.viscous_pos).model())
+    base = Baseline(estimate_signals(rec.run, 8), bare, None)
+    cause = REGISTRY["drag"]
+    term = Term(coef=np.array([1e-3]))
+    text = cause.evidence(base, term, cause.extend(bare, term, base))
+    assert "the Coulomb level is 0 N*m: no share of it" in text, text
+    assert coulomb_share(0.05, 0.25, "N*m") == "20 % of the Coulomb level 0.25 N*m"

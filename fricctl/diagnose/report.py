@@ -260,9 +260,15 @@ class Diagnosis:
             lines.append("No candidate reaches the score: nothing named.")
         if self.last_ranking:
             best = self.last_ranking[0]
+            # a best candidate at or above the line stopped the selection for another reason
+            # than its score (issue 21's pair [12102, 43, 1]: 57.5 % said alone read as if
+            # the line had stopped it, where its fitted gap could not be told)
+            reason = self.not_identifiable.get(best[0]) if best[1] >= MIN_SCORE else None
+            why = "" if reason is None else f"; not named: {_why(reason)}"
             lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
                           f"{100 * best[1]:.1f} % of what is left (net of the measuring chain's "
-                          f"share, which is measured only where the gross share reaches the line)."]
+                          f"share, which is measured only where the gross share reaches the "
+                          f"line){why}."]
         lines += self._below_lines(u)
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "

@@ -11,9 +11,10 @@ Regressor: ``LP(a_load) - a`` with ``a_load`` the acceleration of a load behind 
 of total width ``g`` driven by the measured motion
 (:func:`~fricctl.diagnose.signals.backlash_load`: rigid contact, the load free inside the
 gap), for gaps around the best peaks of a fine scan (:func:`scan`: 40 per decade from
-:data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, plastic contact),
-the best also with the restitutions of :data:`RESTITUTIONS` (a contact that bounces the load
-back into the gap); hyper-parameter ``(gap, restitution)``;
+:data:`MIN_COUNTS` encoder counts up to a quarter of the record's travel, plastic contact,
+of the residual of the model as it stands: made again after each cause named), the best
+also with the restitutions of :data:`RESTITUTIONS` (a contact that bounces the load back
+into the gap); hyper-parameter ``(gap, restitution)``;
 coefficient: the load inertia behind the gap (>= 0; at most
 :data:`MAX_LOAD_SHARE` of the total inertia fitted with it).  The extension sets the gap,
 the load inertia and a stiff contact (:func:`contact`: rigid within the band the record
@@ -118,14 +119,24 @@ def _basis(base):
 
 def scan(base) -> tuple:
     """The gaps of the fine grid (:data:`SCAN_PER_DECADE` per decade between the bounds) and
-    the share of the baseline's residual each removes on all data (:func:`drop_share`)."""
+    the share of the residual of the model *as it stands* each removes on all data
+    (:func:`drop_share` of :attr:`~fricctl.diagnose.causes.base.Baseline.current_residual`).
+
+    The residual of the model as it stands, not the baseline's: a cause named before (a
+    delay above all) can hide the dead band from the baseline's residual.  Issue 21's pair
+    record [12102, 43, 1] (a delay of 8 samples and a gap of 712 encoder counts at 200 Hz):
+    on the baseline's residual, which the delay's misalignment fills, the scan peaks at its
+    first gap (4 counts, 2.5 %; the true gap 0.75 %); after the delay is named it peaks at
+    the true gap (711 counts, 91 %; 4 counts 59 %).
+    """
     lo, hi = _bounds(base.sig)
     if not hi > lo:
         return np.zeros(0), np.zeros(0)
     n = int(np.floor(SCAN_PER_DECADE * np.log10(hi / lo))) + 1
     gaps = lo * 10.0 ** (np.arange(n) / SCAN_PER_DECADE)
     q = _basis(base)
-    return gaps, np.array([drop_share(base, _column(base.sig, g), basis=q) for g in gaps])
+    y = base.current_residual
+    return gaps, np.array([drop_share(base, _column(base.sig, g), y, basis=q) for g in gaps])
 
 
 def _variants(base, fold):
@@ -184,10 +195,16 @@ def _identifiable(base, term):
     total = term.extended.inertia if term.extended is not None else base.inertia
     count = _counts(sig)
     lo, hi = _bounds(sig)
-    if gap < (MIN_COUNTS - 1e-9) * count:
+    if gap < lo * 10.0 ** (-0.5 / SCAN_PER_DECADE) * (1 - 1e-9):
+        # below the scan's variants (the lowest is half a step under its first gap)
         return (f"the fitted gap ({gap / count:.3g} encoder counts) is below the "
                 f"{MIN_COUNTS:g} counts the encoder resolves")
     if gap < lo * 10.0 ** (0.5 / SCAN_PER_DECADE) * (1 - 1e-9):
+        # (a gap down to half a step under the first gap is a variant around a peak of the
+        # scan at its first gap, not a gap the scan located below the encoder's counts: it
+        # gets this reason, not the one above -- issue 21's pair [12102, 43, 1] was refused
+        # as "3.89 encoder counts, below the 4 counts the encoder resolves" where its scan
+        # had no peak inside the grid, its share largest at the first gap)
         # (strictly below the midpoint to the second point: a variant at the midpoint is also
         # the second point's half step down, a peak inside the scan, and is not refused)
         # the mirror of the upper end: the best gap at the grid's first point means the
@@ -260,5 +277,5 @@ CAUSE = Cause(
     physical="a dead band between motor and load: the motor crosses it alone after each "
              "reversal and picks the load up with an impact",
     changes=("load_inertia", "stiffness", "damping", "backlash"),
-    params=("load_inertia",), variants=_variants, extend=_extend, evidence=_evidence,
-    identifiable=_identifiable, inject=_inject)
+    params=("load_inertia",), variants=_variants, per_step=True, extend=_extend,
+    evidence=_evidence, identifiable=_identifiable, inject=_inject)

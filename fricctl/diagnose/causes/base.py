@@ -23,7 +23,7 @@ from ..crossval import Variant
 from ..signals import Signals, delay_in_samples, friction_columns, predict
 
 __all__ = ["Cause", "Term", "Baseline", "BenchActuator", "Injection", "identifiable_always",
-           "coulomb_level"]
+           "coulomb_level", "coulomb_share"]
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -137,6 +137,19 @@ def coulomb_level(model: JointModel) -> float:
     """Mean Coulomb level of ``model``, times its friction scale [N*m]."""
     fr = model.friction
     return 0.5 * (fr.coulomb_pos + fr.coulomb_neg) * fr.scale
+
+
+def coulomb_share(value: float, level: float, torque: str) -> str:
+    """``value`` [N*m] as a share of the Coulomb level ``level`` [N*m], a clause for an
+    evidence sentence ("12 % of the Coulomb level 0.3 N*m"; ``torque``: the unit label).
+
+    A model fitted with no Coulomb friction (a level of 0: the fit's bound; issue 21's pair
+    [12102, 43, 1], the baseline fitted on a delayed record) has no share to give: said so,
+    not a percentage of a floor (it read "14003820618838 % of the Coulomb level 0 N*m").
+    """
+    if not level > 0:
+        return f"the Coulomb level is {level:.3g} {torque}: no share of it"
+    return f"{100 * value / level:.0f} % of the Coulomb level {level:.3g} {torque}"
 
 
 class Baseline:

@@ -27,7 +27,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...friction import Drag
-from .base import Cause, coulomb_level
+from .base import Cause, coulomb_level, coulomb_share
 
 def _v95(base) -> float:
     """95th percentile of |w| over the sliding samples [rad/s]."""
@@ -73,8 +73,7 @@ def _evidence(base, term, extended):
             f"{0.8 * v95:.3g} {u.velocity} ({shape}); "
             f"fitted drag {c:.3g} {u.torque}*s^2/{u.position}^2, i.e. {c * v95 ** 2:.3g} "
             f"{u.torque} at the 95th-percentile speed {v95:.3g} {u.velocity} "
-            f"({100 * c * v95 ** 2 / max(fc, 1e-12):.0f} % of the Coulomb level {fc:.3g} "
-            f"{u.torque}), viscous {extended.friction.viscous_pos:.3g} {u.viscous}")
+            f"({coulomb_share(c * v95 ** 2, fc, u.torque)}), viscous {extended.friction.viscous_pos:.3g} {u.viscous}")
 
 
 def _inject(rng, act):

@@ -36,7 +36,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...friction import FrictionModel
-from .base import Cause, coulomb_level
+from .base import Cause, coulomb_level, coulomb_share
 
 
 def _variants(base, fold):
@@ -60,8 +60,7 @@ def _evidence(base, term, extended):
             f"{neg:+.3g} {u.torque} moving backward (a constant torque shifts both alike); "
             f"fitted offset {c:+.3g} {u.torque} (the model's offset {extended.offset:+.3g} "
             f"{u.torque}: the joint receives Tm - offset), "
-            f"{100 * abs(extended.offset) / max(fc, 1e-12):.0f} % of the Coulomb level "
-            f"{fc:.3g} {u.torque}")
+            f"{coulomb_share(abs(extended.offset), fc, u.torque)}")
     if abs(extended.offset) > fc:
         return text + (f"; it exceeds the Coulomb level: under zero torque the joint would "
                        f"drift, which no friction does")

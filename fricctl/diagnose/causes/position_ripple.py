@@ -19,7 +19,7 @@ import numpy as np
 from scipy import signal
 
 from ...friction import FrictionModel, PositionRipple
-from .base import Cause, coulomb_level
+from .base import Cause, coulomb_level, coulomb_share
 
 
 #: Variants made for a record, by its signals (weakly: gone with the record) and by (target,
@@ -134,8 +134,8 @@ def _evidence(base, term, extended):
     fr = extended.friction
     fc = coulomb_level(base.fitted)
     return (f"residual periodic in position, period {fr.ripple_period:.4g} {u.position}, amplitude "
-            f"{fr.ripple_amplitude:.3g} {u.torque} ({100 * fr.ripple_amplitude / max(fc, 1e-12):.0f} % "
-            f"of the Coulomb level)")
+            f"{fr.ripple_amplitude:.3g} {u.torque} "
+            f"({coulomb_share(fr.ripple_amplitude, fc, u.torque)})")
 
 
 def _inject(rng, act):

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...friction import FrictionModel, Stribeck
-from .base import Cause, coulomb_level
+from .base import Cause, coulomb_level, coulomb_share
 
 
 def _variants(base, fold):
@@ -42,8 +42,7 @@ def _evidence(base, term, extended):
           else f"none above {10 * vs:.3g} {u.velocity}")
     return (f"{lo}, {hi}; "
             f"fitted Stribeck excess {fr.stribeck_pos:.3g} {u.torque} "
-            f"({100 * fr.stribeck_pos / max(fc, 1e-12):.0f} % of the Coulomb level {fc:.3g} "
-            f"{u.torque}), Stribeck velocity {vs:.3g} {u.velocity}")
+            f"({coulomb_share(fr.stribeck_pos, fc, u.torque)}), Stribeck velocity {vs:.3g} {u.velocity}")
 
 
 def _remove(model):
