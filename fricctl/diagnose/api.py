@@ -428,7 +428,11 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     residual_after = _sliding_residual(extended, sig)
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
-                   other_shape=lambda: _other_shape(setup, sel))
+                   other_shape=lambda: _other_shape(setup, sel),
+                   no_floor="" if math.isfinite(chain_rms) else (
+                       "the effect-free twin that measures the floor ran away (its torque "
+                       "reached the bound of its simulation): it does not follow the record, "
+                       "so no floor"))
     stops = setup.stops
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(

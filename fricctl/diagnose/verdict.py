@@ -175,7 +175,7 @@ def reduction_p(share: float, dof: float, dof_after: float | None = None) -> flo
 
 
 def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict, *,
-            other_shape=None) -> Verdict:
+            other_shape=None, no_floor: str = "") -> Verdict:
     """The verdict of a diagnosis.
 
     Parameters
@@ -192,6 +192,8 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
         ``other_shape()``: the held-out share of the final residual a friction law of another
         shape removes (:attr:`Verdict.other_shape`); asked only when the record is not
         explained.
+    no_floor : str, optional
+        Why the floor is not defined, where the caller knows (the verdict's reason then).
     """
     ok = np.isfinite(residual)
     r = residual[ok]
@@ -201,8 +203,8 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
     if not (math.isfinite(floor) and floor > 0 and math.isfinite(rms_after)):
         return Verdict(explained=False, residual_over_floor=math.nan, p_value=math.nan, dof=dof,
                        dependence=dep, strongest=strongest,
-                       reason="the measuring chain's floor or the held-out residual is undefined "
-                              "on this record")
+                       reason=no_floor or "the measuring chain's floor or the held-out "
+                                         "residual is undefined on this record")
     ratio = rms_after / floor
     p = variance_ratio_p(ratio ** 2, dof)
     # the ratio decides: a test that cannot reject on a short record does not make a residual
