@@ -242,6 +242,13 @@ class HiddenEffectRecord:
         the travel spans fewer than ``MIN_COUNTS`` encoder counts.
         A record that only holds position (a closed loop over a short travel) sees gravity
         as a constant; naming it a position load would be a guess.
+
+        The same rule the other way: an offset hidden beside a position load that is expected
+        is expected only where, beside the true load's wave (its true period, sine and cosine
+        free: :func:`fricctl.diagnose.causes.position_load.wave`), it still removes
+        ``MIN_SCORE`` of the residual that wave leaves -- what the selection asks of it once
+        the load is named.  Over a travel that covers a small part of the load's period the
+        wave holds a constant, and no record of that travel tells an offset beside it.
         """
         from ..diagnose import MIN_SCORE
         from ..diagnose.causes import position_load as pl
@@ -262,6 +269,12 @@ class HiddenEffectRecord:
                 # line itself (an offset hidden too is expected on its own weight)
                 if read.constant(undone) >= MIN_SCORE:
                     out = out | {"offset"}
+        if {"position_load", "offset"} <= out and "offset" in self.causes:
+            # the offset hidden beside a load told as a load: read beside the true load's wave
+            read = read or self._reader(folds)
+            load = pl.wave(read.sig, self.truth.friction.position_load_period)[read.moving]
+            if read.share(read.residual(self._undone("offset")), extra=load) < MIN_SCORE:
+                out = out - {"offset"}
         return out
 
     def _weights(self, read: "_Reader") -> dict:
@@ -294,14 +307,15 @@ class _Reader:
     read them: ``residual(model)``; ``share(r)``, the share of residual ``r`` (sum of squares)
     that the truth's removes, both with the refitted baseline's columns projected off when
     the record has no nominal model, and ``constant=True`` a constant torque too (what the
-    truth removes beyond the best constant in place of what ``r``'s model lacks);
-    ``constant(r)``, the share of ``r`` the best constant torque removes."""
+    truth removes beyond the best constant in place of what ``r``'s model lacks), and
+    ``extra`` columns (sliding samples) projected off both alike; ``constant(r)``, the share
+    of ``r`` the best constant torque removes; ``moving``, the sliding samples."""
 
     def __init__(self, record: HiddenEffectRecord, folds: int, exclude):
         from ..diagnose.signals import estimate_signals
 
         self.sig = sig = estimate_signals(record.run, folds, exclude=exclude)
-        self._m = m = sig.moving
+        self.moving = self._m = m = sig.moving
         base = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
         self._cols = base if record.nominal is None else base[:, :0]
         self._with_one = np.column_stack([self._cols, sig.filt(np.ones(sig.t.size))[m]])
@@ -318,8 +332,11 @@ class _Reader:
             r = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
         return float(np.sum(r ** 2))
 
-    def share(self, r: np.ndarray, constant: bool = False) -> float:
+    def share(self, r: np.ndarray, constant: bool = False,
+              extra: np.ndarray | None = None) -> float:
         cols = self._with_one if constant else self._cols
+        if extra is not None:
+            cols = np.column_stack([cols, extra])
         return 1.0 - self._sse(self._truth, cols) / self._sse(r, cols)
 
     def constant(self, r: np.ndarray) -> float:
