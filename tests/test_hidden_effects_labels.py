@@ -105,3 +105,22 @@ def test_an_offset_beside_a_load_whose_wave_holds_a_constant_is_not_expected():
     d = diagnose(rec.run, rec.nominal)
     assert set(d.causes) == {"position_load"}
     assert "a constant torque is part of its wave" in d.evidence
+
+
+def test_the_wave_holds_a_constant_over_a_short_part_of_its_period():
+    # position_load.constant_held on a record's own signals and travel: a wave of 16 travels'
+    # period is a constant and a line over the travel (it takes up more than 1 - MIN_SHAPE_SHARE
+    # of a constant's column, where the evidence says so); over 1.5 periods a constant is
+    # mostly outside the wave (sine and cosine average out over each full period)
+    from types import SimpleNamespace
+
+    from fricctl.diagnose.causes import position_load as pl
+
+    rec = hidden_effect_record(np.random.default_rng([2123, 21]), cause=("position_load", "offset"),
+                               excitation="mixed", axis="rotary", duration=20.0)
+    sig = rec._reader(8).sig
+    lo, hi = pl._travel(sig)
+    base = SimpleNamespace(sig=sig, columns=np.column_stack([sig.a, sig.filt(sig.w),
+                                                             sig.filt(sig.seff)]))
+    held = {c: pl.constant_held(base, (hi - lo) / c) for c in (1 / 16, 1.5)}
+    assert held[1 / 16] > 1 - pl.MIN_SHAPE_SHARE > held[1.5], held
