@@ -244,11 +244,16 @@ class HiddenEffectRecord:
         as a constant; naming it a position load would be a guess.
 
         The same rule the other way: an offset hidden beside a position load that is expected
-        is expected only where, beside the true load's wave (its true period, sine and cosine
-        free: :func:`fricctl.diagnose.causes.position_load.wave`), it still removes
-        ``MIN_SCORE`` of the residual that wave leaves -- what the selection asks of it once
-        the load is named.  Over a travel that covers a small part of the load's period the
-        wave holds a constant, and no record of that travel tells an offset beside it.
+        is expected only where the record tells a constant beside the load's wave -- where the
+        truth removes ``MIN_SCORE`` of what the best single wave leaves in place of the load
+        and the offset (both undone, every other effect known; the wave's sine and cosine
+        free, its period the best of position_load's search: ``CYCLES``, then ``FINE`` around
+        the best of them; :func:`fricctl.diagnose.causes.position_load.wave`).  That is the
+        question the diagnosis asks before it chooses the load's period beside a constant
+        (:mod:`fricctl.diagnose.causes.position_load`).  Over a travel that covers a small
+        part of the load's period a wave holds a constant, and no record of that travel tells
+        an offset beside it; the period is the record's to find, so a wave of another period
+        that holds load and offset together counts against the offset as well.
         """
         from ..diagnose import MIN_SCORE
         from ..diagnose.causes import position_load as pl
@@ -270,10 +275,22 @@ class HiddenEffectRecord:
                 if read.constant(undone) >= MIN_SCORE:
                     out = out | {"offset"}
         if {"position_load", "offset"} <= out and "offset" in self.causes:
-            # the offset hidden beside a load told as a load: read beside the true load's wave
+            # the offset hidden beside a load told as a load: told only where the truth removes
+            # MIN_SCORE of what the best single wave of the load's period search leaves in place
+            # of load and offset (the period is the record's to find, not the truth's)
             read = read or self._reader(folds)
-            load = pl.wave(read.sig, self.truth.friction.position_load_period)[read.moving]
-            if read.share(read.residual(self._undone("offset")), extra=load) < MIN_SCORE:
+            sig, m = read.sig, read.moving
+            lo, hi = pl._travel(sig)
+            both = read.residual(self._undone("position_load", "offset"))
+
+            def alone(cycles):
+                return read.sse(both, pl.wave(sig, (hi - lo) / cycles)[m])
+
+            coarse = {c: alone(c) for c in pl.CYCLES}
+            first = min(coarse, key=coarse.get)
+            best = min([coarse[first]] + [alone(first + d) for d in pl.FINE
+                                          if 0 < first + d <= pl.MAX_CYCLES])
+            if not (best > 0 and 1.0 - read.sse(read.truth) / best >= MIN_SCORE):
                 out = out - {"offset"}
         return out
 
@@ -281,11 +298,11 @@ class HiddenEffectRecord:
         return {name: read.share(read.residual(self._undone(name)))
                 for name in self.causes if name != causes.NONE}
 
-    def _undone(self, name: str) -> JointModel:
-        """The true model with the effect ``name`` undone, the others kept."""
+    def _undone(self, *names: str) -> JointModel:
+        """The true model with the effects ``names`` undone, the others kept."""
         d = _full_dict(self.truth)
         free = _full_dict(self.effect_free)
-        for key in causes.get(name).changes:
+        for key in (k for name in names for k in causes.get(name).changes):
             if key in d["friction"]:
                 d["friction"][key] = free["friction"][key]
             elif key in d:
@@ -307,9 +324,10 @@ class _Reader:
     read them: ``residual(model)``; ``share(r)``, the share of residual ``r`` (sum of squares)
     that the truth's removes, both with the refitted baseline's columns projected off when
     the record has no nominal model, and ``constant=True`` a constant torque too (what the
-    truth removes beyond the best constant in place of what ``r``'s model lacks), and
-    ``extra`` columns (sliding samples) projected off both alike; ``constant(r)``, the share
-    of ``r`` the best constant torque removes; ``moving``, the sliding samples."""
+    truth removes beyond the best constant in place of what ``r``'s model lacks);
+    ``constant(r)``, the share of ``r`` the best constant torque removes; ``sse(r, extra)``,
+    what ``r`` leaves with those columns and ``extra`` projected off; ``truth``, the true
+    model's residual; ``moving``, the sliding samples."""
 
     def __init__(self, record: HiddenEffectRecord, folds: int, exclude):
         from ..diagnose.signals import estimate_signals
@@ -332,11 +350,18 @@ class _Reader:
             r = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
         return float(np.sum(r ** 2))
 
-    def share(self, r: np.ndarray, constant: bool = False,
-              extra: np.ndarray | None = None) -> float:
+    @property
+    def truth(self) -> np.ndarray:
+        """The true model's residual (sliding samples)."""
+        return self._truth
+
+    def sse(self, r: np.ndarray, extra: np.ndarray | None = None) -> float:
+        """What ``r`` leaves (sum of squares) with the baseline's columns (fit mode) and the
+        ``extra`` columns (sliding samples) projected off."""
+        return self._sse(r, self._cols if extra is None else np.column_stack([self._cols, extra]))
+
+    def share(self, r: np.ndarray, constant: bool = False) -> float:
         cols = self._with_one if constant else self._cols
-        if extra is not None:
-            cols = np.column_stack([cols, extra])
         return 1.0 - self._sse(self._truth, cols) / self._sse(r, cols)
 
     def constant(self, r: np.ndarray) -> float:
