@@ -150,55 +150,37 @@ def _best_cycles(base, span) -> dict:
     return best
 
 
-def _fold_gains(base, span, cycles, r, const=None) -> np.ndarray:
-    """Per entry of ``cycles`` and per block left out (and all data, last), what the wave (and
-    a constant beside it, when ``const`` is given), with the baseline's columns refitted in
-    fit mode, removes of ``r`` on the training blocks' sliding samples: ``g' G^-1 g`` of
-    their normal equations [N^2*m^2]."""
+def _moments(base, span, cycles, r, const) -> dict:
+    """Per entry of ``cycles``: the moments ``Z'Z`` of ``Z`` = [the baseline's columns (fit
+    mode), a constant, the wave's sine and cosine, ``r``] over the training blocks' sliding
+    samples, per block left out and for all data (last), shape (blocks + 1, k, k); the
+    regressors scaled to unit RMS (conditioning), ``r`` not."""
     sig = base.sig
     rows = np.flatnonzero(sig.moving)
     folds, nf = sig.folds[rows], sig.n_folds
-    fixed = [] if base.columns is None else [np.take(base.columns, rows, axis=0)]
-    if const is not None:
-        fixed.append(const[:, None])
-    out = np.empty((len(cycles), nf + 1))
-    for i, c in enumerate(cycles):
+    fixed = [const[:, None]] if base.columns is None else [base.columns[rows], const[:, None]]
+    blocks = [np.flatnonzero(folds == f) for f in range(nf)]
+    out = {}
+    for c in cycles:
         x = np.column_stack(fixed + [np.take(_variant(base, c, span).extra, rows, axis=0)])
-        x = x / np.maximum(np.sqrt(np.mean(x ** 2, axis=0)), 1e-300)  # conditioning
-        k = x.shape[1]
-        pairs = [(a, b) for a in range(k) for b in range(a, k)]
-        per = np.array([np.bincount(folds, weights=x[:, a] * x[:, b], minlength=nf)[:nf]
-                        for a, b in pairs]
-                       + [np.bincount(folds, weights=x[:, a] * r, minlength=nf)[:nf]
-                          for a in range(k)])
-        sums = np.column_stack([per.sum(axis=1)[:, None] - per, per.sum(axis=1)])
-        for j in range(nf + 1):
-            G = np.empty((k, k))
-            for n, (a, b) in enumerate(pairs):
-                G[a, b] = G[b, a] = sums[n, j]
-            g = sums[len(pairs):, j]
-            try:
-                out[i, j] = float(g @ np.linalg.solve(G, g))
-            except np.linalg.LinAlgError:
-                out[i, j] = -np.inf
+        z = np.column_stack([x / np.maximum(np.sqrt(np.mean(x ** 2, axis=0)), 1e-300), r])
+        per = np.stack([z[b].T @ z[b] for b in blocks])
+        total = per.sum(axis=0)
+        out[c] = np.concatenate([total[None] - per, total[None]])
     return out
 
 
-def _searched(base, span, r, const=None) -> list:
-    """Per block left out (and all data, last): ``(gain, cycles)`` of the best wave (beside a
-    constant when ``const`` is given) on the training blocks, :data:`CYCLES` then
-    :data:`FINE` around the best of them (:func:`_fold_gains`)."""
-    nf = base.sig.n_folds
-    coarse = _fold_gains(base, span, CYCLES, r, const)
-    first = [CYCLES[int(np.argmax(coarse[:, j]))] for j in range(nf + 1)]
-    fine = sorted({round(c + d, 6) for c in first for d in FINE if 0 < c + d <= MAX_CYCLES})
-    near = _fold_gains(base, span, fine, r, const) if fine else np.zeros((0, nf + 1))
-    out = []
-    for j in range(nf + 1):
-        tried = [(float(coarse[CYCLES.index(first[j]), j]), first[j])]
-        tried += [(float(near[i, j]), c) for i, c in enumerate(fine)
-                  if abs(c - first[j]) < FINE[-1] + 1e-6]
-        out.append(max(tried))
+def _gains(moments, cols) -> np.ndarray:
+    """Per block left out (and all data, last), what the regressors ``cols`` of
+    :func:`_moments` remove of ``r``: ``g' G^-1 g`` [N^2*m^2] (-inf where singular)."""
+    G = moments[:, cols][:, :, cols]
+    g = moments[:, cols, -1]
+    out = np.full(moments.shape[0], -np.inf)
+    for j in range(moments.shape[0]):
+        try:
+            out[j] = float(g[j] @ np.linalg.solve(G[j], g[j]))
+        except np.linalg.LinAlgError:
+            pass
     return out
 
 
@@ -206,8 +188,9 @@ def _beside_constant(base, span) -> dict:
     """Per block left out (and None: all data), the cycles over the travel of the wave that,
     beside a free constant, fits the residual of the model as it stands best on the training
     blocks -- where it and the constant remove :data:`MIN_SHAPE_SHARE` of what the best wave
-    alone leaves there (the record tells a constant beside the load; both searched as
-    :func:`_searched`); else None for that block (computed once per step)."""
+    alone leaves there (the record tells a constant beside the load); else None for that
+    block.  Each searched over :data:`CYCLES`, then :data:`FINE` around the best of them, the
+    baseline's columns refitted (fit mode); computed once per step."""
     sig = base.sig
     r_all = base.current_residual
     made = _MADE.setdefault(base.sig, {})
@@ -215,19 +198,31 @@ def _beside_constant(base, span) -> dict:
     if hit is not None:
         return hit[1]
     m = sig.moving
-    r = r_all[m]
-    folds, nf = sig.folds[m], sig.n_folds
-    rr = np.bincount(folds, weights=r * r, minlength=nf)[:nf]
-    rr = np.append(rr.sum() - rr, rr.sum())  # training sums per block left out, all data
-    alone = _searched(base, span, r)
-    beside = _searched(base, span, r, sig.filt(np.ones(sig.t.size))[m])
-    best = {}
+    nf = sig.n_folds
+    nb = 0 if base.columns is None else base.columns.shape[1]
+    wave_cols, const_col = [nb + 1, nb + 2], nb
+    kinds = {"alone": list(range(nb)) + wave_cols,
+             "beside": list(range(nb)) + [const_col] + wave_cols}
+    mom = _moments(base, span, CYCLES, r_all[m], sig.filt(np.ones(sig.t.size))[m])
+    gains = {k: np.array([_gains(mom[c], cols) for c in CYCLES]) for k, cols in kinds.items()}
+    first = {k: [CYCLES[int(np.argmax(g[:, j]))] for j in range(nf + 1)]
+             for k, g in gains.items()}
+    fine = sorted({round(c + d, 6) for f in first.values() for c in f for d in FINE
+                   if 0 < c + d <= MAX_CYCLES} - set(CYCLES))
+    mom.update(_moments(base, span, fine, r_all[m], sig.filt(np.ones(sig.t.size))[m]))
+    best = {k: [] for k in kinds}
+    for k, cols in kinds.items():
+        for j in range(nf + 1):
+            near = [c for c in mom if abs(c - first[k][j]) < FINE[-1] + 1e-6]
+            best[k].append(max((float(_gains(mom[c], cols)[j]), c) for c in near))
+    out = {}
     for j, fold in enumerate([*range(nf), None]):
-        left_alone, left_both = rr[j] - alone[j][0], rr[j] - beside[j][0]
+        rr = float(mom[CYCLES[0]][j, -1, -1])
+        left_alone, left_both = rr - best["alone"][j][0], rr - best["beside"][j][0]
         told = left_alone > 0 and 1.0 - left_both / left_alone >= MIN_SHAPE_SHARE
-        best[fold] = beside[j][1] if told else None
-    made[("beside", id(r_all))] = (r_all, best)
-    return best
+        out[fold] = best["beside"][j][1] if told else None
+    made[("beside", id(r_all))] = (r_all, out)
+    return out
 
 
 def reach(sig, fold) -> float:
