@@ -242,6 +242,18 @@ class HiddenEffectRecord:
         the travel spans fewer than ``MIN_COUNTS`` encoder counts.
         A record that only holds position (a closed loop over a short travel) sees gravity
         as a constant; naming it a position load would be a guess.
+
+        The same rule the other way: an offset hidden beside a position load that is expected
+        is expected only where the record tells a constant beside the load's wave -- where the
+        truth removes ``MIN_SCORE`` of what the best single wave leaves in place of the load
+        and the offset (both undone, every other effect known; the wave's sine and cosine
+        free, its period the best of position_load's search: ``CYCLES``, then ``FINE`` around
+        the best of them; :func:`fricctl.diagnose.causes.position_load.wave`).  That is the
+        question the diagnosis asks before it chooses the load's period beside a constant
+        (:mod:`fricctl.diagnose.causes.position_load`).  Over a travel that covers a small
+        part of the load's period a wave holds a constant, and no record of that travel tells
+        an offset beside it; the period is the record's to find, so a wave of another period
+        that holds load and offset together counts against the offset as well.
         """
         from ..diagnose import MIN_SCORE
         from ..diagnose.causes import position_load as pl
@@ -262,17 +274,35 @@ class HiddenEffectRecord:
                 # line itself (an offset hidden too is expected on its own weight)
                 if read.constant(undone) >= MIN_SCORE:
                     out = out | {"offset"}
+        if {"position_load", "offset"} <= out and "offset" in self.causes:
+            # the offset hidden beside a load told as a load: told only where the truth removes
+            # MIN_SCORE of what the best single wave of the load's period search leaves in place
+            # of load and offset (the period is the record's to find, not the truth's)
+            read = read or self._reader(folds)
+            sig, m = read.sig, read.moving
+            lo, hi = pl._travel(sig)
+            both = read.residual(self._undone("position_load", "offset"))
+
+            def alone(cycles):
+                return read.sse(both, pl.wave(sig, (hi - lo) / cycles)[m])
+
+            coarse = {c: alone(c) for c in pl.CYCLES}
+            first = min(coarse, key=coarse.get)
+            best = min([coarse[first]] + [alone(first + d) for d in pl.FINE
+                                          if 0 < first + d <= pl.MAX_CYCLES])
+            if not (best > 0 and 1.0 - read.sse(read.truth) / best >= MIN_SCORE):
+                out = out - {"offset"}
         return out
 
     def _weights(self, read: "_Reader") -> dict:
         return {name: read.share(read.residual(self._undone(name)))
                 for name in self.causes if name != causes.NONE}
 
-    def _undone(self, name: str) -> JointModel:
-        """The true model with the effect ``name`` undone, the others kept."""
+    def _undone(self, *names: str) -> JointModel:
+        """The true model with the effects ``names`` undone, the others kept."""
         d = _full_dict(self.truth)
         free = _full_dict(self.effect_free)
-        for key in causes.get(name).changes:
+        for key in (k for name in names for k in causes.get(name).changes):
             if key in d["friction"]:
                 d["friction"][key] = free["friction"][key]
             elif key in d:
@@ -295,13 +325,15 @@ class _Reader:
     that the truth's removes, both with the refitted baseline's columns projected off when
     the record has no nominal model, and ``constant=True`` a constant torque too (what the
     truth removes beyond the best constant in place of what ``r``'s model lacks);
-    ``constant(r)``, the share of ``r`` the best constant torque removes."""
+    ``constant(r)``, the share of ``r`` the best constant torque removes; ``sse(r, extra)``,
+    what ``r`` leaves with those columns and ``extra`` projected off; ``truth``, the true
+    model's residual; ``moving``, the sliding samples."""
 
     def __init__(self, record: HiddenEffectRecord, folds: int, exclude):
         from ..diagnose.signals import estimate_signals
 
         self.sig = sig = estimate_signals(record.run, folds, exclude=exclude)
-        self._m = m = sig.moving
+        self.moving = self._m = m = sig.moving
         base = np.column_stack([sig.a, sig.filt(sig.w), sig.filt(sig.seff)])[m]
         self._cols = base if record.nominal is None else base[:, :0]
         self._with_one = np.column_stack([self._cols, sig.filt(np.ones(sig.t.size))[m]])
@@ -317,6 +349,16 @@ class _Reader:
         if cols.shape[1]:
             r = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
         return float(np.sum(r ** 2))
+
+    @property
+    def truth(self) -> np.ndarray:
+        """The true model's residual (sliding samples)."""
+        return self._truth
+
+    def sse(self, r: np.ndarray, extra: np.ndarray | None = None) -> float:
+        """What ``r`` leaves (sum of squares) with the baseline's columns (fit mode) and the
+        ``extra`` columns (sliding samples) projected off."""
+        return self._sse(r, self._cols if extra is None else np.column_stack([self._cols, extra]))
 
     def share(self, r: np.ndarray, constant: bool = False) -> float:
         cols = self._with_one if constant else self._cols

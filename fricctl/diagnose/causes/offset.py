@@ -27,6 +27,10 @@ A constant is told from the baseline's Coulomb column ``Fc*sign(w)`` only by a r
 that moves both ways (one way, the two columns are the same: the selection's
 collinearity test refuses it), and from a load of position only by the shape over
 the travel (:mod:`.position_load` refuses a load that is a constant over the travel).
+Beside a load of position, a constant is told only by what the load's wave leaves of it:
+over a travel short against the load's period the wave's sine and cosine hold a constant,
+and an offset beside the load removes less than the naming line of what the load leaves
+(:mod:`.position_load`, *What it does not tell*).
 """
 
 from __future__ import annotations
