@@ -199,6 +199,26 @@ def test_a_twin_that_cannot_follow_the_record_gives_no_floor():
     assert "presliding" not in d.causes
 
 
+def test_a_twin_that_runs_away_measures_nothing(monkeypatch):
+    # the same record with the twin's loop at the old bound (c = 1, beyond its stability):
+    # the twin runs away, so there is no floor (the verdict says why, not explained) and no
+    # chain share (a candidate is set aside, said so, and not named on an unmeasured score)
+    from test_diagnose_independent import simulate_record
+
+    from fricctl.diagnose import twin
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    monkeypatch.setattr(twin, "stable_velocity_gain", lambda delay=0: twin.GAIN_MARGIN)
+    run, _ = simulate_record([33, 24], effects=("compliance",), sample_time=0.005, duration=20.0)
+    d = diagnose(run)
+    assert math.isnan(d.chain_rms) and not d.explained
+    assert "twin that measures the floor ran away" in d.verdict.reason
+    assert d.causes == ("none",)
+    assert CHAIN_UNMEASURED in d.not_identifiable.values()
+    assert "ran away" in d.evidence
+    json.dumps(json_safe(d.as_dict()), allow_nan=False)
+
+
 def test_feedback_gains_keep_the_twins_loop_stable():
     # the estimated gain is held to the twin's stability bound over the margin, whatever the
     # record's loop: the bench's loop at c = 0.9 (beyond the twin's 0.518) is read at the bound

@@ -31,6 +31,10 @@ presliding term fitted to a record whose friction has a shape no cause represent
 part of its residual that the generic curve removes with the rest (issue 21, item 5: a
 Coulomb level reached smoothly with speed was read as each of the three); a candidate that
 adds :data:`MIN_SCORE` on top of the curve is still told.
+
+A candidate whose chain share cannot be measured (the twin of the model as it stands ran away:
+:attr:`fricctl.diagnose.twin.Twin.ran_away`) has no net score: it is set aside for the step
+with :data:`CHAIN_UNMEASURED` and not named on its gross score.
 """
 
 from __future__ import annotations
@@ -48,12 +52,17 @@ from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
            "torque_scale", "position_scale", "sensor_scales", "SensorScale", "speed_curve",
-           "COLLINEAR_SHARE", "MIN_SCORE", "CURVE_QUANTILES"]
+           "COLLINEAR_SHARE", "MIN_SCORE", "CURVE_QUANTILES", "CHAIN_UNMEASURED"]
 
 #: Smallest held-out fraction of the remaining torque residual (sum of squares) a candidate
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
 #: held-out torque RMS must drop by 10 %, the issue's definition of an effect that matters.
 MIN_SCORE = 1.0 - 0.9 ** 2
+
+#: Why a candidate is set aside when its measuring chain's share cannot be measured.
+CHAIN_UNMEASURED = ("the measuring chain's share of it cannot be measured: the effect-free twin of "
+                    "the model as it stands ran away (its torque reached the bound of its "
+                    "simulation), so its score is not net of the chain's and it is not named")
 
 #: Knots of the generic friction curve (:func:`speed_curve`): quantiles of the speed |w| over
 #: the sliding samples, dense at low speed where friction laws differ most [-].
@@ -197,6 +206,10 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
         if not sse_prev > 0:
             break
         scored = _score(problem, state, chain, sse_prev, progress)
+        # a candidate whose chain share could not be measured is set aside for the step
+        unmeasured = {n: CHAIN_UNMEASURED for n, sc in scored.items() if sc.unmeasured}
+        if unmeasured:
+            state = replace(state, aside={**state.aside, **unmeasured})
         ranking = tuple(sorted(((name, s.net) for name, s in scored.items()),
                                key=lambda kv: -kv[1]))
         state = replace(state, last_ranking=ranking,
@@ -280,6 +293,9 @@ class _Scored:
     """The candidate's blocked cross-validation after the causes named."""
     test: np.ndarray
     """Held-out SSE per block with the term in (the model's where no variant fits)."""
+    unmeasured: bool = False
+    """The measuring chain's share could not be measured (the twin ran away): the net score
+    is set to 0, the chain's share to NaN."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -473,7 +489,11 @@ def _score(problem: Problem, state: _State, chain, sse_prev: float, progress) ->
     for name, s in gross.items():
         share = 0.0
         if s.gross >= MIN_SCORE:  # the twin keeps what the record keeps with the term in
-            share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+            share = chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause)
+            if not math.isfinite(share):  # no twin to measure it on: no net score either
+                scored[name] = replace(s, net=0.0, chain=math.nan, unmeasured=True)
+                continue
+            share = max(share, 0.0)
         scored[name] = replace(s, net=s.gross - share, chain=share)
     return scored
 

@@ -283,12 +283,15 @@ def _twin_baseline(tsig: Signals, base: Baseline) -> Baseline:
 
 def chain_shares(twin: Twin, named: Sequence) -> Callable:
     """``share(cause)``: the held-out fraction of the twin's residual the term of ``cause``
-    removes when it is added after the causes ``named`` [-].
+    removes when it is added after the causes ``named`` [-]; NaN for every cause when the
+    twin ran away (:attr:`Twin.ran_away`).
 
     The twin walks the record's path: each named cause is added in turn, its variant
     chosen on the twin's own training blocks as on the record's, so that a candidate is
     measured against what the same steps leave on a record without effects.
     """
+    if twin.ran_away:  # its residual is not the chain's: nothing to measure on it
+        return lambda cause: math.nan
     problem, tb = twin.problem, twin.base
     test = twin.test
     chosen: list = []  # per named cause, the variant chosen per fold (None: no variant)
