@@ -191,7 +191,7 @@ def test_each_state_law_along_a_steady_slide_carries_the_stribeck_hump(name):
          + Stribeck(0.06, 0.05) + Viscous(0.02) + LoadDependent(0.1))
     t = np.linspace(0.0, 5.0, 5001)
     for w0 in (0.02, -0.03, 0.5):
-        q = w0 * t  # 100-150 presliding lengths from rest: the bristle is at its equilibrium
+        q = w0 * t  # 6 000-150 000 presliding lengths (1.6e-5 rad): the bristle at equilibrium
         w = np.full_like(t, w0)
         tm = np.full_like(t, 0.4)
         f = m.along_motion(q, w, tm, t)

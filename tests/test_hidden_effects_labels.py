@@ -73,13 +73,14 @@ def test_a_stribeck_hump_beside_presliding_weighs():
     # with the hump (fricctl.friction.presliding.level_along): undoing the hump changes the
     # residual.  Read without it, the hump of every such record weighed 0 % (the pairs
     # benchmark's two records: 0.00 and 0.00, now 0.23 and 0.59) and a diagnosis naming it was
-    # counted a false cause
+    # counted a false cause.  This seed's hump weighs 0.49 (0.00 before): expected
+    from fricctl.diagnose import MIN_SCORE
     rec = hidden_effect_record(np.random.default_rng([2123, 11]), cause=("stribeck", "presliding"),
                                duration=20.0)
     excess = rec.truth.friction.stribeck_pos
     assert excess > 0.2 * rec.truth.friction.coulomb_pos  # a hump the record carries
     w = rec.weights()
-    assert w["stribeck"] > 0.05, w
+    assert w["stribeck"] >= MIN_SCORE, w
 
 
 def test_an_offset_beside_a_load_whose_wave_holds_a_constant_is_not_expected():

@@ -253,7 +253,10 @@ class HiddenEffectRecord:
         (:mod:`fricctl.diagnose.causes.position_load`).  Over a travel that covers a small
         part of the load's period a wave holds a constant, and no record of that travel tells
         an offset beside it; the period is the record's to find, so a wave of another period
-        that holds load and offset together counts against the offset as well.
+        that holds load and offset together counts against the offset as well.  What the
+        offset must remove is measured with the truth (its load and offset), not with the best
+        wave and constant a diagnosis could fit in their place: a rule on what the record
+        holds, stricter than the diagnosis's in-sample fit.
         """
         from ..diagnose import MIN_SCORE
         from ..diagnose.causes import position_load as pl

@@ -429,10 +429,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
                    other_shape=lambda: _other_shape(setup, sel),
-                   no_floor="" if math.isfinite(chain_rms) else (
-                       "the effect-free twin that measures the floor ran away (its torque "
-                       "reached the bound of its simulation): it does not follow the record, "
-                       "so no floor"))
+                   no_floor="" if math.isfinite(chain_rms) else NO_FLOOR)
     stops = setup.stops
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(
@@ -455,7 +452,9 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      sim_after=sel.sim_after, nominal=model is not None, units=sig.units,
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
-                     cutoff=sig.cutoff, notes=_notes(sel), end_stops=stops)
+                     cutoff=sig.cutoff, end_stops=stops,
+                     notes={**_notes(sel), **({} if math.isfinite(chain_rms) else
+                                              {"chain_rms": NO_FLOOR, "verdict": NO_FLOOR})})
 
 
 def _below_notes(below: tuple) -> dict:
@@ -574,6 +573,11 @@ def _twin(base: Baseline, floor: float | None = None, model: JointModel | None =
         what = "model" if base.nominal is not None else "the fitted baseline"
         raise ValueError(f"{what}: its effect-free twin (the model driven by the recorded "
                          f"torque) cannot be made: {err}") from None
+
+
+#: Why a diagnosis has no floor (its text, its verdict's reason, the JSON's ``undefined``).
+NO_FLOOR = ("the effect-free twin that measures the floor ran away (its torque reached the bound "
+            "of its simulation): it does not follow the record, so no floor")
 
 
 def _notes(sel) -> dict:

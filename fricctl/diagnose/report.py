@@ -4,6 +4,7 @@ infinities become null) and its Markdown report (:meth:`Diagnosis.report`)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -13,7 +14,7 @@ from .._json import json_safe
 from ..plant import JointModel
 from ..units import units as unit_labels
 from . import causes
-from .selection import MIN_SCORE, Step
+from .selection import CHAIN_UNMEASURED, MIN_SCORE, Step
 from .verdict import Verdict
 from .windows import WindowedSimulation
 
@@ -263,17 +264,21 @@ class Diagnosis:
             # a best candidate at or above the line stopped the selection for another reason
             # than its score (issue 21's pair [12102, 43, 1]: 57.5 % said alone read as if
             # the line had stopped it, where its fitted gap could not be told)
-            reason = self.not_identifiable.get(best[0]) if best[1] >= MIN_SCORE else None
+            reason = self.not_identifiable.get(best[0])
+            if best[1] < MIN_SCORE and reason != CHAIN_UNMEASURED:  # the line stopped it
+                reason = None
             why = "" if reason is None else f"; not named: {_why(reason)}"
             lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
                           f"{100 * best[1]:.1f} % of what is left (net of the measuring chain's "
                           f"share, which is measured only where the gross share reaches the "
                           f"line){why}."]
         lines += self._below_lines(u)
+        chain_said = (f"the measuring chain alone leaves {self.chain_rms:.3g} {u.torque} RMS"
+                      if math.isfinite(self.chain_rms) else
+                      "no floor: the twin of the baseline ran away")
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
-                      f"record's effect-free twin (the measuring chain alone leaves "
-                      f"{self.chain_rms:.3g} {u.torque} RMS); named when the net share is "
+                      f"record's effect-free twin ({chain_said}); named when the net share is "
                       f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
                       f"{self.cutoff:.4g} Hz.", ""]
         if self.not_identifiable:

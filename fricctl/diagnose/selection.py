@@ -207,9 +207,11 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
             break
         scored = _score(problem, state, chain, sse_prev, progress)
         # a candidate whose chain share could not be measured is set aside for the step
-        unmeasured = {n: CHAIN_UNMEASURED for n, sc in scored.items() if sc.unmeasured}
-        if unmeasured:
-            state = replace(state, aside={**state.aside, **unmeasured})
+        # (and one measured now loses an earlier step's such reason)
+        state = replace(state, aside={
+            **{n: r for n, r in state.aside.items()
+               if not (r == CHAIN_UNMEASURED and n in scored and not scored[n].unmeasured)},
+            **{n: CHAIN_UNMEASURED for n, sc in scored.items() if sc.unmeasured}})
         ranking = tuple(sorted(((name, s.net) for name, s in scored.items()),
                                key=lambda kv: -kv[1]))
         state = replace(state, last_ranking=ranking,

@@ -104,7 +104,8 @@ def stable_velocity_gain(delay: int = 0) -> float:
     (Kd/1.4)^2/I``.  In the normalised variables ``x = q``, ``v = w*Ts``, ``u*Ts^2/I`` the
     loop depends on ``c`` and ``delay`` alone; the boundary is where its spectral radius
     reaches 1 (bisection to 1e-6; friction and the twin's slow correction, a fiftieth of the
-    cut-off, left out).  The bound ``I/Ts`` (``c = 1``) the twin used until 2026-11-28 is
+    cut-off, left out).  A rigid analysis: a twin of an elastic model (a named compliance or
+    backlash) may lose stability elsewhere; what guards it there is :attr:`Twin.ran_away`.  The bound ``I/Ts`` (``c = 1``) the twin used until 2026-11-28 is
     beyond it: ``c`` = 0.518 without a delay, 0.343 with one sample.
 
     Examples

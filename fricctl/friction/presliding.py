@@ -69,8 +69,12 @@ def deflection_scale(model, sigma0: float) -> float:
 
 def level_along(model, n, omega, tm):
     """The level ``g`` along a measured motion, not scaled [N*m]: every level law (Coulomb,
-    Stribeck at the measured speed, load) in the deflection's direction -- the ``g`` the
-    plant's state equation slides at.
+    Stribeck at the speed given, load) in the deflection's direction -- the laws of the ``g``
+    the plant's state equation slides at, read two ways differently: the plant takes the
+    direction of the velocity (after a reversal, the deflection's sign follows a few
+    presliding lengths later; a difference only where the levels differ by direction), and
+    its own speed, where this reads the speed it is given (a record's estimated velocity,
+    which at low speed steps with the encoder's counts).
 
     (Coulomb and load alone until 2026-11-28: a LuGre joint's Stribeck hump, which the plant
     simulates, was missing from the torque along the motion, so a record's labels weighed the
