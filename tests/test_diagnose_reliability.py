@@ -70,15 +70,19 @@ def test_report_tables_have_no_nan(delay_record):
 
 def test_undefined_numbers_are_null_with_a_reason(delay_record):
     d = diagnose(delay_record.run)
+    own = d.as_dict()["undefined"]
     bad = replace(d, gain=replace(d.gain, simulation_rms_after=float("inf")),
-                  notes={"gain": "the model cannot be re-simulated on this record (test)"})
+                  notes={**d.notes, "gain": "the model cannot be re-simulated on this record (test)"})
     out = bad.as_dict()
     text = json.dumps(out, allow_nan=False)  # raises on NaN/Infinity
     assert out["gain"]["simulation_rms_after"] is None
     assert out["undefined"] == {
-        "gain.simulation_rms_after": "the model cannot be re-simulated on this record (test)"}
+        **own, "gain.simulation_rms_after": "the model cannot be re-simulated on this record (test)"}
     assert "Infinity" not in text
-    assert d.as_dict()["undefined"] == {}  # nothing undefined on an ordinary record
+    # on an ordinary record a null is a number not computed (a candidate below the line the
+    # test rejects on its gross share: its chain's share and simulation), each with its reason
+    assert all(k.startswith("below_line[") for k in own)
+    assert not any("overflow or 0/0" in r for r in own.values())
     assert "| n/a |" in bad.report() or "n/a" in bad.report()
 
 
