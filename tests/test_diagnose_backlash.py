@@ -239,6 +239,14 @@ def test_backlash_on_the_independent_bench(i):
 
 
 # ----------------------------------------------------------------------------- after a named cause
+def _effect_free():
+    """An effect-free record with its nominal model: the record, its signals, its baseline."""
+    rec = hidden_effect_record(np.random.default_rng([2031, 4]), cause="none", duration=10.0,
+                               nominal=True)
+    sig = estimate_signals(rec.run, 8)
+    return rec, sig, Baseline(sig, rec.nominal, None)
+
+
 def test_the_scan_reads_the_model_as_it_stands():
     # the scan and its variants are of the residual of the model as it stands
     # (Baseline.advanced), not the baseline's: a residual that is one gap's column (plus a
@@ -246,10 +254,7 @@ def test_the_scan_reads_the_model_as_it_stands():
     # (the grid's own resolution), and the variants sit around it.  Before, the scan read
     # the baseline's residual and its variants were made once: after a named delay they
     # stayed where the delay's misalignment had put them (issue 21's pair [12102, 43, 1])
-    rec = hidden_effect_record(np.random.default_rng([2031, 4]), cause="none", duration=10.0,
-                               nominal=True)
-    sig = estimate_signals(rec.run, 8)
-    base = Baseline(sig, rec.nominal, None)
+    rec, sig, base = _effect_free()
     cause = REGISTRY["backlash"]
     gaps0, drops0 = backlash_cause.scan(base)
     before = base.variants(cause, None)  # made at the first step (cached per step)
@@ -270,10 +275,7 @@ def test_a_gap_half_a_step_under_the_scan_is_at_its_lower_end():
     # a variant half a step under the scan's first gap (3.89 counts) comes from a peak at the
     # first gap: the reason is that no gap is located (the lower end), not that the encoder
     # cannot resolve a gap the scan found; a gap further down is below the encoder's counts
-    rec = hidden_effect_record(np.random.default_rng([2031, 4]), cause="none", duration=10.0,
-                               nominal=True)
-    sig = estimate_signals(rec.run, 8)
-    base = Baseline(sig, rec.nominal, None)
+    rec, sig, base = _effect_free()
     cause = REGISTRY["backlash"]
     lo = backlash_cause.MIN_COUNTS * backlash_cause._counts(sig)
     half = 10.0 ** (0.5 / backlash_cause.SCAN_PER_DECADE)

@@ -52,6 +52,7 @@ cause's search leaves in place of the load and the offset.
 
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import replace
@@ -118,16 +119,27 @@ def _variant(base, cycles, span):
     return made[key]
 
 
+def _per_step(compute):
+    """``compute(base, span)`` once per step: kept with the record's variants, by the residual
+    of the model as it stands (the array kept with the result: its id stays its own)."""
+    @functools.wraps(compute)
+    def cached(base, span):
+        made = _MADE.setdefault(base.sig, {})
+        r_all = base.current_residual
+        key = (compute.__name__, id(r_all))
+        if key not in made:
+            made[key] = (r_all, compute(base, span))
+        return made[key][1]
+    return cached
+
+
+@_per_step
 def _best_cycles(base, span) -> dict:
     """Per block left out (and None: all data), the entry of :data:`CYCLES` that fits the
     residual of the model as it stands best on the training blocks (computed once per step:
     per-block normal equations, the training sums the total less the block's)."""
     sig = base.sig
     r_all = base.current_residual
-    made = _MADE.setdefault(base.sig, {})
-    hit = made.get(("best", id(r_all)))
-    if hit is not None:
-        return hit[1]
     m = sig.moving
     rows = np.flatnonzero(m)
     folds, r = sig.folds[m], r_all[m]
@@ -146,7 +158,6 @@ def _best_cycles(base, span) -> dict:
             det = a * d - b * b
             gain.append((d * u * u - 2 * b * u * w + a * w * w) / det if det > 0 else -np.inf)
         best[fold] = CYCLES[int(np.argmax(gain))]
-    made[("best", id(r_all))] = (r_all, best)  # the array kept: its id stays its own
     return best
 
 
@@ -184,6 +195,7 @@ def _gains(moments, cols) -> np.ndarray:
     return out
 
 
+@_per_step
 def _beside_constant(base, span) -> dict:
     """Per block left out (and None: all data), the cycles over the travel of the wave that,
     beside a free constant, fits the residual of the model as it stands best on the training
@@ -193,10 +205,6 @@ def _beside_constant(base, span) -> dict:
     baseline's columns refitted (fit mode); computed once per step."""
     sig = base.sig
     r_all = base.current_residual
-    made = _MADE.setdefault(base.sig, {})
-    hit = made.get(("beside", id(r_all)))
-    if hit is not None:
-        return hit[1]
     m = sig.moving
     nf = sig.n_folds
     nb = 0 if base.columns is None else base.columns.shape[1]
@@ -221,7 +229,6 @@ def _beside_constant(base, span) -> dict:
         left_alone, left_both = rr - best["alone"][j][0], rr - best["beside"][j][0]
         told = left_alone > 0 and 1.0 - left_both / left_alone >= MIN_SHAPE_SHARE
         out[fold] = best["beside"][j][1] if told else None
-    made[("beside", id(r_all))] = (r_all, out)
     return out
 
 
