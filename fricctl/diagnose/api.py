@@ -21,7 +21,7 @@ from .causes import Baseline, Term
 from .crossval import Problem, baseline_fit, casadi_refit, compose, full_fit
 from .below import PERIOD_PARAMETERS, _length, below_line
 from .report import Diagnosis, Gain, evidence_text
-from .selection import Selection, forward_selection, speed_curve
+from .selection import CHAIN_UNMEASURED, Selection, forward_selection, speed_curve
 from .signals import Signals, estimate_signals, predict
 from .stops import EndStops, end_stops
 from .twin import chain_shares, effect_free_twin
@@ -454,14 +454,18 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, end_stops=stops,
                      notes={**_notes(sel), **({} if math.isfinite(chain_rms) else
-                                              {"chain_rms": NO_FLOOR, "verdict": NO_FLOOR})})
+                                              {"chain_rms": NO_FLOOR, "verdict": NO_FLOOR,
+                                               "residual_over_floor": NO_FLOOR})})
 
 
 def _below_notes(below: tuple) -> dict:
     """Why a number of a below-line entry is undefined (``notes``, by its JSON path)."""
     notes = {}
     for i, e in enumerate(below):
-        if not math.isfinite(e.chain):
+        if e.reason == CHAIN_UNMEASURED:  # the twin ran away: no net share, no test
+            for key in ("chain", "score", "p_value"):
+                notes[f"below_line[{i}].{key}"] = CHAIN_UNMEASURED
+        elif not math.isfinite(e.chain):
             notes[f"below_line[{i}].chain"] = ("not measured: the gross share fails the test "
                                                "already (the net share can only be smaller)")
         if not math.isfinite(e.simulation_score):

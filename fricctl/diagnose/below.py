@@ -55,9 +55,9 @@ import numpy as np
 
 from .causes import Term
 from .crossval import full_fit
-from .selection import (MIN_SCORE, Selection, _name, _parts, _residual, _score, _Told,
-                        _why_not_told, rival_on_top, sensor_scales, simulation_score, speed_curve,
-                        term_trial)
+from .selection import (CHAIN_UNMEASURED, MIN_SCORE, Selection, _name, _parts, _residual, _score,
+                        _Told, _why_not_told, rival_on_top, sensor_scales, simulation_score,
+                        speed_curve, term_trial)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
 
 __all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
@@ -140,7 +140,8 @@ class BelowLine:
             share = (f"{100 * self.gross:.1f} % of what is left, gross (the measuring chain's "
                      f"share not measured)")
         test = (f"F test p = {self.p_value:.2g} ({self.dof:.0f} and {self.dof_after:.0f} effective "
-                f"degrees of freedom, before and after)")
+                f"degrees of freedom, before and after)" if math.isfinite(self.p_value) else
+                "no F test (no net share)")
         out = f"`{self.cause}`: removes {share}; {test}"
         if self.score >= MIN_SCORE:
             out += (" (at the naming line only once the entries taken below it are in the model, "
@@ -210,7 +211,10 @@ def below_line(problem, sel: Selection, chain: Callable, simulate: Callable, *,
             moved, _ = _name(problem, state, (_Told(cause=best.cause, fit=best.fit),), scored,
                              (), sse_prev, simulate, made={best.cause.name: best.trial})
         if best is None or len(moved.steps) == len(state.steps):
-            return tuple(taken) + tuple(sorted((t.line for t in entries), key=lambda e: -e.score))
+            # best share first, those with no net share (NaN: the twin ran away) last
+            return tuple(taken) + tuple(sorted(
+                (t.line for t in entries),
+                key=lambda e: -e.score if math.isfinite(e.score) else math.inf))
         taken.append(best.line)
         state = moved
         if not state.remaining:
@@ -266,7 +270,13 @@ def _entry(problem, state, s, sse_prev: float, dof: float, chain: Callable, simu
                                          supported=False, plausible=None,
                                          reason=_not_significant(p)), cause=s.cause, fit=fit)
         named = tuple(x.cause for x in state.selected)
-        share = max(chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause), 0.0)
+        share = chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause)
+        if math.isfinite(share):
+            share = max(share, 0.0)
+    if not math.isfinite(share):  # the twin ran away: no net share, said so
+        return _Tried(line=BelowLine(**entry, score=math.nan, chain=math.nan, p_value=math.nan,
+                                     supported=False, plausible=None, reason=CHAIN_UNMEASURED),
+                      cause=s.cause, fit=fit)
     net = s.gross - share
     if not net > 0:
         return None  # the measuring chain alone removes as much: nothing of the record's

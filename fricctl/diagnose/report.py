@@ -268,10 +268,11 @@ class Diagnosis:
             if best[1] < MIN_SCORE and reason != CHAIN_UNMEASURED:  # the line stopped it
                 reason = None
             why = "" if reason is None else f"; not named: {_why(reason)}"
-            lines += ["", f"Stopped: the best remaining candidate, {best[0]}, removes "
-                          f"{100 * best[1]:.1f} % of what is left (net of the measuring chain's "
-                          f"share, which is measured only where the gross share reaches the "
-                          f"line){why}."]
+            said = (f"has no net share: {CHAIN_UNMEASURED}" if reason == CHAIN_UNMEASURED else
+                    f"removes {100 * best[1]:.1f} % of what is left (net of the measuring "
+                    f"chain's share, which is measured only where the gross share reaches the "
+                    f"line){why}")
+            lines += ["", f"Stopped: the best remaining candidate, {best[0]}, {said}."]
         lines += self._below_lines(u)
         chain_said = (f"the measuring chain alone leaves {self.chain_rms:.3g} {u.torque} RMS"
                       if math.isfinite(self.chain_rms) else
@@ -363,6 +364,13 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
     said = "" if verdict is None else " " + verdict.sentence()
     if stops:
         said += " " + _capital(stops) + "."
+    unmeasured = [c for c, r in not_identifiable.items() if r == CHAIN_UNMEASURED]
+    if not steps and unmeasured:  # no net share to compare with the line: no "best"
+        head = (f"none: the share of {', '.join(unmeasured)} net of the measuring chain's cannot "
+                f"be measured on this record (its effect-free twin ran away), so "
+                f"{'it is' if len(unmeasured) == 1 else 'they are'} not named")
+        return (f"{head}; held-out torque RMS {_num(gain.torque_rms_before, '.3g')} {u.torque}."
+                + said + cannot)
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
         supported = sum(score >= MIN_SCORE for _, score in ranking)
