@@ -426,10 +426,11 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                 _diagnosed(_record_fields(ext.model, run, sig, model),
                            supplied or baseline_model, named, unsupported))
     residual_after = _sliding_residual(extended, sig)
+    no_floor = "" if math.isfinite(chain_rms) else NO_FLOOR
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
                    other_shape=lambda: _other_shape(setup, sel),
-                   no_floor="" if math.isfinite(chain_rms) else NO_FLOOR)
+                   no_floor=no_floor)
     stops = setup.stops
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(
@@ -453,9 +454,9 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, end_stops=stops,
-                     notes={**_notes(sel), **({} if math.isfinite(chain_rms) else
-                                              {"chain_rms": NO_FLOOR, "verdict": NO_FLOOR,
-                                               "residual_over_floor": NO_FLOOR})})
+                     notes={**_notes(sel), **(dict.fromkeys(
+                         ("chain_rms", "verdict", "residual_over_floor"), no_floor)
+                         if no_floor else {})})
 
 
 def _below_notes(below: tuple) -> dict:

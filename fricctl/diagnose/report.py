@@ -364,17 +364,15 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
     said = "" if verdict is None else " " + verdict.sentence()
     if stops:
         said += " " + _capital(stops) + "."
-    unmeasured = [c for c, r in not_identifiable.items() if r == CHAIN_UNMEASURED]
-    if not steps and unmeasured:  # no net share to compare with the line: no "best"
-        head = (f"none: the share of {', '.join(unmeasured)} net of the measuring chain's cannot "
-                f"be measured on this record (its effect-free twin ran away), so "
-                f"{'it is' if len(unmeasured) == 1 else 'they are'} not named")
-        return (f"{head}; held-out torque RMS {_num(gain.torque_rms_before, '.3g')} {u.torque}."
-                + said + cannot)
     if not steps:
         best = ranking[0] if ranking else ("-", 0.0)
         supported = sum(score >= MIN_SCORE for _, score in ranking)
-        if supported:  # they reached the score and were dropped: the reasons follow
+        unmeasured = [c for c, r in not_identifiable.items() if r == CHAIN_UNMEASURED]
+        if unmeasured:  # no net share to compare with the line: no "best"
+            head = (f"none: the share of {', '.join(unmeasured)} net of the measuring chain's "
+                    f"cannot be measured on this record (its effect-free twin ran away), so "
+                    f"{'it is' if len(unmeasured) == 1 else 'they are'} not named")
+        elif supported:  # they reached the score and were dropped: the reasons follow
             head = (f"none: {supported} candidate{'s' if supported > 1 else ''} remove "
                     f"{100 * MIN_SCORE:.0f} % of the held-out torque residual net of the "
                     f"measuring chain's share (best: {best[0]} with {100 * best[1]:.1f} %), but "

@@ -105,8 +105,9 @@ def stable_velocity_gain(delay: int = 0) -> float:
     loop depends on ``c`` and ``delay`` alone; the boundary is where its spectral radius
     reaches 1 (bisection to 1e-6; friction and the twin's slow correction, a fiftieth of the
     cut-off, left out).  A rigid analysis: a twin of an elastic model (a named compliance or
-    backlash) may lose stability elsewhere; what guards it there is :attr:`Twin.ran_away`.  The bound ``I/Ts`` (``c = 1``) the twin used until 2026-11-28 is
-    beyond it: ``c`` = 0.518 without a delay, 0.343 with one sample.
+    backlash) may lose stability elsewhere; what guards it there is :attr:`Twin.ran_away`.
+    The bound ``I/Ts`` (``c = 1``) the twin used until 2026-11-28 is beyond it: ``c`` = 0.518
+    without a delay, 0.343 with one sample.
 
     Examples
     --------
@@ -172,7 +173,8 @@ def feedback_gains(sig: Signals, inertia: float, window: float = 0.5,
     """
     inertia = v.real("inertia", inertia, nonneg=True)
     window = v.real("window", window, positive=True, unit="s")
-    kd_max = inertia / sig.ts * stable_velocity_gain(v.integer("delay", delay, low=0)) / GAIN_MARGIN
+    delay = v.integer("delay", delay, low=0)
+    kd_max = inertia / sig.ts * stable_velocity_gain(delay) / GAIN_MARGIN
     n = sig.t.size
     y = sig.q - sig.q[0]
     wh = np.zeros(n)

@@ -73,7 +73,8 @@ def _evidence(base, term, extended):
             f"{0.8 * v95:.3g} {u.velocity} ({shape}); "
             f"fitted drag {c:.3g} {u.torque}*s^2/{u.position}^2, i.e. {c * v95 ** 2:.3g} "
             f"{u.torque} at the 95th-percentile speed {v95:.3g} {u.velocity} "
-            f"({coulomb_share(c * v95 ** 2, fc, u.torque)}), viscous {extended.friction.viscous_pos:.3g} {u.viscous}")
+            f"({coulomb_share(c * v95 ** 2, fc, u.torque)}), "
+            f"viscous {extended.friction.viscous_pos:.3g} {u.viscous}")
 
 
 def _inject(rng, act):

@@ -100,10 +100,6 @@ def wave(sig, period: float) -> np.ndarray:
     return np.column_stack([sig.filt(np.sin(ang)), sig.filt(np.cos(ang))])
 
 
-def _columns(base, period):
-    return wave(base.sig, period)
-
-
 #: Variants made for a record, by its signals (weakly: gone with the record) and by
 #: (target, cycles): every fold and step shares one object per period, so the
 #: cross-validation's per-variant products are computed once.
@@ -115,7 +111,7 @@ def _variant(base, cycles, span):
     key = (id(base.target), round(float(cycles), 6))
     if key not in made:
         period = span / float(cycles)
-        made[key] = base.variant(period, _columns(base, period), (0, 0))
+        made[key] = base.variant(period, wave(base.sig, period), (0, 0))
     return made[key]
 
 
@@ -211,13 +207,14 @@ def _beside_constant(base, span) -> dict:
     wave_cols, const_col = [nb + 1, nb + 2], nb
     kinds = {"alone": list(range(nb)) + wave_cols,
              "beside": list(range(nb)) + [const_col] + wave_cols}
-    mom = _moments(base, span, CYCLES, r_all[m], sig.filt(np.ones(sig.t.size))[m])
+    const = sig.filt(np.ones(sig.t.size))[m]
+    mom = _moments(base, span, CYCLES, r_all[m], const)
     gains = {k: np.array([_gains(mom[c], cols) for c in CYCLES]) for k, cols in kinds.items()}
     first = {k: [CYCLES[int(np.argmax(g[:, j]))] for j in range(nf + 1)]
              for k, g in gains.items()}
     fine = sorted({round(c + d, 6) for f in first.values() for c in f for d in FINE
                    if 0 < c + d <= MAX_CYCLES} - set(CYCLES))
-    mom.update(_moments(base, span, fine, r_all[m], sig.filt(np.ones(sig.t.size))[m]))
+    mom.update(_moments(base, span, fine, r_all[m], const))
     best = {k: [] for k in kinds}
     for k, cols in kinds.items():
         for j in range(nf + 1):
@@ -307,11 +304,7 @@ def constant_held(base, period) -> float:
     m = sig.moving
     const = sig.filt(np.ones(sig.t.size))[m]
     cols = np.zeros((int(m.sum()), 0)) if base.columns is None else base.columns[m]
-    with_load = np.column_stack([cols, wave(sig, period)[m]])
-    sse = []
-    for X in (cols, with_load):
-        r = const - X @ np.linalg.lstsq(X, const, rcond=None)[0] if X.shape[1] else const
-        sse.append(float(np.sum(r ** 2)))
+    sse = _left_beside(const, cols, wave(sig, period)[m])
     if not sse[0] > 1e-12 * float(np.sum(const ** 2)):
         return math.nan
     return 1.0 - sse[1] / sse[0]
@@ -334,14 +327,20 @@ def _shape_share(base, period) -> float:
     shape over the travel removes, fitted on all data with the baseline's columns [-]."""
     sig = base.sig
     m = sig.moving
-    r = base.current_residual[m]
     const = sig.filt(np.ones(sig.t.size))[:, None]
     cols = [const] if base.columns is None else [base.columns, const]
-    with_const = np.column_stack(cols)[m]
-    with_load = np.column_stack([with_const, _columns(base, period)[m]])
-    sse = [float(np.sum((r - X @ np.linalg.lstsq(X, r, rcond=None)[0]) ** 2))
-           for X in (with_const, with_load)]
+    sse = _left_beside(base.current_residual[m], np.column_stack(cols)[m], wave(sig, period)[m])
     return 1.0 - sse[1] / sse[0] if sse[0] > 0 else 0.0
+
+
+def _left_beside(y, cols, load) -> tuple:
+    """What ``y`` leaves (sum of squares) once the columns ``cols`` are fitted to it by least
+    squares, and once ``cols`` and the load's wave columns ``load`` are (sliding samples)."""
+    out = []
+    for X in (cols, np.column_stack([cols, load])):
+        r = y - X @ np.linalg.lstsq(X, y, rcond=None)[0] if X.shape[1] else y
+        out.append(float(np.sum(r ** 2)))
+    return tuple(out)
 
 
 def _identifiable(base, term):

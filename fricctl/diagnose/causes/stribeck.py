@@ -42,7 +42,8 @@ def _evidence(base, term, extended):
           else f"none above {10 * vs:.3g} {u.velocity}")
     return (f"{lo}, {hi}; "
             f"fitted Stribeck excess {fr.stribeck_pos:.3g} {u.torque} "
-            f"({coulomb_share(fr.stribeck_pos, fc, u.torque)}), Stribeck velocity {vs:.3g} {u.velocity}")
+            f"({coulomb_share(fr.stribeck_pos, fc, u.torque)}), "
+            f"Stribeck velocity {vs:.3g} {u.velocity}")
 
 
 def _remove(model):
