@@ -322,6 +322,39 @@ def test_a_held_effect_with_no_chain_share_is_not_said_unsupported(monkeypatch):
     assert "| offset | no net share |" in d.report()
 
 
+def test_a_later_measured_score_clears_an_earlier_chain_unmeasured_reason(monkeypatch):
+    # position_load's constant reaches the line at step 1 with no chain share there (set aside,
+    # CHAIN_UNMEASURED); offset is named; at step 2 position_load is scored again, measured
+    # (the real chain), and not named: the stale step-1 reason must not reach the result
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    steps = _unmeasured_chain(monkeypatch, lambda name, named: name == "position_load"
+                              and not named)
+    d = diagnose(_offset_record().run)
+    assert d.causes == ("offset",) and len(steps) == 2
+    assert steps[0]["position_load"].unmeasured and steps[0]["position_load"].gross >= MIN_SCORE
+    assert not steps[1]["position_load"].unmeasured
+    assert d.not_identifiable.get("position_load") != CHAIN_UNMEASURED, d.not_identifiable
+    assert CHAIN_UNMEASURED not in d.not_identifiable.values()
+
+
+def test_a_measured_candidate_is_named_before_a_larger_unmeasured_one(monkeypatch):
+    # offset removes the most of the residual (gross) at every step but has no chain share
+    # (NaN): set aside with the reason, never named on its gross score; the measured candidate
+    # that reaches the line is named instead
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    steps = _unmeasured_chain(monkeypatch, lambda name, named: name == "offset")
+    d = diagnose(_offset_record().run)
+    first = steps[0]
+    off, named = first["offset"], first[d.steps[0].cause]
+    assert off.unmeasured and off.gross > named.gross
+    assert not named.unmeasured and named.net >= MIN_SCORE
+    assert d.steps[0].score == named.net and math.isnan(dict(d.steps[0].ranking)["offset"])
+    assert "offset" not in d.causes and all(s["offset"].unmeasured for s in steps)
+    assert d.not_identifiable["offset"] == CHAIN_UNMEASURED
+
+
 def test_feedback_gains_keep_the_twins_loop_stable():
     # the estimated gain is held to the twin's stability bound over the margin, whatever the
     # record's loop: a stable loop at c = Kd*Ts/I = 0.6 with a small Kp (spectral radius below
