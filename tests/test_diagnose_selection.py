@@ -9,6 +9,7 @@ to check the answer.
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -258,6 +259,100 @@ def test_a_candidate_below_the_line_with_no_chain_share_is_listed_untested(monke
     i = d.below_line.index(entry)
     assert out["undefined"][f"below_line[{i}].p_value"] == CHAIN_UNMEASURED
     assert "no F test (no net share)" in d.report()
+
+
+def _offset_record():
+    # an offset record (fit mode: offset named; position_load's constant reaches the line at
+    # step 1 beside it and is not told, asymmetry removes a third of the residual there)
+    return hidden_effect_record(np.random.default_rng([2141, 4]), cause="offset", duration=20.0,
+                                nominal=True)
+
+
+def _unmeasured_chain(monkeypatch, unmeasured):
+    """The chain's shares with NaN (a twin that ran away) for the cause named where
+    ``unmeasured(cause_name, named)``, the real shares otherwise; and the list the selection's
+    scores of each step are appended to (``name -> _Scored``)."""
+    from fricctl.diagnose import api, selection
+
+    real_shares, real_score = api.chain_shares, selection._score
+
+    def shares(twin, named):
+        share = real_shares(twin, named)
+        return lambda c: math.nan if unmeasured(c.name, named) else share(c)
+
+    steps = []
+
+    def score(*args, **kw):
+        steps.append(real_score(*args, **kw))
+        return steps[-1]
+
+    monkeypatch.setattr(api, "chain_shares", shares)
+    monkeypatch.setattr(selection, "_score", score)
+    return steps
+
+
+def test_a_held_effect_with_no_chain_share_is_not_said_unsupported(monkeypatch):
+    # a supplied model holding the record's offset: removed to be judged and named again; with
+    # no chain share for it (every twin's NaN, as a twin that ran away gives) it has no net
+    # share -- before, the text said "the record does not support it (it removes 0.0 % of what
+    # is left, net)" and the JSON's last_ranking 0.0, numbers that were never measured
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    rec = _offset_record()
+    model = replace(rec.nominal, offset=rec.truth.offset)
+    d = diagnose(rec.run, model)
+    assert d.held == ("offset",) and "offset" in d.causes  # the record supports it, measured
+    _unmeasured_chain(monkeypatch, lambda name, named: name == "offset")
+    d = diagnose(rec.run, model)
+    assert d.held == ("offset",) and "offset" not in d.causes
+    held = d.evidence[d.evidence.index(" offset: held by the supplied model"):]
+    assert f"it has no net share: {CHAIN_UNMEASURED}" in held, held
+    assert "does not support" not in held and "%" not in held
+    assert d.not_identifiable["offset"] == CHAIN_UNMEASURED
+    assert math.isnan(dict(d.last_ranking)["offset"])
+    note = d.extended.provenance["offset"].note
+    assert "not supported" not in note and "no net share" in note
+    out = d.as_dict()
+    json.dumps(out, allow_nan=False)
+    i = [e["cause"] for e in out["last_ranking"]].index("offset")
+    assert out["last_ranking"][i]["score"] is None
+    assert out["undefined"][f"last_ranking[{i}].score"] == CHAIN_UNMEASURED
+    j = [e["cause"] for e in out["ranking"]].index("offset")
+    assert out["undefined"][f"ranking[{j}].score"] == CHAIN_UNMEASURED
+    assert "| offset | no net share |" in d.report()
+
+
+def test_a_later_measured_score_clears_an_earlier_chain_unmeasured_reason(monkeypatch):
+    # position_load's constant reaches the line at step 1 with no chain share there (set aside,
+    # CHAIN_UNMEASURED); offset is named; at step 2 position_load is scored again, measured
+    # (the real chain), and not named: the stale step-1 reason must not reach the result
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    steps = _unmeasured_chain(monkeypatch, lambda name, named: name == "position_load"
+                              and not named)
+    d = diagnose(_offset_record().run)
+    assert d.causes == ("offset",) and len(steps) == 2
+    assert steps[0]["position_load"].unmeasured and steps[0]["position_load"].gross >= MIN_SCORE
+    assert not steps[1]["position_load"].unmeasured
+    assert d.not_identifiable.get("position_load") != CHAIN_UNMEASURED, d.not_identifiable
+    assert CHAIN_UNMEASURED not in d.not_identifiable.values()
+
+
+def test_a_measured_candidate_is_named_before_a_larger_unmeasured_one(monkeypatch):
+    # offset removes the most of the residual (gross) at every step but has no chain share
+    # (NaN): set aside with the reason, never named on its gross score; the measured candidate
+    # that reaches the line is named instead
+    from fricctl.diagnose.selection import CHAIN_UNMEASURED
+
+    steps = _unmeasured_chain(monkeypatch, lambda name, named: name == "offset")
+    d = diagnose(_offset_record().run)
+    first = steps[0]
+    off, named = first["offset"], first[d.steps[0].cause]
+    assert off.unmeasured and off.gross > named.gross
+    assert not named.unmeasured and named.net >= MIN_SCORE
+    assert d.steps[0].score == named.net and math.isnan(dict(d.steps[0].ranking)["offset"])
+    assert "offset" not in d.causes and all(s["offset"].unmeasured for s in steps)
+    assert d.not_identifiable["offset"] == CHAIN_UNMEASURED
 
 
 def test_feedback_gains_keep_the_twins_loop_stable():

@@ -421,10 +421,11 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     # (a removed offset the record does not support is marked "diagnosed" at 0, not left
     # with the supplied value's provenance)
     supplied = None if not setup.held else _record_fields(model, run, sig, model)
-    unsupported = tuple(c for c in setup.held if c not in named)
+    unmeasured = tuple(c for c in setup.held if c not in named and _unmeasured(c, sel))
+    unsupported = tuple(c for c in setup.held if c not in named and c not in unmeasured)
     extended = (baseline_model if not sel.selected and not setup.held else
                 _diagnosed(_record_fields(ext.model, run, sig, model),
-                           supplied or baseline_model, named, unsupported))
+                           supplied or baseline_model, named, unsupported, unmeasured))
     residual_after = _sliding_residual(extended, sig)
     no_floor = "" if math.isfinite(chain_rms) else NO_FLOOR
     said = verdict(gain.torque_rms_after, chain_rms, residual_after,
@@ -454,7 +455,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                      not_identifiable=dict(sel.not_identifiable), last_ranking=sel.last_ranking,
                      chain_rms=chain_rms, verdict=said,
                      cutoff=sig.cutoff, end_stops=stops,
-                     notes={**_notes(sel), **(dict.fromkeys(
+                     notes={**_notes(sel), **_ranking_notes(sel), **(dict.fromkeys(
                          ("chain_rms", "verdict", "residual_over_floor"), no_floor)
                          if no_floor else {})})
 
@@ -476,9 +477,28 @@ def _below_notes(below: tuple) -> dict:
     return notes
 
 
+def _ranking_notes(sel: Selection) -> dict:
+    """Why a ranking's net score is undefined (``notes``, by its JSON path): the candidate's
+    chain share could not be measured (NaN in the ranking, :data:`CHAIN_UNMEASURED`)."""
+    rankings = [("ranking", sel.first_ranking), ("last_ranking", sel.last_ranking)]
+    rankings += [(f"steps[{k}].ranking", st.ranking) for k, st in enumerate(sel.steps)]
+    return {f"{where}[{i}].score": CHAIN_UNMEASURED for where, ranking in rankings
+            for i, (_, score) in enumerate(ranking) if not math.isfinite(score)}
+
+
+def _unmeasured(name: str, sel: Selection) -> bool:
+    """Whether the candidate ``name`` was last scored with no net share: its chain share
+    could not be measured (:data:`CHAIN_UNMEASURED`), so the record is not said to support
+    it or not."""
+    scored = sel.last_scored.get(name)
+    return ((scored is not None and scored.unmeasured)
+            or sel.not_identifiable.get(name) == CHAIN_UNMEASURED)
+
+
 def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selection) -> str:
     """What became of each effect the supplied model held: named again by the record (held
-    and supported) or not (held, not supported: with the score it reached)."""
+    and supported), or not (held, not supported: with the score it reached), or with no net
+    share to judge it by (its chain share could not be measured: :data:`CHAIN_UNMEASURED`)."""
     if not held:
         return ""
     pm = model.parameters()
@@ -491,6 +511,10 @@ def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selecti
         if name in named:
             out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
                        f"the record supports it (named above, its term refitted)")
+        elif _unmeasured(name, sel):  # no net share: neither supported nor not, as measured
+            out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
+                       f"it has no net share: {CHAIN_UNMEASURED}; whether the record "
+                       f"supports it is not known, and it is left out of the extended model")
         else:
             score = last.get(name)
             at = "" if score is None else f" (it removes {100 * score:.1f} % of what is left, net)"
@@ -549,23 +573,28 @@ def _identified(ident, run: Run) -> JointModel:
 
 
 def _diagnosed(extended: JointModel, baseline: JointModel, named: tuple,
-               removed: tuple = ()) -> JointModel:
+               removed: tuple = (), unmeasured: tuple = ()) -> JointModel:
     """``extended`` with provenance "diagnosed" on every value the diagnosis added or changed
     (the other values keep the baseline's provenance); ``removed``: the supplied model's
-    effects removed to be judged that the record does not support."""
+    effects removed to be judged that the record does not support; ``unmeasured``: those
+    removed whose net share could not be measured (the twin ran away: not known to be
+    supported or not)."""
     pb, pe = baseline.parameters(), extended.parameters()
     prov = dict(baseline.provenance)
     prov.update({k: extended.provenance[k] for k in ("sample_time", "encoder_resolution")
                  if k in extended.provenance})
     note = "fricctl diagnose: " + " + ".join(named) + (
         f" ({', '.join(removed)} of the supplied model removed: not supported by the record)"
-        if removed else "")
+        if removed else "") + (
+        f" ({', '.join(unmeasured)} of the supplied model removed: no net share, the "
+        f"effect-free twin that measures the chain's share ran away)" if unmeasured else "")
     for name in set(pb) | set(pe):
         if pb.get(name, 0.0) != pe.get(name, 0.0):
             prov[_provenance_key(name)] = Provenance(source="diagnosed", note=note)
     source = (extended.source + "; " if extended.source else "") + note
     return replace(extended, provenance=prov,
-                   source=source if named != (causes.NONE,) or removed else extended.source)
+                   source=(source if named != (causes.NONE,) or removed or unmeasured
+                           else extended.source))
 
 
 def _twin(base: Baseline, floor: float | None = None, model: JointModel | None = None, *,

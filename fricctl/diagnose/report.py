@@ -73,7 +73,8 @@ class Diagnosis:
     ranking : tuple of (str, float)
         The first step's candidates with their net scores, best first: the held-out
         fraction of the baseline's torque residual (sum of squares) each removes, less
-        the measuring chain's share [-].
+        the measuring chain's share [-]; NaN for a candidate with no net share (its
+        chain share could not be measured: the twin ran away), in the place a net 0 takes.
     evidence : str
         The evidence for the named causes, in words and numbers.
     baseline, extended : JointModel
@@ -101,7 +102,8 @@ class Diagnosis:
         record, with the reason ("cannot be told on this record, because ...").
     last_ranking : tuple of (str, float)
         The candidates of the step that named nothing, with their net scores: why the
-        selection stopped (none reached :data:`MIN_SCORE`).
+        selection stopped (none reached :data:`MIN_SCORE`); NaN: no net share, as in
+        :attr:`ranking` (the reason in :attr:`not_identifiable`).
     chain_rms : float
         Held-out torque residual RMS the measuring chain alone leaves on the record's
         effect-free twin [N*m].
@@ -291,7 +293,8 @@ class Diagnosis:
         for c, sc in self.ranking:
             ss = self.simulation_scores.get(c)
             sim = "-" if ss is None else _num(ss, ".1f", 100, "%")  # the supported only
-            lines.append(f"| {c} | {_num(sc, '.1f', 100, '%')} | {sim} |")
+            net = _num(sc, ".1f", 100, "%") if math.isfinite(sc) else "no net share"
+            lines.append(f"| {c} | {net} | {sim} |")
         lines += ["", "## Held-out gain", "", "| quantity | before | after | change |",
                   "|---|---|---|---|"]
         for name, b, a, unit in (

@@ -34,7 +34,8 @@ adds :data:`MIN_SCORE` on top of the curve is still told.
 
 A candidate whose chain share cannot be measured (the twin of the model as it stands ran away:
 :attr:`fricctl.diagnose.twin.Twin.ran_away`) has no net score: it is set aside for the step
-with :data:`CHAIN_UNMEASURED` and not named on its gross score.
+with :data:`CHAIN_UNMEASURED` and not named on its gross score (its ranking shows NaN, not
+the 0 it is held at).
 """
 
 from __future__ import annotations
@@ -96,7 +97,8 @@ class Step:
     simulation_rms_after: float
     """Windowed re-simulation, position error with the term added [rad]."""
     ranking: tuple = ()
-    """Every candidate of this step with its net score, best first."""
+    """Every candidate of this step with its net score, best first; NaN for one whose chain
+    share could not be measured (:data:`CHAIN_UNMEASURED`), in the place a net 0 takes."""
 
     def as_dict(self) -> dict:
         """The step's JSON object (``ranking`` as ``[{cause, score}]``)."""
@@ -127,10 +129,12 @@ class Selection:
     steps: tuple
     """One :class:`Step` per named cause."""
     first_ranking: tuple
-    """The first step's candidates with their net scores, best first."""
+    """The first step's candidates with their net scores, best first (NaN: no net share,
+    as in :attr:`Step.ranking`)."""
     last_ranking: tuple
     """The candidates of the step that named nothing, with their net scores, best first
-    (why the selection stopped; empty when every candidate was named or dropped)."""
+    (why the selection stopped; empty when every candidate was named or dropped; NaN: no net
+    share, as in :attr:`Step.ranking`)."""
     simulation_scores: dict
     """First step: per candidate, the held-out fraction of the windowed simulation error
     (position, sum of squares) its term removes [-] (computed for the supported ones)."""
@@ -212,8 +216,11 @@ def forward_selection(problem: Problem, base: Baseline, candidates: tuple,
             **{n: r for n, r in state.aside.items()
                if not (r == CHAIN_UNMEASURED and n in scored and not scored[n].unmeasured)},
             **{n: CHAIN_UNMEASURED for n, sc in scored.items() if sc.unmeasured}})
-        ranking = tuple(sorted(((name, s.net) for name, s in scored.items()),
-                               key=lambda kv: -kv[1]))
+        # a candidate with no net share shows NaN, not the 0 it is held at (a number that
+        # would read as measured), in the place a net 0 takes
+        ranking = tuple((name, math.nan if scored[name].unmeasured else net)
+                        for name, net in sorted(((name, s.net) for name, s in scored.items()),
+                                                key=lambda kv: -kv[1]))
         state = replace(state, last_ranking=ranking,
                         first_ranking=state.first_ranking if state.steps else ranking)
         verdict = _tell(problem, state, scored, ranking, sse_prev)
@@ -270,7 +277,7 @@ class _State:
     steps: tuple = ()
     """One :class:`Step` per named cause."""
     first_ranking: tuple = ()
-    """The first step's ``(cause, net score)``, best first."""
+    """The first step's ``(cause, net score)``, best first (NaN: no net share)."""
     last_ranking: tuple = ()
     """The ranking of the last step if it named nothing, else ()."""
     simulation_scores: Mapping[str, float] = field(default_factory=dict)
