@@ -61,6 +61,20 @@ def test_registry_order_and_names():
         causes.get("cogging")
 
 
+def test_a_column_read_from_the_model_torque_is_made_per_step_on_all_data():
+    # the selection's settle remakes such a column on all data after every step: a cause
+    # declaring it must say it is made per step and not per fold
+    from dataclasses import replace
+
+    load = REGISTRY["load_dependent"]
+    assert load.reads_model_torque and load.per_step and not load.per_fold
+    assert [n for n, c in REGISTRY.items() if c.reads_model_torque] == ["load_dependent"]
+    with pytest.raises(ValueError, match="load_dependent: a term read from the model's torque"):
+        replace(load, per_step=False)
+    with pytest.raises(ValueError, match="per_fold=False"):
+        replace(load, per_fold=True)
+
+
 def test_none_injects_nothing():
     act = BenchActuator(motor_inertia=3e-3, link_inertia=2e-3, viscous=0.017, coulomb=0.14,
                         sample_time=0.002, duration=20.0, encoder_resolution=ENCODER_RESOLUTION)

@@ -25,7 +25,7 @@ from .signals import Signals
 if TYPE_CHECKING:  # identify imports CasADi: only when a fit is made
     from ..identify import IdentificationResult
 
-__all__ = ["Variant", "Problem", "FoldFit", "BlockedCV", "FullFit", "solve", "compose",
+__all__ = ["Variant", "Problem", "FoldFit", "BlockedCV", "FullFit", "solve", "compose", "settle",
            "advance", "cross_validate", "full_fit", "baseline_fit", "casadi_refit",
            "BASELINE_PARAMS", "empty_variant"]
 
@@ -89,6 +89,56 @@ def advance(base, problem: "Problem", parts: Sequence[Variant], theta: np.ndarra
     comp = compose(parts)
     prediction = problem.design(comp) @ theta
     return base.advanced(comp.y - prediction, prediction)
+
+
+#: Most passes of :func:`settle` [-]: the column of a term read from the model's torque is a
+#: contraction of ratio about its coefficient (at most 0.5 for a load dependence), so six
+#: passes leave at most 0.5**6 = 1.6 % of the first change.
+SETTLE_PASSES = 6
+
+#: :func:`settle` stops once no remade column moves by more than this share of its norm [-].
+SETTLE_TOLERANCE = 1e-3
+
+
+def settle(problem: "Problem", base, causes: Sequence, parts: Sequence[Variant],
+           theta: np.ndarray) -> tuple:
+    """The named ``causes`` (their chosen ``parts``, fitted together as ``theta``) with the
+    columns read from the model's own torque remade until they settle, and ``base`` moved on
+    to that model (:func:`advance`).  Returns ``(parts, theta, base)``.
+
+    A cause whose column is the torque of the model as it stands
+    (:attr:`~fricctl.diagnose.causes.Cause.reads_model_torque`: a friction growing with the
+    transmitted torque) was made before its own term and before any cause named after it;
+    the simulation applies the term to the whole torque.  Left as made, a drag named after a
+    load dependence ``mu`` is refitted beside a column that leaves the drag's torque out and
+    comes back about ``(1 + mu)`` times itself (issue 21).  Each pass remakes such columns on
+    the model of the last pass (same hyper-parameter) and refits every coefficient on all
+    data, until no column moves by more than :data:`SETTLE_TOLERANCE` of its norm or after
+    :data:`SETTLE_PASSES`.  Without such a cause, ``parts`` and ``theta`` are returned as
+    given and ``base`` is moved on once, as :func:`advance` does.
+    """
+    parts = list(parts)
+    base = advance(base, problem, parts, theta)
+    which = [i for i, c in enumerate(causes) if c.reads_model_torque]
+    for _ in range(SETTLE_PASSES if which else 0):
+        moved = 0.0
+        for i in which:
+            new = next((v for v in base.variants(causes[i], None) if v.h == parts[i].h), None)
+            if new is None:
+                continue
+            old = parts[i].extra
+            norm = float(np.linalg.norm(old))
+            moved = max(moved, float(np.linalg.norm(new.extra - old)) / norm if norm > 0 else
+                        (math.inf if np.any(new.extra) else 0.0))
+            parts[i] = new
+        fit = full_fit(problem, [parts[-1]], tuple(parts[:-1]))
+        if fit is None:
+            break
+        theta = fit.theta
+        base = advance(base, problem, parts, theta)
+        if moved <= SETTLE_TOLERANCE:
+            break
+    return tuple(parts), theta, base
 
 
 def compose(parts: Sequence[Variant]) -> Variant:

@@ -32,6 +32,13 @@ part of its residual that the generic curve removes with the rest (issue 21, ite
 Coulomb level reached smoothly with speed was read as each of the three); a candidate that
 adds :data:`MIN_SCORE` on top of the curve is still told.
 
+A term whose column is the torque of the model as it stands (a friction growing with the
+transmitted torque: :attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`) is made
+before its own term and before the causes named after it.  Where the model holds one, a told
+candidate is re-simulated, and named, with that column settled beside its term
+(:func:`~.crossval.settle`: remade on the model's whole torque and refitted until it stops
+moving); the step's torque and simulation errors "after" are the settled model's.
+
 A candidate whose chain share cannot be measured (the twin of the model as it stands ran away:
 :attr:`fricctl.diagnose.twin.Twin.ran_away`) has no net score: it is set aside for the step
 with :data:`CHAIN_UNMEASURED` and not named on its gross score (its ranking shows NaN, not
@@ -48,7 +55,8 @@ import numpy as np
 
 from ..plant import JointModel
 from .causes import Baseline, Cause, Term
-from .crossval import BlockedCV, FullFit, Problem, advance, compose, cross_validate, full_fit
+from .crossval import (BlockedCV, FullFit, Problem, advance, compose, cross_validate, full_fit,
+                       settle)
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
@@ -334,6 +342,10 @@ class _Trial:
 
     fold_models: tuple
     sim: WindowedSimulation
+    settled: tuple | None = None
+    """Where a column read from the model's torque is in the model: ``(selected, theta, base,
+    test)`` of the named causes with the term added, those columns settled beside it
+    (:func:`~.crossval.settle`): what naming the term makes of the model.  None otherwise."""
 
 
 def _start(problem: Problem, base: Baseline, candidates: tuple,
@@ -601,7 +613,8 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
     simulation does not judge.  ``made``: trials already made (:func:`term_trial`, by cause
     name), not made again."""
     trials = {t.cause.name: (made or {}).get(t.cause.name)
-                           or term_trial(problem, state, t.cause, scored[t.cause.name].cv, simulate)
+                           or term_trial(problem, state, t.cause, scored[t.cause.name].cv, simulate,
+                                         t.fit)
               for t in told}
     sim_score = {n: simulation_score(state, tr) for n, tr in trials.items()}
     rejected = {}
@@ -619,26 +632,60 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
     pick = keep[0]
     cause, fit = pick.cause, pick.fit
     s, trial = scored[cause.name], trials[cause.name]
-    fold_variants = tuple(f.variant if f is not None else None for f in s.cv.fits)
-    selected = state.selected + (Selected(cause=cause, fold_variants=fold_variants,
-                                          variant=fit.variant),)
-    model = state.base.model(_parts(selected), fit.theta)  # the model as it now stands
-    fixed = tuple(x.variant for x in state.selected) + (fit.variant,)
-    base = advance(state.base, problem, fixed, fit.theta)
+    if trial.settled is not None:  # a column read from the model's torque, settled
+        selected, theta, base, test = trial.settled
+    else:
+        selected = state.selected + (_named(cause, s.cv, fit),)
+        theta, test = fit.theta, s.test
+        base = advance(state.base, problem, tuple(x.variant for x in selected), theta)
+    fold_models, sim = trial.fold_models, trial.sim
+    model = state.base.model(_parts(selected), theta)  # the model as it now stands
     nmov = max(int(problem.sig.moving.sum()), 1)
     step = Step(cause=cause.name, score=s.net, gross=s.gross, chain=s.chain,
                 torque_rms_before=math.sqrt(sse_prev / nmov),
-                torque_rms_after=math.sqrt(float(np.sum(s.test)) / nmov),
+                torque_rms_after=math.sqrt(float(np.sum(test)) / nmov),
                 simulation_rms_before=state.sim.rms().position,
-                simulation_rms_after=trial.sim.rms().position, ranking=ranking)
+                simulation_rms_after=sim.rms().position, ranking=ranking)
     remaining = tuple(c for c in state.remaining if c is not cause)
-    gone = not_applicable(base, _parts(selected), fit.theta, remaining)
-    return replace(state, base=base, test=s.test, fold_models=trial.fold_models,
-                   model=model, sim=trial.sim,
+    gone = not_applicable(base, _parts(selected), theta, remaining)
+    return replace(state, base=base, test=test, fold_models=fold_models,
+                   model=model, sim=sim,
                    selected=selected, steps=state.steps + (step,), last_ranking=(),
                    remaining=tuple(c for c in remaining if c.name not in gone),
                    not_told={**state.not_told, **gone},
                    simulation_scores=state.simulation_scores if state.steps else sim_score), {}
+
+
+def _resettled(selected: tuple, settled: tuple) -> tuple:
+    """The named causes with the variants :func:`~.crossval.settle` remade (a column read
+    from the model's torque is one column on all data: every fold that had the cause's
+    variant takes the new one)."""
+    out = []
+    for x, v in zip(selected, settled):
+        if v is not x.variant:
+            x = replace(x, variant=v,
+                        fold_variants=tuple(v if fv is not None else None
+                                            for fv in x.fold_variants))
+        out.append(x)
+    return tuple(out)
+
+
+def _held_out(problem: Problem, state: _State, selected: tuple,
+              simulate: Callable[[Sequence], WindowedSimulation]) -> tuple:
+    """``(test, fold_models, sim)`` of the named causes ``selected`` as they are: held out
+    block by block (each fold's variants, :func:`_fixed_for`), the models fitted without
+    each block, and their windowed simulation."""
+    empty = state.base.variant(None, np.zeros((state.base.target.size, 0)), ())
+    fixed_for = _fixed_for(selected)
+    cv = cross_validate(problem, lambda f: [empty], fixed_for)
+    models = []
+    for f, fit in enumerate(cv.fits):
+        parts = [(x.cause, x.fold_variants[f].h) for x in selected
+                 if x.fold_variants[f] is not None]
+        models.append(state.base.model(parts, fit.theta) if fit is not None
+                      else state.fold_models[f])
+    models = tuple(models)
+    return np.where(np.isnan(cv.test), state.test, cv.test), models, simulate(models)
 
 
 def not_applicable(base: Baseline, parts: list, theta: np.ndarray, candidates) -> dict:
@@ -669,12 +716,34 @@ def _parts(selected: tuple) -> list:
     return [(s.cause, s.variant.h) for s in selected]
 
 
+def _named(cause: Cause, cv: BlockedCV, fit: FullFit) -> Selected:
+    """``cause`` as named: its variant per fold (``cv``) and on all data (``fit``)."""
+    return Selected(cause=cause, fold_variants=tuple(f.variant if f is not None else None
+                                                     for f in cv.fits), variant=fit.variant)
+
+
 def term_trial(problem: Problem, state: _State, cause: Cause, cv: BlockedCV,
-               simulate: Callable[[Sequence], WindowedSimulation]) -> _Trial:
+               simulate: Callable[[Sequence], WindowedSimulation],
+               fit: FullFit | None = None) -> _Trial:
     """The model as it stands with ``cause``'s term added in each fold (its blocked
-    cross-validation ``cv``), and those models' held-out windowed simulation."""
-    models = tuple(_fold_model(state, cause, cv, f) for f in range(problem.sig.n_folds))
-    return _Trial(fold_models=models, sim=simulate(models))
+    cross-validation ``cv``), and those models' held-out windowed simulation.
+
+    Where the model then holds a column read from the model's torque
+    (:attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`, the term's own or a named
+    cause's) and the term's fit on all data ``fit`` is given, the columns are first settled
+    beside the term (:func:`~.crossval.settle`) and the folds refitted with them: the term is
+    judged by the model naming it would make (issue 21: a presliding term beside a load
+    dependence re-simulated worse beside the settled column, better once it was settled with
+    the presliding's torque in)."""
+    every = tuple(x.cause for x in state.selected) + (cause,)
+    if fit is None or not any(c.reads_model_torque for c in every):
+        models = tuple(_fold_model(state, cause, cv, f) for f in range(problem.sig.n_folds))
+        return _Trial(fold_models=models, sim=simulate(models))
+    fixed = tuple(x.variant for x in state.selected) + (fit.variant,)
+    parts, theta, base = settle(problem, state.base, every, fixed, fit.theta)
+    selected = _resettled(state.selected + (_named(cause, cv, fit),), parts)
+    test, models, sim = _held_out(problem, state, selected, simulate)
+    return _Trial(fold_models=models, sim=sim, settled=(selected, theta, base, test))
 
 
 def simulation_score(state: _State, tried: _Trial) -> float:

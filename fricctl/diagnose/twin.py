@@ -45,7 +45,7 @@ from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import Schedule, simulate_schedule
 from .causes import Baseline
-from .crossval import Problem, advance, cross_validate, empty_variant, full_fit
+from .crossval import Problem, cross_validate, empty_variant, full_fit, settle
 from .signals import Signals, delay_in_samples, estimate_signals
 
 __all__ = ["Twin", "FeedbackGains", "effect_free_twin", "feedback_gains", "chain_shares",
@@ -303,14 +303,23 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
         return tuple(c[f] for c in chosen if c[f] is not None)
 
     done: tuple = ()
+    fitted: list = []  # the named causes with an all-data fit, and their index in ``chosen``
     for cause in named:
         cv = cross_validate(problem, lambda f, c=cause, b=tb: b.variants(c, f), fixed)
         test = np.where(np.isnan(cv.test), test, cv.test)
         chosen.append([fit.variant if fit is not None else None for fit in cv.fits])
         full = full_fit(problem, tb.variants(cause, None), done)
         if full is not None:
-            done = done + (full.variant,)
-            tb = advance(tb, problem, done, full.theta)
+            fitted.append((cause, len(chosen) - 1))
+            before = done + (full.variant,)
+            done, _, tb = settle(problem, tb, [c for c, _ in fitted], before, full.theta)
+            remade = [(k, new) for (_, k), old, new in zip(fitted, before, done)
+                      if new is not old]
+            for k, new in remade:  # a column read from the model's torque, as the record's
+                chosen[k] = [new if v is not None else None for v in chosen[k]]
+            if remade:
+                cv = cross_validate(problem, lambda f: [empty_variant(tb.target)], fixed)
+                test = np.where(np.isnan(cv.test), test, cv.test)
     base_sse = float(np.sum(test))
     shares: dict = {}
 

@@ -95,6 +95,13 @@ class Cause:
     """True when :attr:`variants` reads :attr:`Baseline.current_residual` (the residual of the
     model as it stands): they are made again after each cause the selection names
     (:meth:`Baseline.advanced`)."""
+    reads_model_torque: bool = False
+    """True when the term's column is made from the torque of the model as it stands
+    (:attr:`Baseline.current_torque`; e.g. a friction growing with the transmitted torque),
+    a torque that the term itself and every cause named after it change: the selection
+    remakes the column after each step, its own included, until it settles
+    (:func:`fricctl.diagnose.crossval.settle`).  Such a cause is :attr:`per_step` and not
+    :attr:`per_fold`."""
     refine: Callable[["Baseline", list], list] | None = None
     """``refine(base, variants)``: a finer grid around the variants, or None; applied to every
     set of variants (:meth:`Baseline.variants`), so that a named cause's term is as good on
@@ -119,6 +126,9 @@ class Cause:
             raise ValueError(f"Cause.name must be an identifier (the module name), got {self.name!r}")
         v.text("Cause.physical", self.physical, empty=False)
         v.integer("Cause.order", self.order)
+        if self.reads_model_torque and (self.per_fold or not self.per_step):
+            raise ValueError(f"Cause {self.name}: a term read from the model's torque is made "
+                             f"again per step (per_step=True) on all data (per_fold=False)")
         for name in ("variants", "extend", "evidence", "inject", "identifiable"):
             if not callable(getattr(self, name)):
                 raise ValueError(f"Cause {self.name}: {name} must be a function")

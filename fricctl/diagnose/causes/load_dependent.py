@@ -28,12 +28,14 @@ and the extended model re-simulated worse than without the term although the tru
 re-simulates far better (issue 21's pairs: load with drag, ripple, thermal drift, compliance,
 Stribeck, backlash).
 
-Not done: the other order.  Once this cause is named its column stays the one it was named
-with (the selection keeps a named cause's variant), so a drag or ripple named *after* it is
-again refitted beside a column that leaves its torque out and comes back about ``(1 + mu)``
-times itself (measured 1.25 on the test record of ``tests/test_diagnose_load_dependent.py``,
-against 1.03 in this order); remaking a named per-step column needs the selection to refit
-the named causes (a fixed-point pass), which it does not.
+The other order, and the term's own torque: once this cause is named, a drag or ripple named
+*after* it changes the torque of the model as it stands, and so does its own term, which the
+simulation applies to the whole torque too.  The cause is :attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`:
+the selection remakes its column on the model after each step, its own term included, and
+refits every coefficient until the column settles (:func:`fricctl.diagnose.crossval.settle`).
+With the column left as it was named, a drag named after it came back 1.25 times itself on the
+test record of ``tests/test_diagnose_load_dependent.py`` (within 0.3 % once settled), and the
+coefficient 0.176 where 0.198 settled (0.2 simulated; the drag named first).
 """
 
 from __future__ import annotations
@@ -131,6 +133,7 @@ CAUSE = Cause(
     name="load_dependent", order=30,
     physical="friction grows with the transmitted torque |Tm|",
     changes=("load_coefficient",),
-    params=("load_coefficient",), variants=_variants, per_step=True, extend=_extend,
+    params=("load_coefficient",), variants=_variants, per_step=True, reads_model_torque=True,
+    extend=_extend,
     evidence=_evidence,
     identifiable=_identifiable, inject=_inject)
