@@ -70,30 +70,7 @@ def _evidence(base, term, extended):
             f"fitted Stribeck excess {fr.stribeck_pos:.3g} {u.torque} "
             f"({coulomb_share(fr.stribeck_pos, fc, u.torque)}), "
             f"Stribeck velocity {vs:.3g} {u.velocity}, shape exponent {delta:g} "
-            f"({_SHAPES[delta]}){_other_shape(base, delta)}")
-
-
-def _other_shape(base, delta) -> str:
-    """How much more (or less) of the baseline's residual the other shape of
-    :data:`EXPONENTS` leaves at its best velocity, the baseline refitted with each hump (sliding
-    samples; a clause, empty where there is no residual to compare): where the two are within
-    a percent or so the record does not tell the shape, and the exponent reported is the one
-    that fitted marginally better on the folds' training blocks."""
-    m = base.sig.moving
-    y = base.residual[m]
-    cols = base.columns[m] if base.fit_mode else np.zeros((int(m.sum()), 0))
-    best: dict = {}
-    for v in _variants(base, None):
-        X = np.column_stack([cols, v.extra[m]])
-        r = y - X @ np.linalg.lstsq(X, y, rcond=None)[0]
-        best[v.h[1]] = min(best.get(v.h[1], np.inf), float(r @ r))
-    (other,) = (d for d in EXPONENTS if d != delta)
-    if not (best[delta] > 0 and np.isfinite(best[other])):
-        return ""
-    more = best[other] / best[delta] - 1.0
-    return (f"; the {_SHAPES[other]} shape (exponent {other:g}) at its best velocity leaves "
-            f"{abs(100 * more):.1f} % {'more' if more >= 0 else 'less'} of the baseline's "
-            f"residual")
+            f"({_SHAPES[delta]})")
 
 
 def _remove(model):
