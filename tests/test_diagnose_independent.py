@@ -315,29 +315,6 @@ def test_stick_slip_and_quantisation():
     assert 0.05 < np.mean(steps == 0) < 0.95  # both standing and sliding samples
 
 
-@pytest.mark.parametrize("i", range(2))
-def test_a_tustin_hump_is_fitted_with_its_shape(i):
-    # issue 21: this bench's Stribeck hump is Tustin's exponential (delta = 1, _sliding); the
-    # Stribeck cause fitted Gaussians only (delta = 2) and took a smaller excess (development
-    # seeds [40, 1], [41, 1], [40, 3], [41, 3]: 15-36 % low).  It fits delta = 1 too and
-    # chooses it here.  References: the simulator's truth (Plant.effects["stribeck"]): the
-    # exponent exactly (a value of the grid); the velocity within one step of its grid (a
-    # factor 10**(2.3/13) = 1.50: the nearest value lies within half a step); the excess
-    # within 10 % (measured 2-6 % on those development seeds)
-    from fricctl.diagnose import diagnose
-
-    run, p = simulate_record([31, 20 + i], effects=("stribeck",), axis="linear",
-                             sample_time=0.002, duration=30.0)
-    d = diagnose(run)
-    assert "stribeck" in d.causes, d.report()
-    fr, e = d.extended.friction, p.effects["stribeck"]
-    assert fr.stribeck_exponent == 1.0
-    assert e["vs"] / 1.51 < fr.stribeck_velocity < 1.51 * e["vs"]
-    assert fr.stribeck_pos == pytest.approx(e["excess"], rel=0.1)
-    assert d.as_dict()["extended"]["stribeck_exponent"] == 1.0  # the JSON carries it
-    assert "shape exponent 1 (exponential, Tustin's)" in d.evidence
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("i", range(3))
 def test_none_on_the_independent_bench(i):

@@ -238,16 +238,17 @@ def test_a_twin_that_runs_away_measures_nothing(monkeypatch):
 
 
 def test_a_candidate_below_the_line_with_no_chain_share_is_listed_untested(monkeypatch):
-    # a weak Stribeck hump that weighs 12 % of what is left (strength 0.1: below the line,
-    # supported by the F test once the chain's share is taken off) with no chain share to
+    # the second simulator's Stribeck hump that weighs 15 % of what is left ([33, 18]: below the
+    # line, supported by the F test once the chain's share is taken off) with no chain share to
     # take off (every twin's share NaN, as a twin that ran away gives): listed with the reason,
     # not tested, its nulls explained -- before, gross - NaN read as "the chain removes as much"
-    # and the entry vanished.  (The second simulator's [33, 18] served until the Stribeck cause
-    # fitted Tustin's exponential hump too, issue 21: its hump left the below-the-line list.)
+    # and the entry vanished
+    from test_diagnose_independent import simulate_record
+
     from fricctl.diagnose import api
     from fricctl.diagnose.selection import CHAIN_UNMEASURED
 
-    run = _record("stribeck", 41, strength=0.1, duration=20.0, sample_time=0.001).run
+    run, _ = simulate_record([33, 18], effects=("stribeck",), sample_time=0.001, duration=20.0)
     assert [e.cause for e in diagnose(run).below_line if e.supported] == ["stribeck"]
     monkeypatch.setattr(api, "chain_shares", lambda twin, named: (lambda cause: math.nan))
     d = diagnose(run)

@@ -31,9 +31,8 @@ class Term:
     """A cause's term as fitted on a record: its hyper-parameter and its coefficients."""
 
     h: object = None
-    """Hyper-parameter chosen on the training data (``(vs, delta)``, the Stribeck velocity and
-    shape exponent; period, delay in samples, ``(wl, zeta)`` of the resonance, presliding
-    length ...), or None."""
+    """Hyper-parameter chosen on the training data (Stribeck velocity, period, delay in
+    samples, ``(wl, zeta)`` of the resonance, presliding length ...), or None."""
     coef: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """Coefficients of the cause's extra columns, in the order of :attr:`Cause.params`."""
     extended: JointModel | None = None
