@@ -7,6 +7,8 @@ re-simulates worse than without the term.  Records are simulated here with known
 coefficients (reference: those coefficients).
 """
 
+from dataclasses import replace
+
 import numpy as np
 
 from _open_loop import open_loop_run
@@ -32,11 +34,15 @@ def _drag_and_load_record():
     return open_loop_run(joint, ff, ts, noise_seed=5)
 
 
-def test_load_term_beside_a_named_drag_recovers_both():
-    run = _drag_and_load_record()
+def _setup(run):
+    """The record's signals, its fitted baseline and the selection's normal equations."""
     sig = estimate_signals(run, 8)
     base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
-    problem = Problem(sig, base.columns)
+    return sig, base, Problem(sig, base.columns)
+
+
+def test_load_term_beside_a_named_drag_recovers_both():
+    sig, base, problem = _setup(_drag_and_load_record())
     drag = full_fit(problem, base.variants(REGISTRY["drag"]))
     assert drag is not None
     # the model as it stands: the baseline with the drag, refitted with it
@@ -64,10 +70,7 @@ def test_a_drag_named_after_the_load_term_comes_back_itself():
     # (1 + mu) times itself (measured 1.25 here, mu 0.166).  The selection's settle remakes
     # the column on the model with the drag in (and the load's own term) until it stops
     # moving.  Reference: the simulated coefficients; tolerance 5 %, a fifth of the old error
-    run = _drag_and_load_record()
-    sig = estimate_signals(run, 8)
-    base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
-    problem = Problem(sig, base.columns)
+    sig, base, problem = _setup(_drag_and_load_record())
     load_cause, drag_cause = REGISTRY["load_dependent"], REGISTRY["drag"]
     load = full_fit(problem, base.variants(load_cause))
     parts, theta, stands = settle(problem, base, [load_cause], (load.variant,), load.theta)
@@ -97,11 +100,39 @@ def test_the_diagnosis_settles_the_load_term_on_its_own_torque():
     assert d.steps[-1].simulation_rms_after < 6.7e-4
 
 
-def test_settle_leaves_a_model_without_a_model_torque_column_as_it_is():
+def test_a_settled_column_is_kept_only_where_the_model_is_no_worse(monkeypatch):
+    # settle finds a fixed point, not a least-squares minimum: the selection keeps the settled
+    # model only where its held-out torque residual and its re-simulation are no worse than the
+    # unsettled one's.  A settle that returns a useless column (noise in place of the load
+    # term's) must leave the diagnosis exactly as with no settling at all
+    from fricctl.diagnose import diagnose, selection
+
+    real = selection.settle
+
+    def no_settle(problem, base, causes, parts, theta):
+        return real(problem, base, [], parts, theta)  # no column remade: advanced once
+
+    def noise_settle(problem, base, causes, parts, theta):
+        parts, theta, base = real(problem, base, causes, parts, theta)
+        rng = np.random.default_rng(0)
+        parts = tuple(p if not c.reads_model_torque else
+                      replace(p, extra=rng.standard_normal(p.extra.shape) * np.std(p.extra))
+                      for c, p in zip(causes, parts))
+        theta = full_fit(problem, [parts[-1]], parts[:-1]).theta
+        return parts, theta, base
+
     run = _drag_and_load_record()
-    sig = estimate_signals(run, 8)
-    base = Baseline(sig, None, baseline_fit(sig).estimates.copy())
-    problem = Problem(sig, base.columns)
+    monkeypatch.setattr(selection, "settle", no_settle)
+    plain = diagnose(run)
+    monkeypatch.setattr(selection, "settle", noise_settle)
+    noisy = diagnose(run)
+    assert noisy.causes == plain.causes == ("drag", "load_dependent")
+    assert [s.as_dict() for s in noisy.steps] == [s.as_dict() for s in plain.steps]
+    assert noisy.extended.parameters() == plain.extended.parameters()
+
+
+def test_settle_leaves_a_model_without_a_model_torque_column_as_it_is():
+    sig, base, problem = _setup(_drag_and_load_record())
     drag = full_fit(problem, base.variants(REGISTRY["drag"]))
     parts, theta, stands = settle(problem, base, [REGISTRY["drag"]], (drag.variant,),
                                   drag.theta)

@@ -18,8 +18,10 @@ residual's variance its bin means against position, velocity, time and torque ca
 residual a friction law of another shape removes -- a generic odd function of the velocity,
 not a cause of the list; gross of the measuring chain's share, a hint), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
-``chain``, held-out torque and simulation RMS before and after), ``ranking``
-(``[{cause, score}]`` of the first step), ``not_identifiable`` (cause -> why it
+``chain``, held-out torque and simulation RMS before and after, ``ranking`` of its
+candidates), ``ranking`` (``[{cause, score}]`` of the first step; a null ``score``: the
+candidate's measuring-chain share could not be measured, the reason in ``undefined``),
+``last_ranking`` (the step that named nothing), ``not_identifiable`` (cause -> why it
 cannot be told on this record, or "tried, rejected: ..." when its extended model
 re-simulates the held-out windows worse), ``evidence``, ``baseline`` (``fricctl identify``'s fit of the record,
 ``--no-offset --no-validation``, or the given model) and ``extended``

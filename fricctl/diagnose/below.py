@@ -289,7 +289,7 @@ def _entry(problem, state, s, sse_prev: float, dof: float, chain: Callable, simu
     if why is not None:
         reasons.append(f"the record cannot tell it: {why}")
     if not reasons:  # the checks a named cause passes next: the re-simulation, the rivals
-        tried = term_trial(problem, state, s.cause, s.cv, simulate, fit)
+        tried = term_trial(problem, state, s.cause, s.cv, simulate)
         entry["simulation_score"] = sim = simulation_score(state, tried)
         if math.isfinite(sim) and sim <= 0.0:
             reasons.append(f"its extended model re-simulates the held-out windows worse "

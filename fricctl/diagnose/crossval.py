@@ -116,6 +116,10 @@ def settle(problem: "Problem", base, causes: Sequence, parts: Sequence[Variant],
     data, until no column moves by more than :data:`SETTLE_TOLERANCE` of its norm or after
     :data:`SETTLE_PASSES`.  Without such a cause, ``parts`` and ``theta`` are returned as
     given and ``base`` is moved on once, as :func:`advance` does.
+
+    The result is a fixed point, not a least-squares minimum: the selection keeps it only
+    where its held-out residual is no larger than the unsettled model's
+    (:func:`fricctl.diagnose.selection.term_trial`).
     """
     parts = list(parts)
     base = advance(base, problem, parts, theta)
@@ -131,10 +135,8 @@ def settle(problem: "Problem", base, causes: Sequence, parts: Sequence[Variant],
             moved = max(moved, float(np.linalg.norm(new.extra - old)) / norm if norm > 0 else
                         (math.inf if np.any(new.extra) else 0.0))
             parts[i] = new
-        fit = full_fit(problem, [parts[-1]], tuple(parts[:-1]))
-        if fit is None:
-            break
-        theta = fit.theta
+        # one variant composed after the others: a fit always exists
+        theta = full_fit(problem, [parts[-1]], tuple(parts[:-1])).theta
         base = advance(base, problem, parts, theta)
         if moved <= SETTLE_TOLERANCE:
             break

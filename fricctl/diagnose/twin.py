@@ -45,7 +45,7 @@ from ..datasets import Run
 from ..plant import JointModel
 from ..simulate import Schedule, simulate_schedule
 from .causes import Baseline
-from .crossval import Problem, cross_validate, empty_variant, full_fit, settle
+from .crossval import Problem, advance, cross_validate, empty_variant, full_fit, settle
 from .signals import Signals, delay_in_samples, estimate_signals
 
 __all__ = ["Twin", "FeedbackGains", "effect_free_twin", "feedback_gains", "chain_shares",
@@ -312,14 +312,21 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
         if full is not None:
             fitted.append((cause, len(chosen) - 1))
             before = done + (full.variant,)
-            done, _, tb = settle(problem, tb, [c for c, _ in fitted], before, full.theta)
-            remade = [(k, new) for (_, k), old, new in zip(fitted, before, done)
+            settled, _, stb = settle(problem, tb, [c for c, _ in fitted], before, full.theta)
+            remade = [(k, new) for (_, k), old, new in zip(fitted, before, settled)
                       if new is not old]
+            kept = [list(c) for c in chosen]
             for k, new in remade:  # a column read from the model's torque, as the record's
                 chosen[k] = [new if v is not None else None for v in chosen[k]]
-            if remade:
-                cv = cross_validate(problem, lambda f: [empty_variant(tb.target)], fixed)
-                test = np.where(np.isnan(cv.test), test, cv.test)
+            if remade:  # kept where no worse held out, as the record's (selection.term_trial)
+                cv = cross_validate(problem, lambda f: [empty_variant(stb.target)], fixed)
+                now = np.where(np.isnan(cv.test), test, cv.test)
+                if float(np.sum(now)) > float(np.sum(test)):
+                    chosen[:] = kept
+                    done, tb = before, advance(tb, problem, before, full.theta)
+                    continue
+                test = now
+            done, tb = settled, stb
     base_sse = float(np.sum(test))
     shares: dict = {}
 
