@@ -32,7 +32,9 @@ The other order, and the term's own torque: once this cause is named, a drag or 
 *after* it changes the torque of the model as it stands, and so does its own term, which the
 simulation applies to the whole torque too.  The cause is :attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`:
 the selection remakes its column on the model after each step, its own term included, and
-refits every coefficient until the column settles (:func:`fricctl.diagnose.crossval.settle`).
+refits every coefficient until the column settles (:func:`fricctl.diagnose.crossval.settle`),
+and keeps the settled model only where it is no worse held out and re-simulated (a fixed point
+is not a least-squares minimum: :func:`fricctl.diagnose.selection.term_trial`).
 With the column left as it was named, a drag named after it came back 1.25 times itself on the
 test record of ``tests/test_diagnose_load_dependent.py`` (within 0.3 % once settled), and the
 coefficient 0.176 where 0.198 settled (0.2 simulated; the drag named first).
