@@ -104,15 +104,18 @@ def test_a_settled_column_is_kept_only_where_the_model_is_no_worse(monkeypatch):
     # settle finds a fixed point, not a least-squares minimum: the selection keeps the settled
     # model only where its held-out torque residual and its re-simulation are no worse than the
     # unsettled one's.  A settle that returns a useless column (noise in place of the load
-    # term's) must leave the diagnosis exactly as with no settling at all
+    # term's) must leave the diagnosis exactly as with no settling in the selection (the
+    # effect-free twin, which imports settle from crossval, settles in both runs alike)
     from fricctl.diagnose import diagnose, selection
 
     real = selection.settle
+    calls = []
 
     def no_settle(problem, base, causes, parts, theta):
         return real(problem, base, [], parts, theta)  # no column remade: advanced once
 
     def noise_settle(problem, base, causes, parts, theta):
+        calls.append([c.name for c in causes])
         parts, theta, base = real(problem, base, causes, parts, theta)
         rng = np.random.default_rng(0)
         parts = tuple(p if not c.reads_model_torque else
@@ -126,6 +129,7 @@ def test_a_settled_column_is_kept_only_where_the_model_is_no_worse(monkeypatch):
     plain = diagnose(run)
     monkeypatch.setattr(selection, "settle", noise_settle)
     noisy = diagnose(run)
+    assert ["drag", "load_dependent"] in calls  # the load term's trial asked for it
     assert noisy.causes == plain.causes == ("drag", "load_dependent")
     assert [s.as_dict() for s in noisy.steps] == [s.as_dict() for s in plain.steps]
     assert noisy.extended.parameters() == plain.extended.parameters()

@@ -19,7 +19,8 @@ residual a friction law of another shape removes -- a generic odd function of th
 not a cause of the list; gross of the measuring chain's share, a hint), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
 ``chain``, held-out torque and simulation RMS before and after, ``ranking`` of its
-candidates), ``ranking`` (``[{cause, score}]`` of the first step; a null ``score``: the
+candidates; a step that settled a load dependence's column scores the settled model, so its
+``score`` may exceed its own entry in ``ranking``), ``ranking`` (``[{cause, score}]`` of the first step; a null ``score``: the
 candidate's measuring-chain share could not be measured, the reason in ``undefined``),
 ``last_ranking`` (the step that named nothing), ``not_identifiable`` (cause -> why it
 cannot be told on this record, or "tried, rejected: ..." when its extended model

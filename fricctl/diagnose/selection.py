@@ -93,7 +93,8 @@ class Step:
     """Net score: held-out fraction of the remaining torque residual (sum of squares) the
     term removes, less the measuring chain's share [-].  Where the step settled a column read
     from the model's torque (:func:`term_trial`), the settled model's, at least the
-    :attr:`ranking`'s (which scores every candidate beside the columns as they were)."""
+    :attr:`ranking`'s (which scores every candidate beside the columns as they were), less the
+    chain's share as measured for the unsettled term."""
     gross: float
     """The same fraction before the chain's share is taken off [-]."""
     chain: float
@@ -639,7 +640,7 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
     if trial.settled is not None:  # a column read from the model's torque, settled: the step
         selected, theta, base, test = trial.settled  # scores the model it names (no worse)
         gross = 1.0 - float(np.sum(test)) / sse_prev
-        net = gross - (s.chain if math.isfinite(s.chain) else 0.0)
+        net = gross - s.chain  # a told candidate's chain share was measured (finite)
     else:
         selected = state.selected + (_named(cause, s.cv, fit),)
         theta, test = fit.theta, s.test
@@ -737,7 +738,8 @@ def term_trial(problem: Problem, state: _State, cause: Cause, cv: BlockedCV,
     cause's) and the term's fit on all data ``fit`` is given, the columns are also settled
     beside the term (:func:`~.crossval.settle`) and the folds refitted with them.  The settled
     model is kept only where it is no worse by both of the selection's tests -- the held-out
-    torque residual and the windowed re-simulation (where it can judge) -- since a fixed point
+    torque residual and the windowed re-simulation (which must re-simulate it wherever it
+    re-simulates the unsettled one) -- since a fixed point
     is not a least-squares minimum: on five records of a load dependence beside a delay, a
     ripple or a drag (review R8), settling left the held-out residual 7 % larger on one and the
     re-simulation 6-21 % worse on four whose held-out residual it lowered.  Where it is kept,
@@ -755,8 +757,8 @@ def term_trial(problem: Problem, state: _State, cause: Cause, cv: BlockedCV,
         return plain
     sim = simulate(models)
     a, b = (float(np.sum(x.position_error ** 2)) for x in (sim, plain.sim))
-    if math.isfinite(a) and math.isfinite(b) and a > b:
-        return plain
+    if math.isfinite(b) and not (math.isfinite(a) and a <= b):  # worse, or not re-simulated
+        return plain  # where the plain trial is: the re-simulation's judgement is kept (R9)
     return _Trial(fold_models=models, sim=sim, settled=(selected, theta, base, test))
 
 
