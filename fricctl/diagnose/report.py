@@ -295,6 +295,14 @@ class Diagnosis:
             sim = "-" if ss is None else _num(ss, ".1f", 100, "%")  # the supported only
             net = _num(sc, ".1f", 100, "%") if math.isfinite(sc) else "no net share"
             lines.append(f"| {c} | {net} | {sim} |")
+        first = self.steps[0] if self.steps else None
+        listed = dict(self.ranking).get(first.cause) if first is not None else None
+        if listed is not None and math.isfinite(listed) and abs(first.score - listed) > 5e-4:
+            lines += ["", f"`{first.cause}` scores {100 * first.score:.1f} % in its step, not the "
+                          f"table's {100 * listed:.1f} %: its step scores the model it named, with "
+                          f"a column read from the model's torque settled on that model's whole "
+                          f"torque; the table scores every candidate beside the columns as they "
+                          f"stood."]
         lines += ["", "## Held-out gain", "", "| quantity | before | after | change |",
                   "|---|---|---|---|"]
         for name, b, a, unit in (
