@@ -118,8 +118,9 @@ def settle(problem: "Problem", base, causes: Sequence, parts: Sequence[Variant],
     given and ``base`` is moved on once, as :func:`advance` does.
 
     The result is a fixed point, not a least-squares minimum: the selection keeps it only
-    where its held-out residual is no larger than the unsettled model's
-    (:func:`fricctl.diagnose.selection.term_trial`).
+    where its held-out residual is no larger and its re-simulation no worse than the unsettled
+    model's (:func:`fricctl.diagnose.selection.term_trial`; the twin, by its held-out residual
+    alone: :func:`fricctl.diagnose.twin.chain_shares`).
     """
     parts = list(parts)
     base = advance(base, problem, parts, theta)

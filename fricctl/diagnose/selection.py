@@ -37,8 +37,9 @@ transmitted torque: :attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torqu
 before its own term and before the causes named after it.  Where the model holds one, a told
 candidate is re-simulated, and named, with that column settled beside its term
 (:func:`~.crossval.settle`: remade on the model's whole torque and refitted until it stops
-moving), where the settled model's held-out torque residual is no larger than the unsettled
-one's; the step's score and its errors "after" are then the settled model's.
+moving), where the settled model's held-out torque residual is no larger and its windowed
+re-simulation no worse than the unsettled one's (:func:`term_trial`); the step's score and its
+errors "after" are then the settled model's.
 
 A candidate whose chain share cannot be measured (the twin of the model as it stands ran away:
 :attr:`fricctl.diagnose.twin.Twin.ran_away`) has no net score: it is set aside for the step
@@ -56,8 +57,8 @@ import numpy as np
 
 from ..plant import JointModel
 from .causes import Baseline, Cause, Term
-from .crossval import (BlockedCV, FullFit, Problem, advance, compose, cross_validate, full_fit,
-                       settle)
+from .crossval import (BlockedCV, FullFit, Problem, advance, compose, cross_validate,
+                       empty_variant, full_fit, settle)
 from .windows import WindowedSimulation
 
 __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity", "not_applicable",
@@ -681,9 +682,8 @@ def _held_out(problem: Problem, state: _State, selected: tuple) -> tuple:
     """``(test, fold_models)`` of the named causes ``selected`` as they are: held out block by
     block (each fold's variants, :func:`_fixed_for`) and the models fitted without each
     block."""
-    empty = state.base.variant(None, np.zeros((state.base.target.size, 0)), ())
-    fixed_for = _fixed_for(selected)
-    cv = cross_validate(problem, lambda f: [empty], fixed_for)
+    empty = empty_variant(state.base.target)
+    cv = cross_validate(problem, lambda f: [empty], _fixed_for(selected))
     models = []
     for f, fit in enumerate(cv.fits):
         parts = [(x.cause, x.fold_variants[f].h) for x in selected

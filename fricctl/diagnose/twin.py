@@ -315,10 +315,10 @@ def chain_shares(twin: Twin, named: Sequence) -> Callable:
             settled, _, stb = settle(problem, tb, [c for c, _ in fitted], before, full.theta)
             remade = [(k, new) for (_, k), old, new in zip(fitted, before, settled)
                       if new is not old]
-            kept = [list(c) for c in chosen]
-            for k, new in remade:  # a column read from the model's torque, as the record's
-                chosen[k] = [new if v is not None else None for v in chosen[k]]
-            if remade:  # kept where no worse held out, as the record's (selection.term_trial)
+            if remade:  # a column read from the model's torque, kept where no worse held out
+                kept = [list(c) for c in chosen]  # (the record's rule less its re-simulation)
+                for k, new in remade:
+                    chosen[k] = [new if v is not None else None for v in chosen[k]]
                 cv = cross_validate(problem, lambda f: [empty_variant(stb.target)], fixed)
                 now = np.where(np.isnan(cv.test), test, cv.test)
                 if float(np.sum(now)) > float(np.sum(test)):

@@ -30,8 +30,9 @@ Stribeck, backlash).
 
 The other order, and the term's own torque: once this cause is named, a drag or ripple named
 *after* it changes the torque of the model as it stands, and so does its own term, which the
-simulation applies to the whole torque too.  The cause is :attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`:
-the selection remakes its column on the model after each step, its own term included, and
+simulation applies to the whole torque too.  The cause is
+:attr:`~fricctl.diagnose.causes.base.Cause.reads_model_torque`: the selection remakes its
+column on the model after each step, its own term included, and
 refits every coefficient until the column settles (:func:`fricctl.diagnose.crossval.settle`),
 and keeps the settled model only where it is no worse held out and re-simulated (a fixed point
 is not a least-squares minimum: :func:`fricctl.diagnose.selection.term_trial`).
