@@ -302,11 +302,13 @@ def test_a_held_effect_with_no_chain_share_is_not_said_unsupported(monkeypatch):
     model = replace(rec.nominal, offset=rec.truth.offset)
     d = diagnose(rec.run, model)
     assert d.held == ("offset",) and "offset" in d.causes  # the record supports it, measured
+    assert not any(st.passed_over for st in d.steps) and "may stand in" not in d.report()
     _unmeasured_chain(monkeypatch, lambda name, named: name == "offset")
     d = diagnose(rec.run, model)
     assert d.held == ("offset",) and "offset" not in d.causes
     held = d.evidence[d.evidence.index(" offset: held by the supplied model"):]
-    assert f"it has no net share: {CHAIN_UNMEASURED}" in held, held
+    assert "it has no net share (its measuring chain's share cannot be measured, above)" in held
+    assert d.evidence.count(CHAIN_UNMEASURED) == 1  # why, said once (it was said twice)
     assert "does not support" not in held and "%" not in held
     assert d.not_identifiable["offset"] == CHAIN_UNMEASURED
     assert math.isnan(dict(d.last_ranking)["offset"])
@@ -353,6 +355,13 @@ def test_a_measured_candidate_is_named_before_a_larger_unmeasured_one(monkeypatc
     assert d.steps[0].score == named.net and math.isnan(dict(d.steps[0].ranking)["offset"])
     assert "offset" not in d.causes and all(s["offset"].unmeasured for s in steps)
     assert d.not_identifiable["offset"] == CHAIN_UNMEASURED
+    # the named cause may stand in for the larger one set aside: flagged, not passed over
+    # silently (the step, its evidence, the report, the JSON)
+    assert d.steps[0].passed_over == (("offset", off.gross),)
+    assert f"so {d.steps[0].cause} may stand in for it" in d.evidence
+    assert f"Step 1: {d.steps[0].cause} is named in place of a larger gross share" in d.report()
+    out = d.as_dict()
+    assert out["steps"][0]["passed_over"] == [{"cause": "offset", "gross": off.gross}]
 
 
 def test_feedback_gains_keep_the_twins_loop_stable():

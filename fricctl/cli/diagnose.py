@@ -20,7 +20,9 @@ not a cause of the list; gross of the measuring chain's share, a hint), ``cause`
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,
 ``chain``, held-out torque and simulation RMS before and after, ``ranking`` of its
 candidates; a step that settled a load dependence's column scores the settled model, so its
-``score`` may exceed its own entry in ``ranking``), ``ranking`` (``[{cause, score}]`` of the first step; a null ``score``: the
+``score`` may exceed its own entry in ``ranking``; ``passed_over``: ``[{cause, gross}]`` of
+candidates with no net share that removed more gross, for which the named cause may stand
+in), ``ranking`` (``[{cause, score}]`` of the first step; a null ``score``: the
 candidate's measuring-chain share could not be measured, the reason in ``undefined``),
 ``last_ranking`` (the step that named nothing), ``not_identifiable`` (cause -> why it
 cannot be told on this record, or "tried, rejected: ..." when its extended model

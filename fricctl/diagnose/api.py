@@ -512,9 +512,11 @@ def _held_text(held: tuple, model: JointModel | None, named: tuple, sel: Selecti
             out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
                        f"the record supports it (named above, its term refitted)")
         elif _unmeasured(name, sel):  # no net share: neither supported nor not, as measured
+            why = ("its measuring chain's share cannot be measured, above"  # said once
+                   if sel.not_identifiable.get(name) == CHAIN_UNMEASURED else CHAIN_UNMEASURED)
             out.append(f" {name}: held by the supplied model ({what}); removed to be judged, "
-                       f"it has no net share: {CHAIN_UNMEASURED}; whether the record "
-                       f"supports it is not known, and it is left out of the extended model")
+                       f"it has no net share ({why}); whether the record supports it is not "
+                       f"known, and it is left out of the extended model")
         else:
             score = last.get(name)
             at = "" if score is None else f" (it removes {100 * score:.1f} % of what is left, net)"

@@ -259,6 +259,11 @@ class Diagnosis:
                              f"{_num(st.torque_rms_before)} -> {_num(st.torque_rms_after)} | "
                              f"{_num(st.simulation_rms_before)} -> "
                              f"{_num(st.simulation_rms_after)} |")
+            lines += [f"\nStep {i}: {st.cause} is named in place of a larger gross share: "
+                      + ", ".join(f"{c} removes {100 * g:.1f} %" for c, g in st.passed_over)
+                      + f" against {100 * st.gross:.1f} %, with no net share (the measuring "
+                        f"chain's share cannot be measured); {st.cause} may stand in for it."
+                      for i, st in enumerate(self.steps, 1) if st.passed_over]
         else:
             lines.append("No candidate reaches the score: nothing named.")
         if self.last_ranking:
@@ -358,6 +363,19 @@ def _capital(text: str) -> str:
     return text[:1].upper() + text[1:]
 
 
+def _passed_over(st) -> str:
+    """The sentence that flags a step's cause named while a candidate with no net share
+    removed more of the residual gross (:attr:`~.selection.Step.passed_over`), or ``""``."""
+    if not st.passed_over:
+        return ""
+    which = ", ".join(f"{c} ({100 * g:.0f} %)" for c, g in st.passed_over)
+    one = len(st.passed_over) == 1
+    return (f" Named in place of a larger share: {which} removed more of the same residual "
+            f"gross (against {100 * st.gross:.0f} %) but {'has' if one else 'have'} no net "
+            f"share (the measuring chain's share could not be measured at this step), so "
+            f"{st.cause} may stand in for {'it' if one else 'one of them'}.")
+
+
 def _why(reason: str) -> str:
     """A dropped candidate's reason as a clause: tried and rejected, or not told."""
     return reason if reason.startswith("tried, rejected") else \
@@ -401,7 +419,7 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         parts.append(f"{lead}{st.cause}: {causes.physical(st.cause)}. Adding the term removes "
                      f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
                      f"blocked cross-validation, net of the measuring chain's "
-                     f"{100 * st.chain:.0f} %); {body}.")
+                     f"{100 * st.chain:.0f} %); {body}." + _passed_over(st))
     tail = (f" Held-out torque RMS {_num(gain.torque_rms_before, '.3g')} -> "
             f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
             f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "

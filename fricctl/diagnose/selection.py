@@ -112,13 +112,20 @@ class Step:
     ranking: tuple = ()
     """Every candidate of this step with its net score, best first; NaN for one whose chain
     share could not be measured (:data:`CHAIN_UNMEASURED`), in the place a net 0 takes."""
+    passed_over: tuple = ()
+    """``(cause, gross)`` of each candidate of this step set aside with no net share
+    (:data:`CHAIN_UNMEASURED`) whose gross share exceeds the named cause's, largest first: the
+    named cause may stand in for one of them (a correlated term takes what the true cause's
+    would), which the evidence and the report say."""
 
     def as_dict(self) -> dict:
-        """The step's JSON object (``ranking`` as ``[{cause, score}]``)."""
+        """The step's JSON object (``ranking`` as ``[{cause, score}]``, ``passed_over`` as
+        ``[{cause, gross}]``)."""
         out = {k: getattr(self, k) for k in ("cause", "score", "gross", "chain",
                                              "torque_rms_before", "torque_rms_after",
                                              "simulation_rms_before", "simulation_rms_after")}
         out["ranking"] = [{"cause": c, "score": s} for c, s in self.ranking]
+        out["passed_over"] = [{"cause": c, "gross": g} for c, g in self.passed_over]
         return out
 
 
@@ -653,7 +660,10 @@ def _name(problem: Problem, state: _State, told: tuple, scored: dict, ranking: t
                 torque_rms_before=math.sqrt(sse_prev / nmov),
                 torque_rms_after=math.sqrt(float(np.sum(test)) / nmov),
                 simulation_rms_before=state.sim.rms().position,
-                simulation_rms_after=sim.rms().position, ranking=ranking)
+                simulation_rms_after=sim.rms().position, ranking=ranking,
+                passed_over=tuple(sorted(((n, o.gross) for n, o in scored.items()
+                                          if o.unmeasured and o.gross > gross),
+                                         key=lambda kv: -kv[1])))
     remaining = tuple(c for c in state.remaining if c is not cause)
     gone = not_applicable(base, _parts(selected), theta, remaining)
     return replace(state, base=base, test=test, fold_models=fold_models,
