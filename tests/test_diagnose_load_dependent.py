@@ -187,3 +187,44 @@ def test_the_model_torque_after_a_named_delay_is_its_prediction():
     gap = base.target - delay.variant.y  # what the old reading added to the model torque
     # (measured 3 % of the model torque's RMS here: the old reading was not the prediction)
     assert np.sqrt(np.mean(gap[m] ** 2)) > 0.01 * np.sqrt(np.mean(pred[m] ** 2)), ts
+
+
+def test_the_twin_keeps_a_settled_column_only_where_its_residual_is_no_larger(monkeypatch):
+    # the effect-free twin walks the record's path (chain_shares): it keeps a settled column
+    # only where the twin's held-out residual is no larger, and otherwise goes on with the
+    # unsettled one.  A settle that returns noise in place of the load term's column must leave
+    # every chain share exactly as with no settling (the revert branch; review R9 found it
+    # untested).  The twin is the record's baseline re-made: the record of a drag and a load
+    # term, with the load term named
+    from fricctl.diagnose import twin as twin_module
+    from fricctl.diagnose.twin import chain_shares, effect_free_twin
+
+    sig, base, problem = _setup(_drag_and_load_record())
+    load_cause = REGISTRY["load_dependent"]
+    tw = effect_free_twin(base, model=base.fitted)
+    real = twin_module.settle
+    calls = []
+
+    def no_settle(problem, base, causes, parts, theta):
+        return real(problem, base, [], parts, theta)  # no column remade: advanced once
+
+    def noise_settle(problem, base, causes, parts, theta):
+        calls.append([c.name for c in causes])
+        rng = np.random.default_rng(0)
+        parts = tuple(p if not c.reads_model_torque else
+                      replace(p, extra=rng.standard_normal(p.extra.shape) * np.std(p.extra))
+                      for c, p in zip(causes, parts))
+        theta = full_fit(problem, [parts[-1]], parts[:-1]).theta
+        return real(problem, base, [], parts, theta)
+
+    names = ("drag", "stribeck", "asymmetry", "offset")
+
+    def shares(settle_with):
+        monkeypatch.setattr(twin_module, "settle", settle_with)
+        share = chain_shares(tw, (load_cause,))
+        return [share(REGISTRY[n]) for n in names]
+
+    plain = shares(no_settle)
+    noisy = shares(noise_settle)
+    assert calls == [["load_dependent"]]  # the load term's column was remade (with noise)
+    assert noisy == plain
