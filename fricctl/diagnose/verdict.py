@@ -10,6 +10,10 @@ the record is (``chain_rms``).  The final model's held-out torque residual
 * a one-sided variance-ratio (F) test of the two mean squares, each with the effective
   degrees of freedom of the record's residual (sliding samples over its integrated
   correlation time, :func:`fricctl.identify.uncertainty.correlation_time`);
+* a residual below ``1 / EXPLAINED_RATIO`` of the floor that the test finds smaller (lower
+  tail, :data:`SIGNIFICANCE`) leaves the verdict **not determined**: the record's residual
+  holds the chain's and more, so a floor far above it is not this record's chain (the twin's
+  fitted model or loop is not the record's), and the record is not called explained;
 * the record is **explained** when the ratio is at most :data:`EXPLAINED_RATIO`; otherwise
   **not explained**, and no text says "within noise".  Above the ratio, a record too short
   for the F test to reject at :data:`SIGNIFICANCE` is not called explained either (issue 21:
@@ -75,7 +79,13 @@ class Verdict:
     strongest: str
     """The quantity with the largest share."""
     reason: str = ""
-    """Why the verdict could not be reached (no floor), or ``""``."""
+    """Why the verdict could not be reached (no floor, or a residual far below the floor: the
+    twin is not the record's chain), or ``""``."""
+    caution: str = ""
+    """Why the causes named may not be the joint's, where the diagnosis found a reason (the
+    rigid baseline fitted by simulation error re-simulates the record better than the
+    extended model: :func:`fricctl.diagnose.api.diagnose`), or ``""``.  A record whose
+    residual is at the floor is then not called explained (the verdict is not determined)."""
     other_shape: float = math.nan
     """Held-out share of the final residual that a friction law of another shape removes (a
     generic odd function of the velocity, :func:`~fricctl.diagnose.selection.speed_curve`, not
@@ -93,7 +103,17 @@ class Verdict:
                     f"chain's share not subtracted: the friction-speed curve may have another "
                     f"shape than the model's")
         if self.reason:
-            return f"Not determined whether the record is explained: {self.reason}; {dep}."
+            return (f"Not determined whether the record is explained: {self.reason}; {dep}."
+                    + (f" {_capital(self.caution)}." if self.caution else ""))
+        if self.caution and self.residual_over_floor <= EXPLAINED_RATIO:
+            return (f"Not determined whether the record is explained: the held-out torque "
+                    f"residual is {self.residual_over_floor:.2f} times the measuring chain's "
+                    f"floor, but {self.caution}.")
+        if self.caution:
+            return (f"Not explained: the held-out torque residual is "
+                    f"{self.residual_over_floor:.2f} times the measuring chain's floor (F test "
+                    f"p = {self.p_value:.2g}, {self.dof:.0f} effective degrees of freedom each); "
+                    f"{dep}. {_capital(self.caution)}.")
         if self.explained:
             return (f"Explained within noise: the held-out torque residual is "
                     f"{self.residual_over_floor:.2f} times the measuring chain's floor.")
@@ -112,8 +132,13 @@ class Verdict:
                 "p_value": self.p_value, "dof": self.dof,
                 "dependence": {k: float(x) for k, x in self.dependence.items()},
                 "strongest": self.strongest, "reason": self.reason or None,
+                "caution": self.caution or None,
                 "other_shape_share": (None if math.isnan(self.other_shape)
                                       else float(self.other_shape))}
+
+
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
 
 
 def _eta2(r: np.ndarray, x: np.ndarray) -> float:
@@ -210,6 +235,20 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
     # the ratio decides: a test that cannot reject on a short record does not make a residual
     # above twice the floor "explained" (the sentence reports the test)
     explained = ratio <= EXPLAINED_RATIO
+    reason = ""
+    below = float(stats.f.cdf(ratio ** 2, dof, dof)) if math.isfinite(dof) and dof > 0 else 1.0
+    if ratio < 1.0 / EXPLAINED_RATIO and below < SIGNIFICANCE:
+        # the record's residual holds the chain's and more: one far below the twin's floor says
+        # that the twin does not re-make this record's measuring chain (audit B: a constant-speed
+        # record whose fitted inertia was 15x the truth, "explained" at 0.005 times the floor)
+        explained = False
+        reason = (f"the held-out torque residual is {ratio:.2g} times the floor its effect-free "
+                  f"twin measures, below half of it (F test p = {below:.2g} for a residual that "
+                  f"small, {dof:.0f} effective degrees of freedom each): the twin does not "
+                  f"re-make this record's measuring chain (its fitted model or its loop is not "
+                  f"the record's), so neither its floor nor the chain's shares can judge the "
+                  f"record")
     shape = float(other_shape()) if other_shape is not None and not explained else math.nan
     return Verdict(explained=bool(explained), residual_over_floor=float(ratio), p_value=p,
-                   dof=float(dof), dependence=dep, strongest=strongest, other_shape=shape)
+                   dof=float(dof), dependence=dep, strongest=strongest, other_shape=shape,
+                   reason=reason)
