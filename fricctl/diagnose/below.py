@@ -104,8 +104,9 @@ class BelowLine:
     held-out windows no worse, and no generic rival leaves it nothing the test can tell."""
     plausible: bool | None
     """The term fitted on all data passes the checks a named cause passes before it is
-    tried (:func:`~fricctl.diagnose.selection._why_not_told`; False where no variant fits);
-    None where not checked (the test fails first)."""
+    tried (:func:`~fricctl.diagnose.selection._why_not_told`; False where no variant fits),
+    checked also where the test fails first (its fitted numbers are printed); None where its
+    net share could not be measured."""
     reason: str = ""
     """Why it is not supported (the test, or the check it fails), or ``""``."""
     parameters: dict = field(default_factory=dict)
@@ -266,9 +267,15 @@ def _entry(problem, state, s, sse_prev: float, dof: float, chain: Callable, simu
     else:
         p = reduction_p(s.gross, dof, after)
         if not p < SIGNIFICANCE:  # the net share can only be smaller: the chain is not asked
+            # its fitted numbers are printed: checked as a named cause's are (audit B: a hump
+            # fitted on its tail, 11476 % of the Coulomb level, was printed unflagged)
+            why = _why_not_told(problem, state, s.cause, fit, fixed)
             return _Tried(line=BelowLine(**entry, score=s.gross, chain=math.nan, p_value=p,
-                                         supported=False, plausible=None,
-                                         reason=_not_significant(p)), cause=s.cause, fit=fit)
+                                         supported=False, plausible=why is None,
+                                         reason=_not_significant(p) + (
+                                             "" if why is None else
+                                             f"; and the record cannot tell it: {why}")),
+                          cause=s.cause, fit=fit)
         named = tuple(x.cause for x in state.selected)
         share = chain(sse_prev * (1.0 - s.gross), named, state.model)(s.cause)
         if math.isfinite(share):

@@ -76,9 +76,12 @@ def _evidence(base, term, extended):
     hi = m & ~lo
     parts = []
     for name, sel in (("forward", sig.w > 0), ("backward", sig.w < 0)):
-        a = r[lo & sel].mean() if np.any(lo & sel) else float("nan")
-        b = r[hi & sel].mean() if np.any(hi & sel) else float("nan")
-        parts.append(f"{a:+.3g} -> {b:+.3g} {u.torque} {name}")
+        if not np.any(m & sel):  # a direction the record never slides in: said, not a NaN
+            parts.append(f"no sliding sample {name}")
+            continue
+        a = f"{r[lo & sel].mean():+.3g}" if np.any(lo & sel) else "none"
+        b = f"{r[hi & sel].mean():+.3g}" if np.any(hi & sel) else "none"
+        parts.append(f"{a} -> {b} {u.torque} {name}")
     return (f"from the slower to the faster half of the sliding samples the baseline residual "
             f"averages {', '.join(parts)} (a constant torque would shift both alike at every "
             f"speed); fitted viscous +{fr.viscous_pos:.3g} / -{fr.viscous_neg:.3g} {u.viscous} "

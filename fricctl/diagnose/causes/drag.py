@@ -61,15 +61,23 @@ def _evidence(base, term, extended):
     # direction of motion) positive at both ends and negative in the middle, largest at
     # the top; a Stribeck excess leaves it positive at the lowest speeds only
     low, mid, top = mean(0.0, 0.1), mean(0.3, 0.6), mean(0.8, np.inf)
-    if top > mid and top > low:
+
+    def said(x):  # a band the record never slides in is said so, not a NaN
+        return f"{x:+.3g} {u.torque}" if np.isfinite(x) else "no sliding sample"
+
+    empty = sum(not np.isfinite(x) for x in (low, mid, top))
+    if empty:
+        shape = (f"{empty} of the three speed bands hold no sliding sample: the bend cannot be "
+                 f"read on this record")
+    elif top > mid and top > low:
         shape = ("largest at the top speeds: friction bending upward along the speed range, "
                  "where a low-speed hump would leave it largest at the lowest")
     else:
         shape = ("not largest at the top speeds: the upward bend is mixed with another "
                  "effect here")
-    return (f"the baseline residual in the direction of motion averages {low:+.3g} {u.torque} "
-            f"below {0.1 * v95:.3g} {u.velocity}, {mid:+.3g} {u.torque} at "
-            f"{0.3 * v95:.3g}-{0.6 * v95:.3g} {u.velocity} and {top:+.3g} {u.torque} above "
+    return (f"the baseline residual in the direction of motion averages {said(low)} "
+            f"below {0.1 * v95:.3g} {u.velocity}, {said(mid)} at "
+            f"{0.3 * v95:.3g}-{0.6 * v95:.3g} {u.velocity} and {said(top)} above "
             f"{0.8 * v95:.3g} {u.velocity} ({shape}); "
             f"fitted drag {c:.3g} {u.torque}*s^2/{u.position}^2, i.e. {c * v95 ** 2:.3g} "
             f"{u.torque} at the 95th-percentile speed {v95:.3g} {u.velocity} "

@@ -95,7 +95,9 @@ def _evidence(base, term, extended):
     c = float(np.corrcoef(u, rr)[0, 1]) if u.std() > 0 else float("nan")
     return (f"the baseline residual in the direction of motion grows with |Tm| "
             f"(correlation {c:.2f}; the drive brakes on {100 * _braking(base):.0f} % of the "
-            f"sliding samples); fitted friction + {extended.friction.load_coefficient:.3g} x |Tm|")
+            f"sliding samples); fitted friction + {extended.friction.load_coefficient:.3g} x |Tm|"
+            + (f" (at the coefficient's bound, {MAX_LOAD_COEFFICIENT}: not determined by the "
+               f"record)" if term.coef[0] >= 0.999 * MAX_LOAD_COEFFICIENT else ""))
 
 
 def _outside_model_torque(base) -> float:

@@ -60,8 +60,12 @@ def _evidence(base, term, extended):
     neg = float(r[bwd].mean()) if np.any(bwd) else float("nan")
     c = float(extended.offset - base.fitted.offset)
     fc = coulomb_level(extended)
-    text = (f"the baseline residual averages {pos:+.3g} {u.torque} moving forward and "
-            f"{neg:+.3g} {u.torque} moving backward (a constant torque shifts both alike); "
+    def said(x, way):  # a direction the record never slides in is said so, not a NaN
+        return (f"{x:+.3g} {u.torque} moving {way}" if np.isfinite(x) else
+                f"nothing moving {way} (no sliding sample)")
+
+    text = (f"the baseline residual averages {said(pos, 'forward')} and "
+            f"{said(neg, 'backward')} (a constant torque shifts both alike); "
             f"fitted offset {c:+.3g} {u.torque} (the model's offset {extended.offset:+.3g} "
             f"{u.torque}: the joint receives Tm - offset), "
             f"{coulomb_share(abs(extended.offset), fc, u.torque)}")

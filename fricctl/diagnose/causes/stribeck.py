@@ -46,6 +46,19 @@ def _evidence(base, term, extended):
             f"Stribeck velocity {vs:.3g} {u.velocity}")
 
 
+def _identifiable(base, term):
+    # the hump is exp(-(w/vs)^2): with no sliding sample below vs its column is the tail alone,
+    # and the excess is extrapolated to speeds the record never slides at (audit B: 24.5 N*m,
+    # 11476 % of the Coulomb level, on a triangle record at one speed)
+    w = np.abs(base.sig.w[base.sig.moving])
+    if w.size and not np.any(w < term.h):
+        u = base.labels
+        return (f"the fitted Stribeck velocity {term.h:.3g} {u.velocity} lies below every "
+                f"sliding sample's speed (slowest {float(w.min()):.3g} {u.velocity}): the hump "
+                f"is fitted on its tail and its excess is not determined by the record")
+    return None
+
+
 def _remove(model):
     d = model.friction.as_dict()
     d["stribeck_pos"] = d["stribeck_neg"] = 0.0
@@ -66,4 +79,4 @@ CAUSE = Cause(
     physical="friction at low speed exceeds the Coulomb level and decays toward it with speed",
     changes=("stribeck_pos", "stribeck_neg", "stribeck_velocity"),
     params=("stribeck_excess",), variants=_variants, extend=_extend, evidence=_evidence,
-    inject=_inject, remove=_remove, friction_curve=True)
+    inject=_inject, remove=_remove, friction_curve=True, identifiable=_identifiable)
