@@ -6,13 +6,16 @@ EMPS layout, a linear axis), fits the rigid baseline (or takes ``--model FILE``,
 ``fricctl.joint_model`` JSON file: its units, sample time and encoder count must agree
 with the record's; the effects a cause can judge -- its offset, asymmetric levels,
 Stribeck excess -- are removed and named again only where the record supports them,
-so that the causes are the same with and without the model),
+so that a model's own claims do not decide the causes; the model's other values are trusted,
+so the causes can differ from a diagnosis without it where the record's own fit is biased),
 re-simulates it over 0.5 s windows, names every cause the record supports one
 step at a time by blocked cross-validation (or ``none``), extends the model and
 reports the held-out gain and the verdict: is the record explained?  ``--json`` prints one
 object (finite numbers or null): ``explained`` (the final model's held-out torque residual
-at most twice the measuring chain's floor), ``residual_over_floor``, ``verdict``
-(``p_value`` of the variance-ratio test, ``dof``, ``dependence``: the share of the final
+at most twice the measuring chain's floor, not far below it, and no caution),
+``residual_over_floor``, ``verdict`` (``caution``: where fricctl identify's rigid fit
+re-simulates the record better than the extended model, the causes named may stand in for a
+bias of the least-squares fit; ``p_value`` of the variance-ratio test, ``dof``, ``dependence``: the share of the final
 residual's variance its bin means against position, velocity, time and torque carry,
 ``strongest``, ``other_shape_share``: on a record not explained, the held-out share of that
 residual a friction law of another shape removes -- a generic odd function of the velocity,
