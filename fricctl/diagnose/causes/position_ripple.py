@@ -107,12 +107,46 @@ def _identifiable(base, term):
     grid around a peak may step below)."""
     sig = base.sig
     per_sample = _per_sample(sig)
+    u = base.labels
     if term.h < 2.0 * per_sample:
-        u = base.labels
         return (f"the fitted period ({term.h:.3g} {u.position}) is shorter than two samples of "
                 f"motion at the record's median sliding speed ({per_sample:.3g} {u.position} "
                 f"per sample): above the Nyquist limit in position, an alias of the sampling")
-    return None
+    return _time_rival(base, term.h)
+
+
+def _time_rival(base, period: float) -> str | None:
+    """Why a ripple of ``period`` cannot be told from a torque periodic in time, or None.
+
+    At the median sliding speed ``v`` the ripple is a sinusoid in time of frequency
+    ``v/period``; only the record's spread of speeds tells the two apart.  A sinusoid in time
+    at that frequency (filtered as the ripple's columns are) is fitted to the residual of the
+    model as it stands on the sliding samples, as the ripple's own two columns are; where it
+    leaves no more, the record cannot tell a ripple in position from a disturbance in time
+    (audit B: a 3 Hz disturbance on a record tracking a triangle at one speed was named a
+    ripple of 0.33 rad)."""
+    sig = base.sig
+    m = sig.moving
+    if not np.any(m):
+        return None
+    r = base.current_residual[m]
+    f = float(np.median(np.abs(sig.w[m]))) / period
+    ang = 2 * np.pi * f * sig.t
+    cols = {"position": _sin_cos(base, period).extra[m],
+            "time": np.column_stack([sig.filt(np.sin(ang)), sig.filt(np.cos(ang))])[m]}
+    left = {}
+    for k, c in cols.items():
+        coef = np.linalg.lstsq(c, r, rcond=None)[0]
+        left[k] = float(np.sum((r - c @ coef) ** 2))
+    total = float(r @ r)
+    if not (total > 0 and left["time"] <= left["position"]):
+        return None
+    u = base.labels
+    return (f"a torque periodic in time at {f:.3g} Hz (the period at the median sliding speed) "
+            f"removes as much of the residual as the ripple ({100 * (1 - left['time'] / total):.0f} "
+            f"% against {100 * (1 - left['position'] / total):.0f} %): the record slides at "
+            f"too nearly one speed to tell a period in position ({period:.3g} {u.position}) "
+            f"from one in time")
 
 
 def _extend(model, term, base):
