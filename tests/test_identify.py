@@ -272,3 +272,23 @@ def test_identify_run_drops_the_encoders_rest_for_a_filtering_estimator():
     assert kept.parameters["coulomb"] < 0.7 * p.coulomb
     with pytest.raises(ValueError, match="rest_guard"):
         I.identify_run(run, rest_guard=0)
+
+
+def test_an_estimate_of_zero_with_no_std_prints_no_nan_and_warns_nothing():
+    # audit B: a coefficient at its bound with a std of 0 gave 0/0 in the relative std: "nan %"
+    # in the report and a numpy "invalid value encountered in divide" warning on the CLI
+    import dataclasses
+    import warnings
+
+    _, _, w, a = _motion()
+    res = I.fit_friction(w, a, _law(TRUE, w, a), units="linear")
+    i = res.names.index("viscous")
+    est, std = res.estimates.copy(), res.std.copy()
+    est[i], std[i] = 0.0, 0.0
+    zero = dataclasses.replace(res, estimates=est, std=std)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        text = zero.report()
+        assert np.isnan(zero.relative_std[i])
+    line = next(x for x in text.splitlines() if x.startswith("Parameter viscous"))
+    assert "nan" not in line and " - " in line

@@ -93,8 +93,9 @@ class IdentificationResult:
 
     @property
     def relative_std(self) -> np.ndarray:
-        """``100 * std / |estimate|`` [%]."""
-        with np.errstate(divide="ignore"):
+        """``100 * std / |estimate|`` [%] (inf for an estimate of 0 with a std, NaN for an
+        estimate of 0 with none: undefined, which the report prints as ``-``)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
             return 100.0 * self.std / np.abs(self.estimates)
 
     @property
@@ -168,7 +169,8 @@ class IdentificationResult:
                                     self.notes()):
             unit = parameter_unit(n, self.units)
             tail = f"   ({note})" if note else ""
-            lines.append(f"Parameter {n:<{w}} : {x:12.4f} {s:10.4f} {r:8.4f} %   [{unit}]{tail}")
+            rel = f"{r:8.4f} %" if not np.isnan(r) else f"{'-':>8}  "  # 0/0: undefined
+            lines.append(f"Parameter {n:<{w}} : {x:12.4f} {s:10.4f} {rel}   [{unit}]{tail}")
         lines += ["", "Absolute value of the diagonal element of R"]
         lines += [f"Parameter {n:<{w}} : {d:12.4f}" for n, d in zip(self.names, self.abs_diag_r)]
         lines += [f"Condition number of the observation matrix: {self.condition_number:.4f}", "",
