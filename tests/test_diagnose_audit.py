@@ -130,3 +130,18 @@ def test_a_disturbance_in_time_at_one_speed_is_not_named_a_ripple():
     assert "position_ripple" not in d.causes and not d.explained
     assert "periodic in time at" in d.not_identifiable.get("position_ripple", ""), \
         d.not_identifiable
+
+
+def test_the_true_model_supplied_names_nothing_and_leaks_no_numpy_warning():
+    # the triangle with the simulated joint supplied: nothing named, explained; a Stribeck
+    # variant whose column is nearly zero on the training blocks overflowed its held-out sum of
+    # squares to inf (right) with numpy's overflow warnings printed to the user (audit B)
+    import warnings
+
+    from fricctl.plant import JointModel
+
+    run = _tracking(_triangle)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        d = diagnose(run, JointModel(inertia=INERTIA, friction=Viscous(0.02) + Coulomb(0.2)))
+    assert d.causes == ("none",) and d.explained
