@@ -65,6 +65,9 @@ def test_text_output_and_models(tmp_path, capsys):
     ("t,torque,foo\n" + "1,2,3\n" * 20, "unknown column 'foo'"),
     ("t,torque\n" + "1,2\n" * 20, "missing column 'position'"),
     ("t;torque;position\n" + "0,002;1,5;0\n" * 20, "';'-separated with decimal commas"),
+    # audit A 1: a misspelt key was ignored (the record fitted as rotary)
+    ("# unit: linear\nt,torque,position\n" + "".join(f"{k / 500},1,{k}\n" for k in range(20)),
+     "line 1: unknown '# unit:' line (did you mean 'units'?)"),
 ])
 def test_bad_csv_exit_2(tmp_path, capsys, content, msg):
     p = tmp_path / "bad.csv"

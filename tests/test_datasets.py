@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -319,7 +321,7 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
     # issue 26: "# units: rotary" then "# units: linear": the last one won, silently
     body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
     p = tmp_path / "two.csv"
-    p.write_text("# source: bench\n# units: rotary\n# note: relabelled\n# units: linear\n" + body)
+    p.write_text("# source: bench\n# units: rotary\n# relabelled by hand\n# units: linear\n" + body)
     with pytest.raises(ValueError, match=r"two.csv, line 4: '# units: linear' contradicts line 2 "
                                          r"\('# units: rotary'\)"):
         Run.from_csv(p)
@@ -330,6 +332,29 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
                     "1,1,1\n2,2,2\n")
     with pytest.raises(ValueError, match="line 2: '# velocity_quantum: 0.02' contradicts line 1"):
         read_patterns(pats)
+
+
+@pytest.mark.parametrize("line,words", [
+    ("# unit: linear", "line 2: unknown '# unit:' line (did you mean 'units'?)"),
+    ("# Units: linear", "line 2: unknown '# Units:' line (did you mean 'units'?)"),
+    ("# velocity_quantum: 0.1", "line 2: unknown '# velocity_quantum:' line; the '#' keys of "
+                                "this file are source, units"),
+])
+def test_an_unknown_key_line_of_a_record_is_refused(tmp_path, line, words):
+    # audit A 1: a misspelt "# unit: linear" was silently ignored and the record read as rotary
+    body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
+    p = tmp_path / "r.csv"
+    p.write_text(f"# source: bench\n{line}\n" + body)
+    with pytest.raises(ValueError, match="r.csv, " + re.escape(words)):
+        Run.from_csv(p)
+    # what Run.to_csv writes reads back, and a '#' line without ':' is a free comment
+    p.write_text("# source: bench: rig 2\n# recorded by hand\n# units: linear\n" + body)
+    run = Run.from_csv(p)
+    assert run.units == "linear" and run.source == "bench: rig 2"
+    back = Run.from_csv(run.to_csv(tmp_path / "back.csv"))
+    assert back.units == "linear" and back.source == "bench: rig 2"
+    # a patterns file keeps other '#' lines as metadata: read_columns refuses only when told
+    assert read_columns(p, required=("t",), optional=("torque", "position")).meta["units"]
 
 
 def test_a_bad_line_after_many_plain_rows_is_named_at_once(tmp_path):

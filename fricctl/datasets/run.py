@@ -12,7 +12,7 @@ from .._atomic import atomic_write
 from ..units import KINDS, units as units_of
 from .table import read_columns
 
-__all__ = ["Run", "MIN_SAMPLES", "TIME_STEP_RTOL"]
+__all__ = ["Run", "MIN_SAMPLES", "TIME_STEP_RTOL", "RECORD_KEYS"]
 
 #: Fewest samples a record may have: a 6th-order polynomial fit and the
 #: four-parameter inverse model both need well over this many.
@@ -25,6 +25,8 @@ TIME_STEP_RTOL = 1e-3
 
 _REQUIRED = ("t", "torque", "position")
 _OPTIONAL = ("reference",)
+#: The ``# key:`` lines of a record (what :meth:`Run.to_csv` writes); any other is refused.
+RECORD_KEYS = ("source", "units")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -212,10 +214,12 @@ class Run:
         FileNotFoundError
             The file does not exist.
         ValueError
-            Missing or unknown column, non-numeric cell, or any :class:`Run`
-            validation failure; the message starts with the file name.
+            Missing or unknown column, non-numeric cell, a ``# key:`` line other than
+            :data:`RECORD_KEYS` (``# source:``, ``# units:``; a ``#`` line without ``:`` is a
+            free comment), or any :class:`Run` validation failure; the message starts with
+            the file name.
         """
-        table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL)
+        table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL, keys=RECORD_KEYS)
         cols, meta = table.columns, table.meta
         try:
             return cls(
