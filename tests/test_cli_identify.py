@@ -162,3 +162,31 @@ def test_emps_mat_idim_ls_reproduces_the_published_model(tmp_path, capsys, data_
     # data README: 1 kHz, one encoder count = 5e-8 m
     assert m.sample_time == pytest.approx(1e-3, rel=1e-6)
     assert m.encoder_resolution == pytest.approx(5e-8, rel=1e-9)
+
+
+@pytest.mark.parametrize("figure", ["fig", "fig.jpg"])
+def test_a_figure_without_a_known_suffix_is_refused_before_the_fit(tmp_path, capsys, figure):
+    # audit A 2: the fit ran, matplotlib refused a temporary file's name, and --out was written
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(path), "--out", str(out),
+                 "--figure", str(tmp_path / figure)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--figure: {tmp_path / figure} must end in .png" in err
+    assert "tmp" not in err.replace(str(tmp_path), "") and not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv"]
+
+
+def test_a_model_that_cannot_be_written_leaves_no_out_file(tmp_path, capsys, monkeypatch):
+    # --out is written last: a figure that fails to save leaves no model file
+    from fricctl.cli import _output
+
+    def broken(*args, **kwargs):
+        raise ValueError("the figure could not be saved")
+
+    monkeypatch.setattr(_output, "save_figure", broken)
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(path), "--out", str(out),
+                 "--figure", str(tmp_path / "f.png")]) == 2
+    assert "the figure could not be saved" in capsys.readouterr().err and not out.exists()

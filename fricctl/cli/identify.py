@@ -179,8 +179,9 @@ def run(args) -> int:
     from ..datasets import load_record
     from ..identify import LINEAR_MODELS, didim, identify_record, identify_run, idim_iv, idim_ls
     from ..identify.record import held_out_halves
-    from ._output import about, check_outputs, json_text
+    from ._output import about, check_figure, check_outputs, json_text
 
+    check_figure("--figure", args.figure)  # before the fit: matplotlib would refuse it after
     check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
@@ -243,9 +244,8 @@ def run(args) -> int:
         fig = (plot_held_out(ident) if ident is not None else plot_validation(
             held, result=result, title=f"{result.method} ({result.model}): each half "
                                        f"replayed with the other half's estimate"))
-    if args.out is not None:
-        identified_model(result, record, recipe=args.recipe,
-                         max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
+    model = None if args.out is None else identified_model(
+        result, record, recipe=args.recipe, max_torque=args.max_torque)
     if held is not None and held.failure:
         print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
               file=sys.stderr)
@@ -253,6 +253,8 @@ def run(args) -> int:
         from ._output import save_figure
 
         save_figure(fig, args.figure, overwrite=args.force)  # atomic
+    if model is not None:  # last: a call that failed on the way leaves no model file
+        model.save(args.out, overwrite=args.force)  # atomic
     if args.json:
         out = result.as_dict() if ident is None else ident.as_dict()
         if ident is None:
