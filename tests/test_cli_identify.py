@@ -190,3 +190,19 @@ def test_a_model_that_cannot_be_written_leaves_no_out_file(tmp_path, capsys, mon
     assert main(["identify", str(path), "--out", str(out),
                  "--figure", str(tmp_path / "f.png")]) == 2
     assert "the figure could not be saved" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_fit_on_its_bounds_is_said_to_be_non_physical_in_one_line(tmp_path, capsys):
+    # audit A 3: a negated torque column fits inertia 0; the call ended with warnings and
+    # "inertia must be > 0 kg*m^2, got 0.0", which reads like a bad value of the user's
+    path = _synthetic_csv(tmp_path / "run.csv")
+    run = Run.from_csv(path)
+    neg = Run(t=run.t, torque=-run.torque, position=run.position, source="negated").to_csv(
+        tmp_path / "neg.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(neg), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert ("error: the fit gave a non-physical model, so no model file can be written: "
+            "inertia 0 kg*m^2") in err
+    assert "at their bounds (a model needs inertia > 0 kg*m^2;" in err and not out.exists()

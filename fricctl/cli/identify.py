@@ -138,6 +138,29 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
     return _flagged(m, result)
 
 
+def _model_file(result, record, args):
+    """:func:`identified_model` for ``--out``; a fit whose parameters sit on their bounds (a
+    torque column of the wrong sign gives inertia 0) is said to be non-physical, not a bad
+    value of the user's ("inertia must be > 0 kg*m^2, got 0.0")."""
+    import re
+
+    from ..identify.models import parameter_unit
+
+    try:
+        return identified_model(result, record, recipe=args.recipe, max_torque=args.max_torque)
+    except ValueError as exc:
+        bound = [n for n, b in zip(result.names, result.at_bound) if b]
+        if not bound:
+            raise
+        at = ", ".join(f"{n} {result.parameters[n]:.4g} {parameter_unit(n, result.units)}"
+                       for n in bound)
+        need = re.sub(r"^(\S+) must be (.*?)(, got .*)?$", r"\1 \2", str(exc))
+        raise ValueError(f"the fit gave a non-physical model, so no model file can be written: "
+                         f"{at} at {'its bound' if len(bound) == 1 else 'their bounds'} (a model "
+                         f"needs {need}; does the torque column have the sign of the motion it "
+                         f"drives?)") from None
+
+
 def _fit_again(args, record, controller, estimator):
     """The recipe of ``args`` on another record (a half, for the held-out validation)."""
     from ..identify import didim, identify_run, idim_iv, idim_ls
@@ -235,6 +258,8 @@ def run(args) -> int:
         held = None
         if ident is None and args.model in LINEAR_MODELS and not args.no_validation:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
+    # before any output: a fit that gives no model file is one error line, not warnings first
+    model = None if args.out is None else _model_file(result, record, args)
     for w in result.warnings:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
     fig = None
@@ -244,8 +269,6 @@ def run(args) -> int:
         fig = (plot_held_out(ident) if ident is not None else plot_validation(
             held, result=result, title=f"{result.method} ({result.model}): each half "
                                        f"replayed with the other half's estimate"))
-    model = None if args.out is None else identified_model(
-        result, record, recipe=args.recipe, max_torque=args.max_torque)
     if held is not None and held.failure:
         print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
               file=sys.stderr)
