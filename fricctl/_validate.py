@@ -38,11 +38,28 @@ from typing import Iterable
 import numpy as np
 
 __all__ = ["real", "integer", "flag", "choice", "rng", "array", "instance", "text",
-           "is_real_scalar", "number_text", "strict_json", "json_numbers"]
+           "is_real_scalar", "number_text", "strict_json", "json_numbers", "sample_time",
+           "SAMPLE_TIME_RANGE"]
 
 #: Numbers larger than this are refused as "not a usable magnitude" (about 1e300):
 #: their squares and products overflow double precision.
 HUGE = 1e300
+
+
+#: Sample times a digital controller can have [s]: from 1 ns (a 1 GHz loop; below about 1e-17 s
+#: the gains over Ts swamp the plant in double precision and a stable design came out
+#: "unstable") to an hour (above about 1e100 s the ZOH discretisation overflowed to NaN).
+SAMPLE_TIME_RANGE = (1e-9, 3600.0)
+
+
+def sample_time(name: str, v) -> float:
+    """A controller's sample time within :data:`SAMPLE_TIME_RANGE` [s], as ``float``."""
+    x = real(name, v, positive=True, unit="s")
+    low, high = SAMPLE_TIME_RANGE
+    if not low <= x <= high:
+        raise ValueError(f"{name} must lie in [{low:g}, {high:g}] s (a digital controller's "
+                         f"sample time), got {x!r}")
+    return x
 
 
 def _describe(v) -> str:

@@ -138,6 +138,8 @@ def test_model_viscous_is_the_mean_of_both_directions(tmp_path, capsys):
 
 @pytest.mark.parametrize("kw,argv,match", [
     (dict(sample_time=None), [], "sample_time: the model has none"),
+    # audit A 4: a sample time too short for the check names the model's value it concerns
+    (dict(sample_time=1e-8), [], "sample_time: checking this design on the sampled loop needs"),
     ({}, ["--link"], "--link has no effect with --model"),
 ])
 def test_model_errors_one_line(tmp_path, capsys, kw, argv, match):
