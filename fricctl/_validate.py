@@ -351,6 +351,8 @@ def json_file(path, what: str, parse):
 
     Raises
     ------
+    IsADirectoryError
+        ``path`` is a folder ("a folder, not a {what}").
     FileNotFoundError
         No such file ("no such {what}").
     ValueError
@@ -359,6 +361,8 @@ def json_file(path, what: str, parse):
     from pathlib import Path
 
     path = Path(path)
+    if path.is_dir():  # "no such model file" sent the user looking for a file that is there
+        raise IsADirectoryError(21, f"a folder, not a {what}", str(path))
     if not path.is_file():
         raise FileNotFoundError(2, f"no such {what}", str(path))
     try:

@@ -230,6 +230,22 @@ def test_cli_missing_model_file(tmp_path, capsys):
     assert "no such model file" in err and err.count("\n") == 1
 
 
+def test_a_folder_given_as_a_file_is_said_to_be_a_folder(tmp_path, capsys):
+    # audit A 9: "no such model file" for a folder that exists sent the user looking for it
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    for argv, what in ((["design", "pd", "--rise-time", "0.05", "--damping", "0.7", "--model"],
+                        "model file"),
+                       (["model", "show"], "model file"),
+                       (["train", "--out", str(tmp_path / "n.json")], "CSV file"),
+                       (["simulate", "--controller", "p", "--kp", "1", "--reference", "step:0.1",
+                         "--compensation", "nn", "--net"], "network file")):
+        assert main([*argv, str(folder)]) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.endswith(f": error: {folder}: a folder, not a {what}\n"), err
+    assert not (tmp_path / "n.json").exists()
+
+
 def test_nan_in_json_dumps_is_refused():
     # the writer never produces NaN: a model cannot hold one
     with pytest.raises(ValueError, match="must be finite"):

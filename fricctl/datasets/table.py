@@ -173,6 +173,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
 
     Raises
     ------
+    IsADirectoryError
+        ``path`` is a folder.
     FileNotFoundError
         The file does not exist.
     ValueError
@@ -199,6 +201,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     min_rows = v.integer("min_rows", min_rows, low=0)
     keys = None if keys is None else tuple(keys)
     want = _expected(required, optional)
+    if path.is_dir():
+        raise IsADirectoryError(21, "a folder, not a CSV file", str(path))
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
     try:
