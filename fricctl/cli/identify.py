@@ -96,7 +96,7 @@ def register(subparsers) -> None:
     p.add_argument("--border", type=int, default=None, metavar="N",
                    help="plain recipe: samples dropped at each end (default 50)")
     p.add_argument("--max-torque", type=float, default=None, metavar="TMAX",
-                   help="torque (force) limit of the drive [N*m or N] for the model file "
+                   help="torque (force) limit of the drive [N*m or N] for the --out model file "
                         "(datasheet); default unknown (null)")
     p.add_argument("--out", type=Path, default=None, metavar="MODEL.json",
                    help="write the identified model (fricctl.joint_model, version 2)")
@@ -208,6 +208,9 @@ def run(args) -> int:
     check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
+    if args.max_torque is not None and args.out is None:
+        raise ValueError("--max-torque has no effect without --out (it is written into the "
+                         "model file, not used by the fit)")
     if args.figure is not None and args.no_validation:
         raise ValueError("--figure plots the held-out validation: it cannot go with "
                          "--no-validation")
