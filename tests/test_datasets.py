@@ -93,10 +93,10 @@ def test_validation_messages():
     with pytest.raises(ValueError, match=r"position holds NaN or inf \(inf\) at index 5"):
         Run(t=t, torque=tq, position=bad)
     tt = t.copy(); tt[203:] += 0.001
-    with pytest.raises(ValueError, match="non-uniform time step at row 203"):
+    with pytest.raises(ValueError, match="non-uniform time step at index 203"):
         Run(t=tt, torque=tq, position=q)
     tt = t.copy(); tt[10] = tt[9]
-    with pytest.raises(ValueError, match="non-increasing time at row 10"):
+    with pytest.raises(ValueError, match="non-increasing time at index 10"):
         Run(t=tt, torque=tq, position=q)
     with pytest.raises(ValueError, match=f"fewer than {MIN_SAMPLES} samples"):
         Run(t=t[:5], torque=tq[:5], position=q[:5])
@@ -355,6 +355,23 @@ def test_an_unknown_key_line_of_a_record_is_refused(tmp_path, line, words):
     assert back.units == "linear" and back.source == "bench: rig 2"
     # a patterns file keeps other '#' lines as metadata: read_columns refuses only when told
     assert read_columns(p, required=("t",), optional=("torque", "position")).meta["units"]
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_bad_time_in_a_csv_names_the_file_line(tmp_path, fast):
+    # audit A 12: "row 500" counted samples from 0 where every other error names the file line
+    rows = [f"{k / 1000},0,{k}" for k in range(40)]
+    rows[20] = "0.0185,0,20" if fast else "0.0185,0, 20"  # a space: the line-by-line reader
+    p = tmp_path / "t.csv"
+    p.write_text("# source: bench\nt,torque,position\n" + "\n".join(rows[:10]) + "\n\n"
+                 + "\n".join(rows[10:]) + "\n")  # a blank line: rows and lines part
+    with pytest.raises(ValueError, match=r"t.csv, line 24, column 't': non-increasing time$"):
+        Run.from_csv(p)
+    rows[20] = "0.0205,0,20"
+    p.write_text("t,torque,position\n" + "\n".join(rows) + "\n")
+    with pytest.raises(ValueError, match=r"t.csv, line 22, column 't': non-uniform time step "
+                                         r"\(0.0015 s against a median of 0.001 s\)"):
+        Run.from_csv(p)
 
 
 def test_a_bad_line_after_many_plain_rows_is_named_at_once(tmp_path):

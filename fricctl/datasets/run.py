@@ -29,6 +29,22 @@ _OPTIONAL = ("reference",)
 RECORD_KEYS = ("source", "units")
 
 
+def _time_problem(t: np.ndarray) -> tuple[int, str, str] | None:
+    """``(index, what, detail)`` of the first sample whose time step is not strictly
+    increasing or not uniform (``index`` counts samples from 0), or None."""
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0)
+    if bad.size:
+        return int(bad[0]) + 1, "non-increasing time", ""
+    # the median step is robust to the one bad step the message should point at
+    ref_dt = float(np.median(dt))
+    bad = np.flatnonzero(np.abs(dt - ref_dt) > TIME_STEP_RTOL * ref_dt)
+    if bad.size:
+        return (int(bad[0]) + 1, "non-uniform time step",
+                f" ({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
+    return None
+
+
 @dataclass(frozen=True, kw_only=True)
 class Run:
     """One measured record on a uniform time grid.
@@ -104,17 +120,10 @@ class Run:
             raise ValueError(f"fewer than {MIN_SAMPLES} samples ({n})")
         for name, x in arrays.items():
             v.array(name, x)  # NaN or inf: the message names the first bad sample
-        dt = np.diff(arrays["t"])
-        bad = np.flatnonzero(dt <= 0)
-        if bad.size:
-            raise ValueError(f"t: non-increasing time at row {int(bad[0]) + 1}")
-        # the median step is robust to the one bad step the message should point at
-        ref_dt = float(np.median(dt))
-        bad = np.flatnonzero(np.abs(dt - ref_dt) > TIME_STEP_RTOL * ref_dt)
-        if bad.size:
-            raise ValueError(
-                f"t: non-uniform time step at row {int(bad[0]) + 1} "
-                f"({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
+        problem = _time_problem(arrays["t"])
+        if problem is not None:
+            index, what, detail = problem
+            raise ValueError(f"t: {what} at index {index}{detail}")
         for name, x in arrays.items():
             x.setflags(write=False)
             object.__setattr__(self, name, x)
@@ -221,6 +230,11 @@ class Run:
         """
         table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL, keys=RECORD_KEYS)
         cols, meta = table.columns, table.meta
+        problem = _time_problem(cols["t"]) if table.n_rows > 1 else None
+        if problem is not None:  # named by the file's line, as every other error of the file
+            index, what, detail = problem
+            raise ValueError(f"{table.path}, line {int(table.row_lines[index])}, column 't': "
+                             f"{what}{detail}")
         try:
             return cls(
                 t=cols["t"], torque=cols["torque"], position=cols["position"],

@@ -37,6 +37,9 @@ class Table:
     """Each column of the header, as a read-only float array (read-only mapping)."""
     meta: Mapping[str, str]
     """``# key: value`` lines before the header (read-only mapping)."""
+    row_lines: np.ndarray | None = None
+    """The file's line number (from 1) of each data row, for messages about a row; None
+    when not known."""
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[v.choice("column", name, tuple(self.columns))]
@@ -216,6 +219,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     meta_line: dict[str, int] = {}
     header = None
     rows = []
+    row_lines: list[int] = []
     for line_no, line in enumerate(lines, start=1):
         if header is None and line.startswith("#"):
             key, sep, value = line[1:].partition(":")
@@ -241,6 +245,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             fast = _plain_rows(lines[line_no:], len(header))
             if fast is not None:  # every row plain: the same numbers, read at once
                 rows = fast
+                row_lines = [k for k, x in enumerate(lines[line_no:], start=line_no + 1)
+                             if x.strip()]
                 break
             continue
         if len(cells) != len(header):
@@ -253,6 +259,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             # strictly a decimal number: Python's float() would read "0.00_2" as 0.002
             row.append(v.number_text(f"{path}, line {line_no}, column {name!r}", cell))
         rows.append(row)
+        row_lines.append(line_no)
     if header is None:
         what = "no header line after the '#' lines" if meta or lines else "empty file"
         raise ValueError(f"{path}: {what}, expected a header {want}")
@@ -264,5 +271,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         col = data[:, j].copy()
         col.setflags(write=False)
         columns[name] = col
-    return Table(path=path, columns=types.MappingProxyType(columns),
+    row_lines = np.array(row_lines, dtype=int)
+    row_lines.setflags(write=False)
+    return Table(path=path, columns=types.MappingProxyType(columns), row_lines=row_lines,
                  meta=types.MappingProxyType(meta))
