@@ -63,7 +63,8 @@ def sample_time(name: str, v) -> float:
 
 
 def _describe(v) -> str:
-    r = repr(v)
+    # a NumPy scalar as the number it holds ("nan", not "np.float64(nan)")
+    r = repr(v.item() if isinstance(v, np.generic) else v)
     return r if len(r) <= 60 else r[:57] + "..."
 
 

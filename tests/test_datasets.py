@@ -201,6 +201,24 @@ def test_load_record_bad_mat(tmp_path, content, message):
         load_record(p)
 
 
+def test_a_mat_variable_error_names_the_file_once_and_nan_plainly(tmp_path):
+    # audit A 12: "e.mat: e.mat: variable qm ..." and "gtau must be finite, got np.float64(nan)"
+    from scipy.io import savemat
+
+    from fricctl.datasets import load_record
+
+    n = 20
+    good = dict(t=np.arange(n) * 1e-3, qm=np.zeros(n), qg=np.zeros(n), vir=np.zeros(n),
+                gtau=35.15, kp=1.0, kv=1.0)
+    savemat(tmp_path / "c.mat", {**good, "qm": np.zeros(n) + 1j})
+    with pytest.raises(ValueError) as err:
+        load_record(tmp_path / "c.mat")
+    assert str(err.value) == f"{tmp_path / 'c.mat'}: variable qm must hold real numbers, not complex128"
+    savemat(tmp_path / "g.mat", {**good, "gtau": np.nan})
+    with pytest.raises(ValueError, match=r"g.mat: gtau must be finite, got nan$"):
+        load_record(tmp_path / "g.mat")
+
+
 def test_load_record_mat_missing_variables_and_folder(tmp_path):
     from scipy.io import savemat
 
