@@ -38,15 +38,33 @@ from typing import Iterable
 import numpy as np
 
 __all__ = ["real", "integer", "flag", "choice", "rng", "array", "instance", "text",
-           "is_real_scalar", "number_text", "strict_json", "json_numbers"]
+           "is_real_scalar", "number_text", "strict_json", "json_numbers", "sample_time",
+           "SAMPLE_TIME_RANGE"]
 
 #: Numbers larger than this are refused as "not a usable magnitude" (about 1e300):
 #: their squares and products overflow double precision.
 HUGE = 1e300
 
 
+#: Sample times a digital controller can have [s]: from 1 ns (a 1 GHz loop; below about 1e-17 s
+#: the gains over Ts swamp the plant in double precision and a stable design came out
+#: "unstable") to an hour (above about 1e100 s the ZOH discretisation overflowed to NaN).
+SAMPLE_TIME_RANGE = (1e-9, 3600.0)
+
+
+def sample_time(name: str, v) -> float:
+    """A controller's sample time within :data:`SAMPLE_TIME_RANGE` [s], as ``float``."""
+    x = real(name, v, positive=True, unit="s")
+    low, high = SAMPLE_TIME_RANGE
+    if not low <= x <= high:
+        raise ValueError(f"{name} must lie in [{low:g}, {high:g}] s (a digital controller's "
+                         f"sample time), got {x!r}")
+    return x
+
+
 def _describe(v) -> str:
-    r = repr(v)
+    # a NumPy scalar as the number it holds ("nan", not "np.float64(nan)")
+    r = repr(v.item() if isinstance(v, np.generic) else v)
     return r if len(r) <= 60 else r[:57] + "..."
 
 
@@ -334,6 +352,8 @@ def json_file(path, what: str, parse):
 
     Raises
     ------
+    IsADirectoryError
+        ``path`` is a folder ("a folder, not a {what}").
     FileNotFoundError
         No such file ("no such {what}").
     ValueError
@@ -342,6 +362,8 @@ def json_file(path, what: str, parse):
     from pathlib import Path
 
     path = Path(path)
+    if path.is_dir():  # "no such model file" sent the user looking for a file that is there
+        raise IsADirectoryError(21, f"a folder, not a {what}", str(path))
     if not path.is_file():
         raise FileNotFoundError(2, f"no such {what}", str(path))
     try:

@@ -159,6 +159,8 @@ class ActuatorParams:
             value = getattr(self, f.name)
             if f.name == "encoder_counts":
                 checked = v.integer(f.name, value, low=1)
+            elif f.name == "sample_time":
+                checked = v.sample_time(f.name, value)
             else:
                 checked = v.real(f.name, value, positive=f.name in positive, nonneg=True,
                                  unit=f.metadata["unit"])

@@ -60,6 +60,21 @@ def test_warning_goes_to_stderr_in_json_mode(capsys):
     assert obj["warnings"] and "sampled loop" in err
 
 
+def test_warning_goes_to_stderr_in_text_mode(capsys):
+    # audit A 12: design's text mode printed its warnings on stdout only
+    code, out, err = run(capsys, "pd", "--rise-time", "0.02", "--damping", "0.7")
+    assert code == 0 and "warning" not in out and "Ts=0.002 s" in out
+    lines = err.splitlines()
+    assert len(lines) == 2 and all(x.startswith("fricctl design: warning: sampled loop (Ts = "
+                                                "0.002 s)") for x in lines), err
+    from fricctl.design import DesignWarning
+
+    with pytest.warns(DesignWarning):
+        d = design_pd(paper_actuator(), rise_time=0.02, damping=0.7)
+    assert d.report() == d.report(with_warnings=False) + "".join(
+        f"\n  warning: {w}" for w in d.warnings)  # the library's report keeps them
+
+
 def test_10_90_definition(capsys):
     code, out, _ = run(capsys, "pd", "--rise-time", "0.3", "--damping", "1.2", "--json")
     assert code == 0
@@ -138,6 +153,8 @@ def test_model_viscous_is_the_mean_of_both_directions(tmp_path, capsys):
 
 @pytest.mark.parametrize("kw,argv,match", [
     (dict(sample_time=None), [], "sample_time: the model has none"),
+    # audit A 4: a sample time too short for the check names the model's value it concerns
+    (dict(sample_time=1e-8), [], "sample_time: checking this design on the sampled loop needs"),
     ({}, ["--link"], "--link has no effect with --model"),
 ])
 def test_model_errors_one_line(tmp_path, capsys, kw, argv, match):

@@ -246,3 +246,16 @@ def test_a_command_builds_its_own_parser_only(tmp_path):
     assert words == ["0", "True", "True"] and "diagnose" in text and "train" in text
     words, text = run("diagnos", "x")  # a misspelt command: the whole parser's suggestion
     assert words[0] == "2" and "did you mean diagnose?" in text
+
+
+def test_a_report_into_a_missing_folder_is_refused(tmp_path, capsys):
+    # audit A 8: --report nodir/rep made nodir too; every other output's folder must exist
+    from fricctl.datasets import Run
+
+    t = np.arange(50) * 0.002
+    path = Run(t=t, torque=np.sin(t), position=t ** 2).to_csv(tmp_path / "r.csv")
+    out = tmp_path / "nodir" / "rep"
+    assert main(["diagnose", str(path), "--report", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"fricctl diagnose: error: --report: the folder {out.parent} does not exist\n"
+    assert not out.parent.exists()

@@ -65,6 +65,9 @@ def test_text_output_and_models(tmp_path, capsys):
     ("t,torque,foo\n" + "1,2,3\n" * 20, "unknown column 'foo'"),
     ("t,torque\n" + "1,2\n" * 20, "missing column 'position'"),
     ("t;torque;position\n" + "0,002;1,5;0\n" * 20, "';'-separated with decimal commas"),
+    # audit A 1: a misspelt key was ignored (the record fitted as rotary)
+    ("# unit: linear\nt,torque,position\n" + "".join(f"{k / 500},1,{k}\n" for k in range(20)),
+     "line 1: unknown '# unit:' line (did you mean 'units'?)"),
 ])
 def test_bad_csv_exit_2(tmp_path, capsys, content, msg):
     p = tmp_path / "bad.csv"
@@ -132,7 +135,9 @@ def test_out_is_refused_when_it_exists_or_is_the_input(tmp_path, capsys):
     for argv, words in ((["--out", str(out)], "exists (use --force"),
                         (["--out", str(path)], "is an input of this command"),
                         (["--recipe", "idim_ls", "--border", "3"], "--border has no effect"),
-                        (["--max-torque", "-1"], "--max-torque must be a number > 0")):
+                        (["--max-torque", "-1"], "--max-torque must be a number > 0"),
+                        # audit A 11: accepted and ignored
+                        (["--max-torque", "1"], "--max-torque has no effect without --out")):
         assert main(["identify", str(path), *argv]) == 2
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1
@@ -159,3 +164,47 @@ def test_emps_mat_idim_ls_reproduces_the_published_model(tmp_path, capsys, data_
     # data README: 1 kHz, one encoder count = 5e-8 m
     assert m.sample_time == pytest.approx(1e-3, rel=1e-6)
     assert m.encoder_resolution == pytest.approx(5e-8, rel=1e-9)
+
+
+@pytest.mark.parametrize("figure", ["fig", "fig.jpg"])
+def test_a_figure_without_a_known_suffix_is_refused_before_the_fit(tmp_path, capsys, figure):
+    # audit A 2: the fit ran, matplotlib refused a temporary file's name, and --out was written
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(path), "--out", str(out),
+                 "--figure", str(tmp_path / figure)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--figure: {tmp_path / figure} must end in .png" in err
+    assert "tmp" not in err.replace(str(tmp_path), "") and not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv"]
+
+
+def test_a_model_that_cannot_be_written_leaves_no_out_file(tmp_path, capsys, monkeypatch):
+    # --out is written last: a figure that fails to save leaves no model file
+    from fricctl.cli import _output
+
+    def broken(*args, **kwargs):
+        raise ValueError("the figure could not be saved")
+
+    monkeypatch.setattr(_output, "save_figure", broken)
+    path = _synthetic_csv(tmp_path / "run.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(path), "--out", str(out),
+                 "--figure", str(tmp_path / "f.png")]) == 2
+    assert "the figure could not be saved" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_fit_on_its_bounds_is_said_to_be_non_physical_in_one_line(tmp_path, capsys):
+    # audit A 3: a negated torque column fits inertia 0; the call ended with warnings and
+    # "inertia must be > 0 kg*m^2, got 0.0", which reads like a bad value of the user's
+    path = _synthetic_csv(tmp_path / "run.csv")
+    run = Run.from_csv(path)
+    neg = Run(t=run.t, torque=-run.torque, position=run.position, source="negated").to_csv(
+        tmp_path / "neg.csv")
+    out = tmp_path / "m.json"
+    assert main(["identify", str(neg), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert ("error: the fit gave a non-physical model, so no model file can be written: "
+            "inertia 0 kg*m^2") in err
+    assert "at their bounds (a model needs inertia > 0 kg*m^2;" in err and not out.exists()

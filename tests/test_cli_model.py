@@ -51,6 +51,11 @@ def test_model_new_writes_what_the_numbers_say(tmp_path, capsys):
     (["--inertia", "0.01", "--sample-time", "2min"], "--sample-time: unknown unit 'min'"),
     (["--inertia", "0.01", "--coulomb", "0.1N"], "accepted units: N*m"),  # a force on a joint
     (["--inertia", "0.01", "--offset", "infN*m"], "--offset"),
+    # audit A 4, 6: accepted, then design called a stable loop unstable / failed on NaN
+    (["--inertia", "0.01", "--sample-time", "1e-20"], "sample_time must lie in [1e-09, 3600] s"),
+    (["--inertia", "0.01", "--sample-time", "1e100"], "sample_time must lie in [1e-09, 3600] s"),
+    (["--inertia", "0.01", "--encoder-resolution", "100"], "at most one revolution (2*pi rad)"),
+    (["--inertia", "0.01", "--encoder-counts", "0.5"], "at most one revolution (2*pi rad)"),
 ])
 def test_model_new_refuses_in_one_line(tmp_path, args, message):
     proc = subprocess.run([sys.executable, "-m", "fricctl", "model", "new", *args, "--out",

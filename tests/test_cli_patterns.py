@@ -28,9 +28,12 @@ def _record(tmp_path, name="run.csv", units="rotary"):
 
 
 def test_patterns_file_is_the_library_recipe(tmp_path, capsys):
+    import shutil
+
     model, rec = _model(tmp_path), _record(tmp_path)
+    copy = shutil.copy(rec, tmp_path / "copy.csv")  # two records (one file twice is refused)
     out = tmp_path / "p.csv"
-    assert main(["patterns", str(rec), str(rec), "--model", str(model), "--out", str(out)]) == 0
+    assert main(["patterns", str(rec), str(copy), "--model", str(model), "--out", str(out)]) == 0
     text = capsys.readouterr().out
     tab = read_patterns(out)
     ref = record_patterns([Run.from_csv(rec)] * 2, inertia=0.25, estimator="polynomial_segments",
@@ -151,3 +154,24 @@ def test_a_model_of_another_sampling_or_encoder_is_refused(tmp_path, capsys, cha
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err, err
     assert not out.exists()
+
+
+def test_a_record_given_twice_is_refused(tmp_path, capsys):
+    # audit A 10: "patterns rec.csv rec.csv" silently doubled the patterns
+    import os
+
+    rec, model = _record(tmp_path), _model(tmp_path)
+    (tmp_path / "link.csv").symlink_to(rec)
+    os.link(rec, tmp_path / "hard.csv")
+    out = tmp_path / "p.csv"
+    for other, how in ((str(rec), ""), (str(tmp_path / "." / "run.csv"), ""),
+                       (str(tmp_path / "link.csv"), ""), (str(tmp_path / "hard.csv"), " (a hard link)")):
+        assert main(["patterns", str(rec), other, "--model", str(model), "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and f"RUN: {other} and {rec} are the same record{how}; " in err
+    assert not out.exists()
+    other = _record(tmp_path, name="other.csv")  # another record of the same content is another run
+    assert main(["patterns", str(rec), str(other), "--model", str(model), "--out", str(out)]) == 0
+    one = tmp_path / "one.csv"
+    assert main(["patterns", str(rec), "--model", str(model), "--out", str(one)]) == 0
+    assert len(read_patterns(out).patterns) == 2 * len(read_patterns(one).patterns) > 0

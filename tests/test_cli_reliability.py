@@ -244,3 +244,55 @@ def test_option_typo_suggests_and_points_to_the_subcommand_help(argv, line, caps
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and line in err, err
+
+
+def _single_valued_options(parser, words=()):
+    """(command words, action) of every option of every (sub-)command that holds one value."""
+    import argparse
+
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield from _single_valued_options(sub, (*words, name))
+        elif action.option_strings and not isinstance(
+                action, (argparse._AppendAction, argparse._HelpAction, argparse._VersionAction)):
+            yield words, action
+
+
+def _a_value(action):
+    """A value the option's type accepts (a choice, a number, a figure name, a name)."""
+    if action.nargs == 0:
+        return []
+    for cand in ([str(action.choices[0])] if action.choices else []) + ["1", "x.png", "none"]:
+        try:
+            if action.type is not None:
+                action.type(cand)
+        except Exception:  # the type refuses it: try the next
+            continue
+        return [cand] * (action.nargs if isinstance(action.nargs, int) else 1)
+    raise AssertionError(f"no value for {action.option_strings}")
+
+
+def test_every_single_valued_option_given_twice_is_refused(capsys):
+    # audit A 7: "--inertia 0.003 --inertia 0.005" silently took the last value
+    from fricctl.cli import build_parser
+
+    options = list(_single_valued_options(build_parser()))
+    assert len(options) > 50 and any(a.dest == "inertia" for _, a in options)
+    for words, action in options:
+        first, second = action.option_strings[0], action.option_strings[-1]
+        argv = [*words, first, *_a_value(action), second, *_a_value(action)]
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "given twice" in err, (argv, err)
+    assert main(["model", "new", "--inertia", "0.003", "--inertia", "0.005", "--out", "d.json"]) == 2
+    assert ("fricctl model new: error: argument --inertia: given twice; give it once (the last "
+            "one would silently win)") in capsys.readouterr().err
+
+
+def test_options_meant_to_repeat_still_repeat(tmp_path, capsys):
+    out = tmp_path / "m.json"
+    assert main(["model", "new", "--inertia", "0.003", "--friction", "load_coefficient=0.01",
+                 "--friction", "dahl_exponent=1", "--out", str(out)]) == 0
+    fr = JointModel.load(out).friction
+    assert fr.load_coefficient == 0.01 and fr.dahl_exponent == 1

@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -91,10 +93,10 @@ def test_validation_messages():
     with pytest.raises(ValueError, match=r"position holds NaN or inf \(inf\) at index 5"):
         Run(t=t, torque=tq, position=bad)
     tt = t.copy(); tt[203:] += 0.001
-    with pytest.raises(ValueError, match="non-uniform time step at row 203"):
+    with pytest.raises(ValueError, match="non-uniform time step at index 203"):
         Run(t=tt, torque=tq, position=q)
     tt = t.copy(); tt[10] = tt[9]
-    with pytest.raises(ValueError, match="non-increasing time at row 10"):
+    with pytest.raises(ValueError, match="non-increasing time at index 10"):
         Run(t=tt, torque=tq, position=q)
     with pytest.raises(ValueError, match=f"fewer than {MIN_SAMPLES} samples"):
         Run(t=t[:5], torque=tq[:5], position=q[:5])
@@ -197,6 +199,24 @@ def test_load_record_bad_mat(tmp_path, content, message):
     p.write_bytes(content)
     with pytest.raises(ValueError, match=message):
         load_record(p)
+
+
+def test_a_mat_variable_error_names_the_file_once_and_nan_plainly(tmp_path):
+    # audit A 12: "e.mat: e.mat: variable qm ..." and "gtau must be finite, got np.float64(nan)"
+    from scipy.io import savemat
+
+    from fricctl.datasets import load_record
+
+    n = 20
+    good = dict(t=np.arange(n) * 1e-3, qm=np.zeros(n), qg=np.zeros(n), vir=np.zeros(n),
+                gtau=35.15, kp=1.0, kv=1.0)
+    savemat(tmp_path / "c.mat", {**good, "qm": np.zeros(n) + 1j})
+    with pytest.raises(ValueError) as err:
+        load_record(tmp_path / "c.mat")
+    assert str(err.value) == f"{tmp_path / 'c.mat'}: variable qm must hold real numbers, not complex128"
+    savemat(tmp_path / "g.mat", {**good, "gtau": np.nan})
+    with pytest.raises(ValueError, match=r"g.mat: gtau must be finite, got nan$"):
+        load_record(tmp_path / "g.mat")
 
 
 def test_load_record_mat_missing_variables_and_folder(tmp_path):
@@ -319,7 +339,7 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
     # issue 26: "# units: rotary" then "# units: linear": the last one won, silently
     body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
     p = tmp_path / "two.csv"
-    p.write_text("# source: bench\n# units: rotary\n# note: relabelled\n# units: linear\n" + body)
+    p.write_text("# source: bench\n# units: rotary\n# relabelled by hand\n# units: linear\n" + body)
     with pytest.raises(ValueError, match=r"two.csv, line 4: '# units: linear' contradicts line 2 "
                                          r"\('# units: rotary'\)"):
         Run.from_csv(p)
@@ -330,6 +350,46 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
                     "1,1,1\n2,2,2\n")
     with pytest.raises(ValueError, match="line 2: '# velocity_quantum: 0.02' contradicts line 1"):
         read_patterns(pats)
+
+
+@pytest.mark.parametrize("line,words", [
+    ("# unit: linear", "line 2: unknown '# unit:' line (did you mean 'units'?)"),
+    ("# Units: linear", "line 2: unknown '# Units:' line (did you mean 'units'?)"),
+    ("# velocity_quantum: 0.1", "line 2: unknown '# velocity_quantum:' line; the '#' keys of "
+                                "this file are source, units"),
+])
+def test_an_unknown_key_line_of_a_record_is_refused(tmp_path, line, words):
+    # audit A 1: a misspelt "# unit: linear" was silently ignored and the record read as rotary
+    body = "t,torque,position\n" + "".join(f"{k / 1000},0,{k}\n" for k in range(MIN_SAMPLES))
+    p = tmp_path / "r.csv"
+    p.write_text(f"# source: bench\n{line}\n" + body)
+    with pytest.raises(ValueError, match="r.csv, " + re.escape(words)):
+        Run.from_csv(p)
+    # what Run.to_csv writes reads back, and a '#' line without ':' is a free comment
+    p.write_text("# source: bench: rig 2\n# recorded by hand\n# units: linear\n" + body)
+    run = Run.from_csv(p)
+    assert run.units == "linear" and run.source == "bench: rig 2"
+    back = Run.from_csv(run.to_csv(tmp_path / "back.csv"))
+    assert back.units == "linear" and back.source == "bench: rig 2"
+    # a patterns file keeps other '#' lines as metadata: read_columns refuses only when told
+    assert read_columns(p, required=("t",), optional=("torque", "position")).meta["units"]
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_a_bad_time_in_a_csv_names_the_file_line(tmp_path, fast):
+    # audit A 12: "row 500" counted samples from 0 where every other error names the file line
+    rows = [f"{k / 1000},0,{k}" for k in range(40)]
+    rows[20] = "0.0185,0,20" if fast else "0.0185,0, 20"  # a space: the line-by-line reader
+    p = tmp_path / "t.csv"
+    p.write_text("# source: bench\nt,torque,position\n" + "\n".join(rows[:10]) + "\n\n"
+                 + "\n".join(rows[10:]) + "\n")  # a blank line: rows and lines part
+    with pytest.raises(ValueError, match=r"t.csv, line 24, column 't': non-increasing time$"):
+        Run.from_csv(p)
+    rows[20] = "0.0205,0,20"
+    p.write_text("t,torque,position\n" + "\n".join(rows) + "\n")
+    with pytest.raises(ValueError, match=r"t.csv, line 22, column 't': non-uniform time step "
+                                         r"\(0.0015 s against a median of 0.001 s\)"):
+        Run.from_csv(p)
 
 
 def test_a_bad_line_after_many_plain_rows_is_named_at_once(tmp_path):

@@ -103,6 +103,14 @@ def test_from_params_flexible_needs_link():
     (dict(inertia=True), "inertia must be a real number"),
     (dict(inertia="95"), "inertia must be a real number"),
     (dict(sample_time=0.0), "sample_time must be > 0 s"),
+    # audit A 4-6: values no actuator has, which design and simulate then got wrong silently
+    (dict(sample_time=1e-20), r"sample_time must lie in \[1e-09, 3600\] s .*got 1e-20"),
+    (dict(sample_time=1e100), r"sample_time must lie in \[1e-09, 3600\] s .*got 1e\+100"),
+    (dict(stiffness=1000.0), "stiffness: a spring needs a load behind it .load_inertia > 0"),
+    (dict(damping=1.0), "damping: a spring needs a load behind it"),
+    (dict(units="rotary", encoder_resolution=100.0),
+     r"encoder_resolution must be at most one revolution \(2\*pi rad\) on a rotary joint, "
+     r"got 100.0 rad"),
     (dict(max_torque=-5), "max_torque must be > 0 N"),
     (dict(encoder_resolution=[1e-8]), "encoder_resolution must be a real number"),
     (dict(delay=-0.1), "delay must be >= 0"),
@@ -222,7 +230,34 @@ def test_cli_missing_model_file(tmp_path, capsys):
     assert "no such model file" in err and err.count("\n") == 1
 
 
+def test_a_folder_given_as_a_file_is_said_to_be_a_folder(tmp_path, capsys):
+    # audit A 9: "no such model file" for a folder that exists sent the user looking for it
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    for argv, what in ((["design", "pd", "--rise-time", "0.05", "--damping", "0.7", "--model"],
+                        "model file"),
+                       (["model", "show"], "model file"),
+                       (["train", "--out", str(tmp_path / "n.json")], "CSV file"),
+                       (["simulate", "--controller", "p", "--kp", "1", "--reference", "step:0.1",
+                         "--compensation", "nn", "--net"], "network file")):
+        assert main([*argv, str(folder)]) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.endswith(f": error: {folder}: a folder, not a {what}\n"), err
+    assert not (tmp_path / "n.json").exists()
+
+
 def test_nan_in_json_dumps_is_refused():
     # the writer never produces NaN: a model cannot hold one
     with pytest.raises(ValueError, match="must be finite"):
         _model(offset=math.nan)
+
+
+def test_physical_limits_keep_what_is_real():
+    # the edges of the limits above are models: 1 ns and an hour, one count per revolution,
+    # a linear axis's 100 m count (a length, not an angle), a spring with its load
+    for kw in (dict(sample_time=1e-9), dict(sample_time=3600.0), dict(encoder_resolution=100.0),
+               dict(units="rotary", encoder_resolution=2 * math.pi),
+               dict(load_inertia=1.0, stiffness=1000.0, damping=1.0)):
+        assert _model(**kw)
+    with pytest.raises(ValueError, match="sample_time must lie in"):
+        paper_actuator().replace(sample_time=1e-12)

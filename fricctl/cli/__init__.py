@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import importlib
 import os
 import re
@@ -32,6 +33,29 @@ SUBCOMMANDS = ("simulate", "design", "identify", "patterns", "train", "reproduce
                "diagnose", "model")
 
 
+#: Actions that hold one value: given twice, argparse keeps the last silently
+#: (``--inertia 0.003 --inertia 0.005``); ``append`` and ``count`` actions are meant to repeat.
+_SINGLE_VALUED = (argparse._StoreAction, argparse._StoreConstAction, argparse.BooleanOptionalAction)
+
+
+@functools.cache
+def _given_once(cls: type) -> type:
+    """``cls`` refusing a second occurrence of its option in one command line."""
+
+    class Once(cls):
+        def __call__(self, parser, namespace, values, option_string=None):
+            first = getattr(self, "_given_as", None)
+            if first is not None:
+                also = "" if option_string == first else f" ({first}, then {option_string})"
+                raise argparse.ArgumentError(self, f"given twice{also}; give it once (the last "
+                                                   "one would silently win)")
+            self._given_as = option_string
+            super().__call__(parser, namespace, values, option_string)
+
+    Once.__name__ = Once.__qualname__ = f"Once{cls.__name__}"
+    return Once
+
+
 class OneLineParser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line on stderr and exit code 2.
 
@@ -39,8 +63,19 @@ class OneLineParser(argparse.ArgumentParser):
     sub-command then fills the terminal.  The message names the option, suggests the
     nearest one (``did you mean --rise-time?``; argparse does so itself only from Python
     3.14) and points to the help of the sub-command it concerns (``fricctl simulate
-    --help``, not ``fricctl --help``).
+    --help``, not ``fricctl --help``).  An option that holds one value is refused when
+    given twice (argparse keeps the last); options meant to repeat (``append``) are not.
     """
+
+    def parse_known_args(self, args=None, namespace=None):
+        # every option of this parser (its groups' too), whatever added it: one mechanism for
+        # all sub-commands; a sub-command's parser runs this again for its own options
+        for action in self._actions:
+            if action.option_strings and isinstance(action, _SINGLE_VALUED):
+                if not type(action).__name__.startswith("Once"):
+                    action.__class__ = _given_once(type(action))
+                action._given_as = None
+        return super().parse_known_args(args, namespace)
 
     def parse_args(self, args=None, namespace=None):
         # argparse reports a sub-command's unknown options from the top-level parser (after

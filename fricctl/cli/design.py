@@ -77,10 +77,7 @@ def run(args) -> int:
                 raise ValueError("--priority applies to p only: a PD meets both specs")
             d = design_pd(params, rise_time=args.rise_time, damping=args.damping,
                           rise_time_definition=args.rise_time_definition)
-    if args.json:
-        print(json_text(d.as_dict()))
-        for w in d.warnings:
-            print(f"fricctl design: warning: {w}", file=sys.stderr)
-    else:
-        print(d.report())
+    print(json_text(d.as_dict()) if args.json else d.report(with_warnings=False))
+    for w in d.warnings:  # after the output, on stderr, as every command's warnings
+        print(f"fricctl design: warning: {w}", file=sys.stderr)
     return 0

@@ -92,7 +92,8 @@ def register(subparsers) -> None:
                         "lead): a period in position is then also given in motor revolutions")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--report", metavar="DIR", default=None,
-                   help="write figures, report.md and extended_model.json to DIR")
+                   help="write figures, report.md and extended_model.json to DIR (made if "
+                        "missing; the folder it goes into must exist)")
     p.add_argument("--force", action="store_true",
                    help="overwrite existing files of --report DIR")
     p.set_defaults(func=run)
@@ -117,7 +118,8 @@ def run(args) -> int:
         if out.is_dir():  # a new folder is made by write_report: nothing in it to clobber
             check_outputs({f"--report ({name})": out / name for name in REPORT_FILES},
                           [args.run, args.model], force=args.force)
-        else:  # built beside, then renamed into place: the first existing ancestor must be writable
+        else:  # built beside, then renamed into place: its folder must exist and be writable
+            _check_parent(out)
             check_new_folder("--report", out)
     if args.motor_revolution is not None:  # checked before the record is read
         from .. import _validate as v
@@ -253,10 +255,18 @@ def draw_figures(result, names, folder: Path, *, overwrite: bool) -> None:
         save_figure(FIGURES[name](result), folder / name, overwrite=overwrite)
 
 
+def _check_parent(out: Path) -> None:
+    """Refuse a report folder whose own folder is missing, as every other output is refused
+    (``--report nodir/rep`` made ``nodir`` too: a typo in a path became a new tree)."""
+    if not out.is_dir() and not Path(out.absolute()).parent.is_dir():
+        raise ValueError(f"--report: the folder {out.parent} does not exist")
+
+
 def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Path:
     """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``.
 
-    A new folder is built beside and renamed into place when complete; into an existing
+    A new folder is built beside and renamed into place when complete (the folder it goes
+    into must exist: it is not made, as no other output's folder is); into an existing
     folder each file is written atomically (``overwrite=False``: an existing file is refused,
     also one another run writes meanwhile).  See :mod:`fricctl._atomic`.  ``painters``
     (:class:`fricctl.cli._painters.Painters`): the figures are drawn by those processes while
@@ -269,7 +279,7 @@ def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Pa
     out = Path(folder)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--report: {out} exists and is not a folder")
-    out.parent.mkdir(parents=True, exist_ok=True)  # the caller checked the files (check_outputs)
+    _check_parent(out)  # the caller checked the files (check_outputs)
     text = result.report() + "\n## Figures\n\n" + "\n".join(
         f"![{n[:-4]}]({n})" for n in FIGURES) + "\n"
     with atomic_folder(out) as where:

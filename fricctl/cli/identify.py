@@ -96,7 +96,7 @@ def register(subparsers) -> None:
     p.add_argument("--border", type=int, default=None, metavar="N",
                    help="plain recipe: samples dropped at each end (default 50)")
     p.add_argument("--max-torque", type=float, default=None, metavar="TMAX",
-                   help="torque (force) limit of the drive [N*m or N] for the model file "
+                   help="torque (force) limit of the drive [N*m or N] for the --out model file "
                         "(datasheet); default unknown (null)")
     p.add_argument("--out", type=Path, default=None, metavar="MODEL.json",
                    help="write the identified model (fricctl.joint_model, version 2)")
@@ -136,6 +136,29 @@ def identified_model(result, record, *, recipe: str, max_torque: float | None = 
         note=note, sample_time=record.sample_time, encoder_resolution=grid,
         max_torque=max_torque, provenance=prov)
     return _flagged(m, result)
+
+
+def _model_file(result, record, args):
+    """:func:`identified_model` for ``--out``; a fit whose parameters sit on their bounds (a
+    torque column of the wrong sign gives inertia 0) is said to be non-physical, not a bad
+    value of the user's ("inertia must be > 0 kg*m^2, got 0.0")."""
+    import re
+
+    from ..identify.models import parameter_unit
+
+    try:
+        return identified_model(result, record, recipe=args.recipe, max_torque=args.max_torque)
+    except ValueError as exc:
+        bound = [n for n, b in zip(result.names, result.at_bound) if b]
+        if not bound:
+            raise
+        at = ", ".join(f"{n} {result.parameters[n]:.4g} {parameter_unit(n, result.units)}"
+                       for n in bound)
+        need = re.sub(r"^(\S+) must be (.*?)(, got .*)?$", r"\1 \2", str(exc))
+        raise ValueError(f"the fit gave a non-physical model, so no model file can be written: "
+                         f"{at} at {'its bound' if len(bound) == 1 else 'their bounds'} (a model "
+                         f"needs {need}; does the torque column have the sign of the motion it "
+                         f"drives?)") from None
 
 
 def _fit_again(args, record, controller, estimator):
@@ -179,11 +202,15 @@ def run(args) -> int:
     from ..datasets import load_record
     from ..identify import LINEAR_MODELS, didim, identify_record, identify_run, idim_iv, idim_ls
     from ..identify.record import held_out_halves
-    from ._output import about, check_outputs, json_text
+    from ._output import about, check_figure, check_outputs, json_text
 
+    check_figure("--figure", args.figure)  # before the fit: matplotlib would refuse it after
     check_outputs({"--out": args.out, "--figure": args.figure}, [args.run], force=args.force)
     if args.max_torque is not None and not args.max_torque > 0:
         raise ValueError(f"--max-torque must be a number > 0, got {args.max_torque}")
+    if args.max_torque is not None and args.out is None:
+        raise ValueError("--max-torque has no effect without --out (it is written into the "
+                         "model file, not used by the fit)")
     if args.figure is not None and args.no_validation:
         raise ValueError("--figure plots the held-out validation: it cannot go with "
                          "--no-validation")
@@ -234,6 +261,8 @@ def run(args) -> int:
         held = None
         if ident is None and args.model in LINEAR_MODELS and not args.no_validation:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
+    # before any output: a fit that gives no model file is one error line, not warnings first
+    model = None if args.out is None else _model_file(result, record, args)
     for w in result.warnings:
         print(f"fricctl identify: warning: {w}", file=sys.stderr)
     fig = None
@@ -243,9 +272,6 @@ def run(args) -> int:
         fig = (plot_held_out(ident) if ident is not None else plot_validation(
             held, result=result, title=f"{result.method} ({result.model}): each half "
                                        f"replayed with the other half's estimate"))
-    if args.out is not None:
-        identified_model(result, record, recipe=args.recipe,
-                         max_torque=args.max_torque).save(args.out, overwrite=args.force)  # atomic
     if held is not None and held.failure:
         print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
               file=sys.stderr)
@@ -253,6 +279,8 @@ def run(args) -> int:
         from ._output import save_figure
 
         save_figure(fig, args.figure, overwrite=args.force)  # atomic
+    if model is not None:  # last: a call that failed on the way leaves no model file
+        model.save(args.out, overwrite=args.force)  # atomic
     if args.json:
         out = result.as_dict() if ident is None else ident.as_dict()
         if ident is None:

@@ -64,6 +64,22 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
+def _refuse_repeated_records(runs) -> None:
+    """Refuse a record given twice (the same file by its resolved path, or a hard link to it):
+    its patterns were silently counted twice, weighing it double in the training."""
+    from ._output import _file_id
+
+    seen: dict = {}
+    for r in runs:
+        keys = [k for k in (Path(r).resolve(), _file_id(r)) if k is not None]
+        for key in keys:
+            if key in seen:
+                same = "" if Path(r).resolve() == Path(seen[key]).resolve() else " (a hard link)"
+                raise ValueError(f"RUN: {r} and {seen[key]} are the same record{same}; give "
+                                 f"each record once (its patterns would count twice)")
+        seen.update(dict.fromkeys(keys, r))
+
+
 def run(args) -> int:
     from ..datasets import load_record, record_patterns, write_patterns
     from ..plant import JointModel
@@ -71,6 +87,7 @@ def run(args) -> int:
     from ._output import about, check_outputs, json_text
 
     check_outputs({"--out": args.out}, [*args.runs, args.model, args.net], force=args.force)
+    _refuse_repeated_records(args.runs)
     with about(args.model):
         model = JointModel.load(args.model)
     records = []

@@ -13,7 +13,8 @@ CSV layout (what :meth:`Run.to_csv` writes and :meth:`Run.from_csv` reads)::
     0.0,89.23,7.45e-06,1.07e-04
     ...
 
-Lines starting with ``#`` before the header carry metadata (``source``, ``units``);
+Lines starting with ``#`` before the header carry metadata (``source``, ``units``; a
+``# key:`` line of any other key is refused, a ``#`` line without ``:`` is a free comment);
 the header must name ``t``, ``torque`` and ``position`` and may name ``reference``;
 any other column is an error.  For a linear axis (``units="linear"``) the
 ``torque`` column holds a force [N] and ``position`` a displacement [m].
@@ -37,7 +38,7 @@ from .emps_data import (EMPS_MOTOR_REVOLUTION, EMPS_SOURCE_HINT, EmpsData, emps,
                         load_record, record_length)
 from .patterns import (PATTERN_COLUMNS, FrictionPatterns, PatternTable, read_patterns,
                        record_patterns, write_patterns)
-from .run import MIN_SAMPLES, TIME_STEP_RTOL, Run
+from .run import MIN_SAMPLES, RECORD_KEYS, TIME_STEP_RTOL, Run
 from .table import Table, read_columns
 
 __all__ = [

@@ -187,8 +187,9 @@ def emps_file(path) -> EmpsData:
 
     gtau = scalar("gtau")
     vir = col("vir")
+    t, qm, qg = col("t"), col("qm"), col("qg")  # outside the try: their errors name the file once
     try:
-        run = Run(t=col("t"), torque=gtau * vir, position=col("qm"), reference=col("qg"),
+        run = Run(t=t, torque=gtau * vir, position=qm, reference=qg,
                   source=f"EMPS {path.name} (Janot, Gautier & Brunot 2019)", units="linear")
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None

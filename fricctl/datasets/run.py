@@ -12,7 +12,7 @@ from .._atomic import atomic_write
 from ..units import KINDS, units as units_of
 from .table import read_columns
 
-__all__ = ["Run", "MIN_SAMPLES", "TIME_STEP_RTOL"]
+__all__ = ["Run", "MIN_SAMPLES", "TIME_STEP_RTOL", "RECORD_KEYS"]
 
 #: Fewest samples a record may have: a 6th-order polynomial fit and the
 #: four-parameter inverse model both need well over this many.
@@ -25,6 +25,24 @@ TIME_STEP_RTOL = 1e-3
 
 _REQUIRED = ("t", "torque", "position")
 _OPTIONAL = ("reference",)
+#: The ``# key:`` lines of a record (what :meth:`Run.to_csv` writes); any other is refused.
+RECORD_KEYS = ("source", "units")
+
+
+def _time_problem(t: np.ndarray) -> tuple[int, str, str] | None:
+    """``(index, what, detail)`` of the first sample whose time step is not strictly
+    increasing or not uniform (``index`` counts samples from 0), or None."""
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0)
+    if bad.size:
+        return int(bad[0]) + 1, "non-increasing time", ""
+    # the median step is robust to the one bad step the message should point at
+    ref_dt = float(np.median(dt))
+    bad = np.flatnonzero(np.abs(dt - ref_dt) > TIME_STEP_RTOL * ref_dt)
+    if bad.size:
+        return (int(bad[0]) + 1, "non-uniform time step",
+                f" ({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
+    return None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -102,17 +120,10 @@ class Run:
             raise ValueError(f"fewer than {MIN_SAMPLES} samples ({n})")
         for name, x in arrays.items():
             v.array(name, x)  # NaN or inf: the message names the first bad sample
-        dt = np.diff(arrays["t"])
-        bad = np.flatnonzero(dt <= 0)
-        if bad.size:
-            raise ValueError(f"t: non-increasing time at row {int(bad[0]) + 1}")
-        # the median step is robust to the one bad step the message should point at
-        ref_dt = float(np.median(dt))
-        bad = np.flatnonzero(np.abs(dt - ref_dt) > TIME_STEP_RTOL * ref_dt)
-        if bad.size:
-            raise ValueError(
-                f"t: non-uniform time step at row {int(bad[0]) + 1} "
-                f"({dt[bad[0]]:.6g} s against a median of {ref_dt:.6g} s)")
+        problem = _time_problem(arrays["t"])
+        if problem is not None:
+            index, what, detail = problem
+            raise ValueError(f"t: {what} at index {index}{detail}")
         for name, x in arrays.items():
             x.setflags(write=False)
             object.__setattr__(self, name, x)
@@ -212,11 +223,18 @@ class Run:
         FileNotFoundError
             The file does not exist.
         ValueError
-            Missing or unknown column, non-numeric cell, or any :class:`Run`
-            validation failure; the message starts with the file name.
+            Missing or unknown column, non-numeric cell, a ``# key:`` line other than
+            :data:`RECORD_KEYS` (``# source:``, ``# units:``; a ``#`` line without ``:`` is a
+            free comment), or any :class:`Run` validation failure; the message starts with
+            the file name.
         """
-        table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL)
+        table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL, keys=RECORD_KEYS)
         cols, meta = table.columns, table.meta
+        problem = _time_problem(cols["t"]) if table.n_rows > 1 else None
+        if problem is not None:  # named by the file's line, as every other error of the file
+            index, what, detail = problem
+            raise ValueError(f"{table.path}, line {int(table.row_lines[index])}, column 't': "
+                             f"{what}{detail}")
         try:
             return cls(
                 t=cols["t"], torque=cols["torque"], position=cols["position"],

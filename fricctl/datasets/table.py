@@ -37,6 +37,9 @@ class Table:
     """Each column of the header, as a read-only float array (read-only mapping)."""
     meta: Mapping[str, str]
     """``# key: value`` lines before the header (read-only mapping)."""
+    row_lines: np.ndarray | None = None
+    """The file's line number (from 1) of each data row, for messages about a row; None
+    when not known."""
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[v.choice("column", name, tuple(self.columns))]
@@ -133,8 +136,20 @@ def _plain_rows(lines: list, width: int):
     return data.reshape(-1, width) if np.isfinite(data).all() else None
 
 
+def _unknown_key(path, line_no: int, key: str, keys: tuple[str, ...]) -> ValueError:
+    """The error of a ``# key:`` line whose key the file does not take (a misspelt
+    ``# unit: linear`` was silently ignored: the record was read as rotary)."""
+    from difflib import get_close_matches
+
+    near = get_close_matches(key.lower(), keys, n=1)
+    hint = f" (did you mean {near[0]!r}?)" if near else ""
+    return ValueError(f"{path}, line {line_no}: unknown '# {key}:' line{hint}; the '#' keys "
+                      f"of this file are {', '.join(keys)} (a '#' line without ':' is a free "
+                      f"comment)")
+
+
 def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
-                 min_rows: int = 0) -> Table:
+                 min_rows: int = 0, keys: tuple[str, ...] | None = None) -> Table:
     r"""Read a CSV file whose header names its columns (in any order).
 
     Layout: optional ``# key: value`` lines, a header line, then one row of numbers
@@ -150,6 +165,9 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         Columns the header may name; any other column is an error.
     min_rows : int
         Fewest data rows accepted.
+    keys : tuple of str, optional
+        The ``# key: value`` keys the file may carry (exact spelling); a ``#`` line with a
+        ``:`` and another key is refused, naming the line.  None (default): any key.
 
     Returns
     -------
@@ -158,6 +176,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
 
     Raises
     ------
+    IsADirectoryError
+        ``path`` is a folder.
     FileNotFoundError
         The file does not exist.
     ValueError
@@ -165,7 +185,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         byte (a binary file), a line longer than :data:`MAX_LINE` characters, no header, an unknown, missing or duplicate column, a row
         with another number of fields, a cell that is not a finite decimal number
         (``0.00_2``, ``0x10``, ``1,5``, NaN, inf; the message names the file, the line
-        and the column), two ``#`` lines of a :data:`SINGLE_KEYS` key with different
+        and the column), a ``#`` key not in ``keys``, two ``#`` lines of a :data:`SINGLE_KEYS` key with different
         values (naming the line), or fewer than
         ``min_rows`` rows.
 
@@ -182,7 +202,10 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     path = Path(path)
     required, optional = tuple(required), tuple(optional)
     min_rows = v.integer("min_rows", min_rows, low=0)
+    keys = None if keys is None else tuple(keys)
     want = _expected(required, optional)
+    if path.is_dir():
+        raise IsADirectoryError(21, "a folder, not a CSV file", str(path))
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
     try:
@@ -196,10 +219,13 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     meta_line: dict[str, int] = {}
     header = None
     rows = []
+    row_lines: list[int] = []
     for line_no, line in enumerate(lines, start=1):
         if header is None and line.startswith("#"):
             key, sep, value = line[1:].partition(":")
             key, value = key.strip(), value.strip()
+            if sep and keys is not None and key not in keys:
+                raise _unknown_key(path, line_no, key, keys)
             if sep and key in SINGLE_KEYS and key in meta and meta[key] != value:
                 raise ValueError(f"{path}, line {line_no}: '# {key}: {value}' contradicts line "
                                  f"{meta_line[key]} ('# {key}: {meta[key]}'); keep one")
@@ -219,6 +245,8 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             fast = _plain_rows(lines[line_no:], len(header))
             if fast is not None:  # every row plain: the same numbers, read at once
                 rows = fast
+                row_lines = [k for k, x in enumerate(lines[line_no:], start=line_no + 1)
+                             if x.strip()]
                 break
             continue
         if len(cells) != len(header):
@@ -231,6 +259,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             # strictly a decimal number: Python's float() would read "0.00_2" as 0.002
             row.append(v.number_text(f"{path}, line {line_no}, column {name!r}", cell))
         rows.append(row)
+        row_lines.append(line_no)
     if header is None:
         what = "no header line after the '#' lines" if meta or lines else "empty file"
         raise ValueError(f"{path}: {what}, expected a header {want}")
@@ -242,5 +271,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         col = data[:, j].copy()
         col.setflags(write=False)
         columns[name] = col
-    return Table(path=path, columns=types.MappingProxyType(columns),
+    row_lines = np.array(row_lines, dtype=int)
+    row_lines.setflags(write=False)
+    return Table(path=path, columns=types.MappingProxyType(columns), row_lines=row_lines,
                  meta=types.MappingProxyType(meta))

@@ -246,9 +246,9 @@ class LinearLoop:
             n = int(math.ceil(t_end / ts)) + 1
             if n > MAX_SAMPLED:
                 raise ValueError(
-                    f"checking this design on the sampled loop needs {n} samples of Ts = {ts:g} s "
-                    f"(it settles after about {t_end:.3g} s), more than {MAX_SAMPLED}: the loop is "
-                    "too slow for its sample time")
+                    f"sample_time: checking this design on the sampled loop needs {n} samples of "
+                    f"Ts = {ts:g} s (it settles after about {t_end:.3g} s), more than "
+                    f"{MAX_SAMPLED}: the loop is too slow for its sample time")
             # 20 evaluations per sample interval, fewer on long horizons (at most MAX_POINTS)
             resp = self.sampled_response(np.ones(n), substeps=max(1, min(SUBSTEPS, MAX_POINTS // n)))
             m = metrics_from_response(resp.t, resp.q, final=1.0, definition=definition,

@@ -90,8 +90,9 @@ class Design:
         return control.tf([self.kd, self.kp],
                           [self.inertia, self.viscous + self.kd, self.kp])
 
-    def report(self) -> str:
-        """A readable multi-line summary with units."""
+    def report(self, *, with_warnings: bool = True) -> str:
+        """A readable multi-line summary with units; ``with_warnings=False`` leaves out the
+        warning lines (``fricctl design`` prints them on stderr, as every command does)."""
         def spec(x, unit):
             return "-" if x is None else f"{x:.4g} {unit}".rstrip()
 
@@ -115,7 +116,7 @@ class Design:
                         (f"Ts={self.sample_time:g} s", self.sampled)):
             lines.append(f"  {name:12} {cell(m.rise_time, 10, 4)} {cell(m.damping, 9, 4)} "
                          f"{cell(m.overshoot_percent, 9, 3)} {cell(m.settling_time, 11, 4)}")
-        for w in self.warnings:
+        for w in self.warnings if v.flag("with_warnings", with_warnings) else ():
             lines.append(f"  warning: {w}")
         return "\n".join(lines)
 

@@ -179,6 +179,8 @@ def load_net(path) -> FrictionNet:
 
     Raises
     ------
+    IsADirectoryError
+        If ``path`` is a folder.
     FileNotFoundError
         If ``path`` does not exist.
     ValueError
@@ -186,6 +188,8 @@ def load_net(path) -> FrictionNet:
         version, or has missing, unknown or malformed entries.
     """
     path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(21, "a folder, not a network file", str(path))
     try:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:

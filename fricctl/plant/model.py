@@ -50,6 +50,7 @@ the key.  No pickle: a file is data, never code.
 
 from __future__ import annotations
 
+import math
 import json
 import types
 from dataclasses import dataclass, field, fields
@@ -155,9 +156,10 @@ class JointModel:
     load_inertia : float
         0 for a rigid joint; else the part of ``inertia`` behind the spring [kg*m^2].
     stiffness : float
-        Joint stiffness K of the elastic joint [N*m/rad] (> 0 when load_inertia > 0).
+        Joint stiffness K of the elastic joint [N*m/rad] (> 0 when load_inertia > 0, 0
+        when it is 0: a rigid joint has no spring).
     damping : float
-        Structural damping across the spring [N*m*s/rad].
+        Structural damping across the spring [N*m*s/rad] (0 on a rigid joint).
     backlash : float
         Total width of the dead band between motor and load, load side [rad] ([m] on a
         linear axis); 0 for none.  Needs the elastic joint (``load_inertia > 0``): the
@@ -169,9 +171,11 @@ class JointModel:
     source : str
         Where the model comes from.
     sample_time : float or None
-        Sample time Ts of the controller [s]; None when not known.
+        Sample time Ts of the controller, within
+        :data:`fricctl._validate.SAMPLE_TIME_RANGE` (1 ns to an hour) [s]; None when not known.
     encoder_resolution : float or None
-        One encoder count, load side [rad] or [m]; None when not known.
+        One encoder count, load side, at most one revolution (2*pi rad) on a rotary joint
+        [rad] or [m]; None when not known.
     max_torque : float or None
         Torque (force) saturation +-Tmax [N*m] or [N]; None when not known.
     provenance : mapping of str to Provenance
@@ -218,7 +222,19 @@ class JointModel:
             if x is not None:
                 unit = "s" if quantity == "s" else getattr(labels, quantity)
                 object.__setattr__(self, name, v.real(name, x, positive=True, unit=unit))
+        if self.sample_time is not None:
+            object.__setattr__(self, "sample_time", v.sample_time("sample_time", self.sample_time))
+        if (self.units == "rotary" and self.encoder_resolution is not None
+                and self.encoder_resolution > 2 * math.pi):
+            raise ValueError(f"encoder_resolution must be at most one revolution (2*pi rad) on a "
+                             f"rotary joint, got {self.encoder_resolution!r} rad")
         v.instance("friction", self.friction, FrictionModel, "a fricctl.friction.FrictionModel")
+        if self.load_inertia == 0:  # rigid: a spring or its damping would be silently ignored
+            for name in ("stiffness", "damping"):
+                if getattr(self, name) > 0:
+                    raise ValueError(f"{name}: a spring needs a load behind it (load_inertia > "
+                                     f"0, the part of the inertia beyond the spring); a rigid "
+                                     f"joint has {name} 0")
         if self.load_inertia > 0:
             if not self.load_inertia < self.inertia:
                 raise ValueError("load_inertia must be < inertia (the motor side needs inertia too)")
