@@ -46,7 +46,8 @@ def test_a_cause_named_from_a_biased_least_squares_fit_is_not_called_explained()
     # than the extended model is said, and the record is not called explained
     d = diagnose(_tracking(_triangle))
     v = d.verdict
-    assert d.causes != ("none",)  # what the least-squares residual leads to (not the point)
+    if d.causes == ("none",):  # nothing named (the right answer): nothing to caution about
+        return
     assert not d.explained and v.caution, v.sentence()
     assert "re-simulates its windows better than the extended model" in v.caution
     assert v.residual_over_floor <= EXPLAINED_RATIO  # at the floor, and still not explained
@@ -88,7 +89,7 @@ def test_a_record_that_never_reverses_prints_no_nan_and_flags_bounds():
     # bound (0.5) as a fit
     d = diagnose(_tracking(lambda t: 0.5 * t))
     text = d.report()
-    assert "nan" not in text.replace("nan %", "")  # no NaN said as a number
+    assert "nan" not in text  # no NaN said as a number
     assert "no sliding sample" in text or "nothing moving backward" in text
     for e in d.below_line:
         if e.cause == "load_dependent" and e.parameters.get("load_coefficient", 0) >= 0.4995:
@@ -145,3 +146,14 @@ def test_the_true_model_supplied_names_nothing_and_leaks_no_numpy_warning():
         warnings.simplefilter("error", RuntimeWarning)
         d = diagnose(run, JointModel(inertia=INERTIA, friction=Viscous(0.02) + Coulomb(0.2)))
     assert d.causes == ("none",) and d.explained
+
+
+def test_a_ramp_whose_residual_is_far_below_the_floor_is_not_determined():
+    # audit B's ramp at 0.5 rad/s with almost no noise (1e-6 N*m): the least-squares baseline's
+    # inertia was 10 times the truth, the twin of it left a floor 200 times the record's
+    # residual, and the record was called "explained" at 0.005 times the floor
+    d = diagnose(_tracking(lambda t: 0.5 * t, counts=16384, noise=1e-6))
+    v = d.verdict
+    assert v.residual_over_floor < 1.0 / EXPLAINED_RATIO, v.sentence()
+    assert not d.explained and "below half of it" in v.reason
+    assert v.sentence().startswith("Not determined whether the record is explained")

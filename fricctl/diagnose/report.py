@@ -262,7 +262,8 @@ class Diagnosis:
             lines += [f"\nStep {i}: {st.cause} is named in place of a larger gross share: "
                       + ", ".join(f"{c} removes {100 * g:.1f} %" for c, g in st.passed_over)
                       + f" against {100 * st.gross:.1f} %, with no net share (the measuring "
-                        f"chain's share cannot be measured); {st.cause} may stand in for it."
+                        f"chain's share cannot be measured); {st.cause} may stand in for "
+                        + ("it." if len(st.passed_over) == 1 else "one of them.")
                       for i, st in enumerate(self.steps, 1) if st.passed_over]
         else:
             lines.append("No candidate reaches the score: nothing named.")

@@ -82,10 +82,11 @@ class Verdict:
     """Why the verdict could not be reached (no floor, or a residual far below the floor: the
     twin is not the record's chain), or ``""``."""
     caution: str = ""
-    """Why the causes named may not be the joint's, where the diagnosis found a reason (the
-    rigid baseline fitted by simulation error re-simulates the record better than the
-    extended model: :func:`fricctl.diagnose.api.diagnose`), or ``""``.  A record whose
-    residual is at the floor is then not called explained (the verdict is not determined)."""
+    """Why the causes named are not confirmed, where the diagnosis found a reason (the rigid
+    baseline ``fricctl identify`` fits by simulation error re-simulates the record's windows
+    better than the extended model), or ``""``.  A record whose residual is at the floor is
+    then not called explained (the verdict is not determined); otherwise the sentence says it
+    after the verdict's own."""
     other_shape: float = math.nan
     """Held-out share of the final residual that a friction law of another shape removes (a
     generic odd function of the velocity, :func:`~fricctl.diagnose.selection.speed_curve`, not
@@ -102,18 +103,13 @@ class Verdict:
                     f"{100 * self.other_shape:.0f} % of it on held-out data, the measuring "
                     f"chain's share not subtracted: the friction-speed curve may have another "
                     f"shape than the model's")
+        also = f" {_capital(self.caution)}." if self.caution else ""
         if self.reason:
-            return (f"Not determined whether the record is explained: {self.reason}; {dep}."
-                    + (f" {_capital(self.caution)}." if self.caution else ""))
+            return f"Not determined whether the record is explained: {self.reason}; {dep}." + also
         if self.caution and self.residual_over_floor <= EXPLAINED_RATIO:
             return (f"Not determined whether the record is explained: the held-out torque "
                     f"residual is {self.residual_over_floor:.2f} times the measuring chain's "
-                    f"floor, but {self.caution}.")
-        if self.caution:
-            return (f"Not explained: the held-out torque residual is "
-                    f"{self.residual_over_floor:.2f} times the measuring chain's floor (F test "
-                    f"p = {self.p_value:.2g}, {self.dof:.0f} effective degrees of freedom each); "
-                    f"{dep}. {_capital(self.caution)}.")
+                    f"floor, but {self.caution}; {dep}.")
         if self.explained:
             return (f"Explained within noise: the held-out torque residual is "
                     f"{self.residual_over_floor:.2f} times the measuring chain's floor.")
@@ -122,10 +118,10 @@ class Verdict:
                     f"{self.residual_over_floor:.2f} times the measuring chain's floor; with "
                     f"{self.dof:.0f} effective degrees of freedom each the F test cannot tell "
                     f"it from the floor (p = {self.p_value:.2g}), so the record is not shown "
-                    f"to be explained either; {dep}.")
+                    f"to be explained either; {dep}." + also)
         return (f"Not explained: the held-out torque residual is {self.residual_over_floor:.2f} "
                 f"times the measuring chain's floor (F test p = {self.p_value:.2g}, "
-                f"{self.dof:.0f} effective degrees of freedom each); {dep}.")
+                f"{self.dof:.0f} effective degrees of freedom each); {dep}." + also)
 
     def as_dict(self) -> dict:
         return {"explained": self.explained, "residual_over_floor": self.residual_over_floor,
@@ -200,7 +196,7 @@ def reduction_p(share: float, dof: float, dof_after: float | None = None) -> flo
 
 
 def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict, *,
-            other_shape=None, no_floor: str = "") -> Verdict:
+            other_shape=None, no_floor: str = "", caution: str = "") -> Verdict:
     """The verdict of a diagnosis.
 
     Parameters
@@ -219,6 +215,8 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
         explained.
     no_floor : str, optional
         Why the floor is not defined, where the caller knows (the verdict's reason then).
+    caution : str, optional
+        :attr:`Verdict.caution`: the record is then not called explained.
     """
     ok = np.isfinite(residual)
     r = residual[ok]
@@ -227,14 +225,14 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
     dof = effective_dof(r)
     if not (math.isfinite(floor) and floor > 0 and math.isfinite(rms_after)):
         return Verdict(explained=False, residual_over_floor=math.nan, p_value=math.nan, dof=dof,
-                       dependence=dep, strongest=strongest,
+                       dependence=dep, strongest=strongest, caution=caution,
                        reason=no_floor or "the measuring chain's floor or the held-out "
                                          "residual is undefined on this record")
     ratio = rms_after / floor
     p = variance_ratio_p(ratio ** 2, dof)
     # the ratio decides: a test that cannot reject on a short record does not make a residual
     # above twice the floor "explained" (the sentence reports the test)
-    explained = ratio <= EXPLAINED_RATIO
+    explained = ratio <= EXPLAINED_RATIO and not caution
     reason = ""
     below = float(stats.f.cdf(ratio ** 2, dof, dof)) if math.isfinite(dof) and dof > 0 else 1.0
     if ratio < 1.0 / EXPLAINED_RATIO and below < SIGNIFICANCE:
@@ -251,4 +249,4 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
     shape = float(other_shape()) if other_shape is not None and not explained else math.nan
     return Verdict(explained=bool(explained), residual_over_floor=float(ratio), p_value=p,
                    dof=float(dof), dependence=dep, strongest=strongest, other_shape=shape,
-                   reason=reason)
+                   reason=reason, caution=caution)
