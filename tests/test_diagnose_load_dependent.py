@@ -100,6 +100,16 @@ def test_the_diagnosis_settles_the_load_term_on_its_own_torque():
     assert d.steps[-1].simulation_rms_after < 6.7e-4
 
 
+def _noise_for_load_column(problem, causes, parts):
+    """``(parts, theta)``: ``parts`` with noise of its size in place of every column read from
+    the model's torque (a useless settled column), refitted on all data."""
+    rng = np.random.default_rng(0)
+    parts = tuple(p if not c.reads_model_torque else
+                  replace(p, extra=rng.standard_normal(p.extra.shape) * np.std(p.extra))
+                  for c, p in zip(causes, parts))
+    return parts, full_fit(problem, [parts[-1]], parts[:-1]).theta
+
+
 def test_a_settled_column_is_kept_only_where_the_model_is_no_worse(monkeypatch):
     # settle finds a fixed point, not a least-squares minimum: the selection keeps the settled
     # model only where its held-out torque residual and its re-simulation are no worse than the
@@ -117,11 +127,7 @@ def test_a_settled_column_is_kept_only_where_the_model_is_no_worse(monkeypatch):
     def noise_settle(problem, base, causes, parts, theta):
         calls.append([c.name for c in causes])
         parts, theta, base = real(problem, base, causes, parts, theta)
-        rng = np.random.default_rng(0)
-        parts = tuple(p if not c.reads_model_torque else
-                      replace(p, extra=rng.standard_normal(p.extra.shape) * np.std(p.extra))
-                      for c, p in zip(causes, parts))
-        theta = full_fit(problem, [parts[-1]], parts[:-1]).theta
+        parts, theta = _noise_for_load_column(problem, causes, parts)
         return parts, theta, base
 
     run = _drag_and_load_record()
@@ -210,11 +216,7 @@ def test_the_twin_keeps_a_settled_column_only_where_its_residual_is_no_larger(mo
 
     def noise_settle(problem, base, causes, parts, theta):
         calls.append([c.name for c in causes])
-        rng = np.random.default_rng(0)
-        parts = tuple(p if not c.reads_model_torque else
-                      replace(p, extra=rng.standard_normal(p.extra.shape) * np.std(p.extra))
-                      for c, p in zip(causes, parts))
-        theta = full_fit(problem, [parts[-1]], parts[:-1]).theta
+        parts, theta = _noise_for_load_column(problem, causes, parts)
         return real(problem, base, [], parts, theta)
 
     names = ("drag", "stribeck", "asymmetry", "offset")
