@@ -355,8 +355,8 @@ def test_two_conflicting_units_lines_are_refused_naming_the_line(tmp_path):
 @pytest.mark.parametrize("line,words", [
     ("# unit: linear", "line 2: unknown '# unit:' line (did you mean 'units'?)"),
     ("# Units: linear", "line 2: unknown '# Units:' line (did you mean 'units'?)"),
-    ("# velocity_quantum: 0.1", "line 2: unknown '# velocity_quantum:' line; the '#' keys of "
-                                "this file are source, units"),
+    ("# sorce: bench", "line 2: unknown '# sorce:' line (did you mean 'source'?); the '#' keys "
+                       "of this file are source, units"),
 ])
 def test_an_unknown_key_line_of_a_record_is_refused(tmp_path, line, words):
     # audit A 1: a misspelt "# unit: linear" was silently ignored and the record read as rotary
@@ -365,8 +365,11 @@ def test_an_unknown_key_line_of_a_record_is_refused(tmp_path, line, words):
     p.write_text(f"# source: bench\n{line}\n" + body)
     with pytest.raises(ValueError, match="r.csv, " + re.escape(words)):
         Run.from_csv(p)
-    # what Run.to_csv writes reads back, and a '#' line without ':' is a free comment
-    p.write_text("# source: bench: rig 2\n# recorded by hand\n# units: linear\n" + body)
+    # what Run.to_csv writes reads back, and a '#' line not read as a key is a free comment,
+    # colons and all (review R11: comments with a colon were refused after audit A's fix)
+    p.write_text("# source: bench: rig 2\n# recorded by hand\n# recorded 2026-11-28 10:15\n"
+                 "# Note: gear 1:100\n# http://example.org/data\n# velocity_quantum: 0.1\n"
+                 "# units: linear\n" + body)
     run = Run.from_csv(p)
     assert run.units == "linear" and run.source == "bench: rig 2"
     back = Run.from_csv(run.to_csv(tmp_path / "back.csv"))

@@ -151,3 +151,45 @@ def test_a_ramp_whose_residual_is_far_below_the_floor_is_not_determined():
     assert v.residual_over_floor < 1.0 / EXPLAINED_RATIO, v.sentence()
     assert not d.explained and "below half of it" in v.reason
     assert v.sentence().startswith("Not determined whether the record is explained")
+
+
+def test_a_caution_above_twice_the_floor_follows_the_not_explained_sentence():
+    # a true backlash of the generator (review R11's record: 2.2 times the floor): its
+    # extended model, fitted on the equation error, re-simulates worse than the rigid DIDIM
+    # fit; the caution is said after the verdict's own sentence, naming the one cause
+    from fricctl.bench.hidden_effects import hidden_effect_record
+
+    rec = hidden_effect_record(np.random.default_rng([12105, 306]), cause="backlash",
+                               duration=20.0, strength=0.5)
+    d = diagnose(rec.run)
+    v = d.verdict
+    assert d.causes == ("backlash",) and v.residual_over_floor > EXPLAINED_RATIO
+    assert v.caution.startswith("the rigid baseline fricctl identify fits to the record by "
+                                "simulation error (DIDIM)")
+    assert "the cause named (backlash) is fitted on the equation error" in v.caution
+    text = v.sentence()
+    assert text.startswith("Not explained:") and text.endswith(v.caution[1:] + ".")
+
+
+def test_no_caution_without_a_simulation_error_fit(monkeypatch):
+    # where the reported baseline is the least-squares fit itself (DIDIM lost a parameter)
+    # there is no simulation-error fit to compare with: no caution (its text would be false).
+    # The triangle's models, compared once as DIDIM's and once as the least-squares fit's
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from fricctl.diagnose import api
+
+    seen = {}
+    real = api._setup
+    monkeypatch.setattr(api, "_setup", lambda *a: seen.setdefault("setup", real(*a)))
+    d = diagnose(_tracking(_triangle))
+    setup = seen["setup"]
+    setup = replace(setup, ident=setup.ident.result())  # as the diagnosis resolves it
+    sel = SimpleNamespace(selected=tuple(SimpleNamespace(cause=SimpleNamespace(name=c))
+                                         for c in d.causes))
+    assert setup.ident.result.method == "DIDIM" and d.causes != ("none",)
+    assert api._simulation_caution(setup, sel, d.baseline, d.extended) == d.verdict.caution != ""
+    ls = replace(setup, ident=replace(setup.ident, result=replace(setup.ident.result,
+                                                                  method="IDIM-LS")))
+    assert api._simulation_caution(ls, sel, d.baseline, d.extended) == ""

@@ -45,6 +45,8 @@ def _given_once(cls: type) -> type:
     class Once(cls):
         def __call__(self, parser, namespace, values, option_string=None):
             first = getattr(self, "_given_as", None)
+            if first is not None and option_string == first and self.nargs == 0:
+                return  # the same flag twice (--force --force): nothing would win over it
             if first is not None:
                 also = "" if option_string == first else f" ({first}, then {option_string})"
                 raise argparse.ArgumentError(self, f"given twice{also}; give it once (the last "

@@ -14,7 +14,8 @@ CSV layout (what :meth:`Run.to_csv` writes and :meth:`Run.from_csv` reads)::
     ...
 
 Lines starting with ``#`` before the header carry metadata (``source``, ``units``; a
-``# key:`` line of any other key is refused, a ``#`` line without ``:`` is a free comment);
+``# key:`` line whose one-word key is close to one of them, ``# unit:`` or ``# Units:``, is
+refused with the key it resembles; any other ``#`` line is a free comment, colons and all);
 the header must name ``t``, ``torque`` and ``position`` and may name ``reference``;
 any other column is an error.  For a linear axis (``units="linear"``) the
 ``torque`` column holds a force [N] and ``position`` a displacement [m].

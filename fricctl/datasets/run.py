@@ -25,7 +25,8 @@ TIME_STEP_RTOL = 1e-3
 
 _REQUIRED = ("t", "torque", "position")
 _OPTIONAL = ("reference",)
-#: The ``# key:`` lines of a record (what :meth:`Run.to_csv` writes); any other is refused.
+#: The ``# key:`` lines of a record (what :meth:`Run.to_csv` writes); a one-word key close to
+#: one of them is refused (a misspelling), any other ``#`` line is a free comment.
 RECORD_KEYS = ("source", "units")
 
 
@@ -223,10 +224,10 @@ class Run:
         FileNotFoundError
             The file does not exist.
         ValueError
-            Missing or unknown column, non-numeric cell, a ``# key:`` line other than
-            :data:`RECORD_KEYS` (``# source:``, ``# units:``; a ``#`` line without ``:`` is a
-            free comment), or any :class:`Run` validation failure; the message starts with
-            the file name.
+            Missing or unknown column, non-numeric cell, a ``# key:`` line whose one-word key
+            is close to one of :data:`RECORD_KEYS` but not one (``# unit:``, ``# Units:``; any
+            other ``#`` line is a free comment), or any :class:`Run` validation failure; the
+            message starts with the file name.
         """
         table = read_columns(path, required=_REQUIRED, optional=_OPTIONAL, keys=RECORD_KEYS)
         cols, meta = table.columns, table.meta

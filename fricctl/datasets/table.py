@@ -136,6 +136,17 @@ def _plain_rows(lines: list, width: int):
     return data.reshape(-1, width) if np.isfinite(data).all() else None
 
 
+def _looks_like(key: str, keys: tuple[str, ...]) -> bool:
+    """Whether ``key`` (the text before a ``#`` line's first colon) reads as a misspelling of
+    one of ``keys``: one word close to one of them (``unit``, ``Units``, ``sorce``).  Review
+    R11: refusing every other key refused comments with a colon ('# recorded 10:15',
+    '# Note: gear 1:100', a URL)."""
+    from difflib import get_close_matches
+
+    word = key.lower()
+    return word.isidentifier() and bool(get_close_matches(word, keys, n=1, cutoff=0.75))
+
+
 def _unknown_key(path, line_no: int, key: str, keys: tuple[str, ...]) -> ValueError:
     """The error of a ``# key:`` line whose key the file does not take (a misspelt
     ``# unit: linear`` was silently ignored: the record was read as rotary)."""
@@ -144,8 +155,8 @@ def _unknown_key(path, line_no: int, key: str, keys: tuple[str, ...]) -> ValueEr
     near = get_close_matches(key.lower(), keys, n=1)
     hint = f" (did you mean {near[0]!r}?)" if near else ""
     return ValueError(f"{path}, line {line_no}: unknown '# {key}:' line{hint}; the '#' keys "
-                      f"of this file are {', '.join(keys)} (a '#' line without ':' is a free "
-                      f"comment)")
+                      f"of this file are {', '.join(keys)} (a '#' line not read as one of them "
+                      f"is a free comment)")
 
 
 def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
@@ -225,7 +236,9 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             key, sep, value = line[1:].partition(":")
             key, value = key.strip(), value.strip()
             if sep and keys is not None and key not in keys:
-                raise _unknown_key(path, line_no, key, keys)
+                if _looks_like(key, keys):  # a misspelt key: refused, never a silent default
+                    raise _unknown_key(path, line_no, key, keys)
+                continue  # any other '#' line is a free comment ('# recorded 10:15', a URL)
             if sep and key in SINGLE_KEYS and key in meta and meta[key] != value:
                 raise ValueError(f"{path}, line {line_no}: '# {key}: {value}' contradicts line "
                                  f"{meta_line[key]} ('# {key}: {meta[key]}'); keep one")

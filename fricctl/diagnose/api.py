@@ -596,12 +596,16 @@ def _simulation_caution(setup: _Setup, sel: Selection, baseline: JointModel,
         return ""
     if not (math.isfinite(b) and math.isfinite(e) and e > b):
         return ""
+    one = len(sel.selected) == 1
+    what = (f"the cause named ({sel.selected[0].cause.name}) is" if one else
+            f"the causes named ({', '.join(x.cause.name for x in sel.selected)}) are")
+    verb, they = ("is", "it") if one else ("are", "they")
     return (f"the rigid baseline fricctl identify fits to the record by simulation error "
             f"(DIDIM) re-simulates its windows better than the extended model (position RMS "
             f"{b:.3g} against {e:.3g} {unit_labels(setup.sig.units).position}, all windows, both "
-            f"fitted on all data): the causes named are fitted on the equation error and are not "
-            f"confirmed by the simulation error; they may be the joint's and simulate poorly as "
-            f"fitted, or take up a bias of the equation error (errors in variables: a coarse "
+            f"fitted on all data): {what} fitted on the equation error and {verb} not "
+            f"confirmed by the simulation error; {they} may be the joint's and simulate poorly "
+            f"as fitted, or take up a bias of the equation error (errors in variables: a coarse "
             f"encoder, a record at nearly one speed)")
 
 

@@ -109,7 +109,8 @@ class Verdict:
         if self.caution and self.residual_over_floor <= EXPLAINED_RATIO:
             return (f"Not determined whether the record is explained: the held-out torque "
                     f"residual is {self.residual_over_floor:.2f} times the measuring chain's "
-                    f"floor, but {self.caution}; {dep}.")
+                    f"floor, but the named terms are not confirmed by the simulation error; "
+                    f"{dep}." + also)
         if self.explained:
             return (f"Explained within noise: the held-out torque residual is "
                     f"{self.residual_over_floor:.2f} times the measuring chain's floor.")
