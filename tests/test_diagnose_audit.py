@@ -54,6 +54,7 @@ def test_a_cause_named_from_a_biased_least_squares_fit_is_not_called_explained()
     assert "re-simulates its windows better than the extended model" in v.caution
     assert v.residual_over_floor <= EXPLAINED_RATIO  # at the floor, and still not explained
     assert v.sentence().startswith("Not determined whether the record is explained")
+    assert math.isnan(v.other_shape) and "another shape" not in v.sentence()  # at noise level
     out = d.as_dict()
     assert out["explained"] is False and "better than the extended" in out["verdict"]["caution"]
     assert "Explained within noise" not in d.report() and "Explained within noise" not in d.evidence

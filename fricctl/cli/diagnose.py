@@ -17,7 +17,7 @@ at most twice the measuring chain's floor, not far below it, and no caution),
 re-simulates the record better than the extended model, the causes named may stand in for a
 bias of the least-squares fit; ``p_value`` of the variance-ratio test, ``dof``, ``dependence``: the share of the final
 residual's variance its bin means against position, velocity, time and torque carry,
-``strongest``, ``other_shape_share``: on a record not explained, the held-out share of that
+``strongest``, ``other_shape_share``: on a record above twice the floor, the held-out share of that
 residual a friction law of another shape removes -- a generic odd function of the velocity,
 not a cause of the list; gross of the measuring chain's share, a hint), ``cause`` (the first named), ``causes`` (all, in order; ``["none"]``), ``steps``
 (per named cause: ``score`` net of the measuring chain's share, ``gross``,

@@ -91,7 +91,8 @@ class Verdict:
     """Held-out share of the final residual that a friction law of another shape removes (a
     generic odd function of the velocity, :func:`~fricctl.diagnose.selection.speed_curve`, not
     a cause of the list) [-], gross of the measuring chain's share (a hint, not a cause's net
-    score); NaN where not measured (an explained record)."""
+    score); NaN where not measured: a residual at most twice the floor (explained or, with a
+    caution, not determined) or a verdict not reached."""
 
     def sentence(self) -> str:
         """One sentence for the evidence and the report."""
@@ -247,7 +248,11 @@ def verdict(rms_after: float, floor: float, residual: np.ndarray, against: dict,
                   f"re-make this record's measuring chain (its fitted model or its loop is not "
                   f"the record's), so neither its floor nor the chain's shares can judge the "
                   f"record")
-    shape = float(other_shape()) if other_shape is not None and not explained else math.nan
+    # the hint reads a residual above the floor: none where it is at the floor (a caution's
+    # "not determined") or the floor is not the record's (review R11: a 19 % "another shape"
+    # on a residual at noise level)
+    above = ratio > EXPLAINED_RATIO and not reason
+    shape = float(other_shape()) if other_shape is not None and above else math.nan
     return Verdict(explained=bool(explained), residual_over_floor=float(ratio), p_value=p,
                    dof=float(dof), dependence=dep, strongest=strongest, other_shape=shape,
                    reason=reason, caution=caution)
