@@ -136,27 +136,24 @@ def _plain_rows(lines: list, width: int):
     return data.reshape(-1, width) if np.isfinite(data).all() else None
 
 
-def _looks_like(key: str, keys: tuple[str, ...]) -> bool:
-    """Whether ``key`` (the text before a ``#`` line's first colon) reads as a misspelling of
-    one of ``keys``: one word close to one of them (``unit``, ``Units``, ``sorce``).  Review
-    R11: refusing every other key refused comments with a colon ('# recorded 10:15',
+def _misspelt(key: str, keys: tuple[str, ...]) -> str | None:
+    """The one of ``keys`` that ``key`` (the text before a ``#`` line's first colon) reads as
+    a misspelling of -- one word close to it (``unit``, ``Units``, ``sorce``) -- or None.
+    Review R11: refusing every other key refused comments with a colon ('# recorded 10:15',
     '# Note: gear 1:100', a URL)."""
     from difflib import get_close_matches
 
     word = key.lower()
-    return word.isidentifier() and bool(get_close_matches(word, keys, n=1, cutoff=0.75))
+    near = get_close_matches(word, keys, n=1, cutoff=0.75) if word.isidentifier() else []
+    return near[0] if near else None
 
 
-def _unknown_key(path, line_no: int, key: str, keys: tuple[str, ...]) -> ValueError:
-    """The error of a ``# key:`` line whose key the file does not take (a misspelt
+def _unknown_key(path, line_no: int, key: str, near: str, keys: tuple[str, ...]) -> ValueError:
+    """The error of a ``# key:`` line whose key misspells ``near``, one of ``keys`` (a misspelt
     ``# unit: linear`` was silently ignored: the record was read as rotary)."""
-    from difflib import get_close_matches
-
-    near = get_close_matches(key.lower(), keys, n=1)
-    hint = f" (did you mean {near[0]!r}?)" if near else ""
-    return ValueError(f"{path}, line {line_no}: unknown '# {key}:' line{hint}; the '#' keys "
-                      f"of this file are {', '.join(keys)} (a '#' line not read as one of them "
-                      f"is a free comment)")
+    return ValueError(f"{path}, line {line_no}: unknown '# {key}:' line (did you mean "
+                      f"{near!r}?); the '#' keys of this file are {', '.join(keys)} (a '#' line "
+                      f"not read as one of them is a free comment)")
 
 
 def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] = (),
@@ -177,8 +174,10 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
     min_rows : int
         Fewest data rows accepted.
     keys : tuple of str, optional
-        The ``# key: value`` keys the file may carry (exact spelling); a ``#`` line with a
-        ``:`` and another key is refused, naming the line.  None (default): any key.
+        The ``# key: value`` keys the file may carry (exact spelling); a ``#`` line whose
+        one-word key is close to one of them (a misspelling) is refused, naming the line and
+        the key it resembles; any other ``#`` line is then a free comment.  None (default):
+        any key.
 
     Returns
     -------
@@ -196,7 +195,7 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
         byte (a binary file), a line longer than :data:`MAX_LINE` characters, no header, an unknown, missing or duplicate column, a row
         with another number of fields, a cell that is not a finite decimal number
         (``0.00_2``, ``0x10``, ``1,5``, NaN, inf; the message names the file, the line
-        and the column), a ``#`` key not in ``keys``, two ``#`` lines of a :data:`SINGLE_KEYS` key with different
+        and the column), a ``#`` key misspelling one of ``keys``, two ``#`` lines of a :data:`SINGLE_KEYS` key with different
         values (naming the line), or fewer than
         ``min_rows`` rows.
 
@@ -236,8 +235,9 @@ def read_columns(path, *, required: tuple[str, ...], optional: tuple[str, ...] =
             key, sep, value = line[1:].partition(":")
             key, value = key.strip(), value.strip()
             if sep and keys is not None and key not in keys:
-                if _looks_like(key, keys):  # a misspelt key: refused, never a silent default
-                    raise _unknown_key(path, line_no, key, keys)
+                near = _misspelt(key, keys)
+                if near is not None:  # a misspelt key: refused, never a silent default
+                    raise _unknown_key(path, line_no, key, near, keys)
                 continue  # any other '#' line is a free comment ('# recorded 10:15', a URL)
             if sep and key in SINGLE_KEYS and key in meta and meta[key] != value:
                 raise ValueError(f"{path}, line {line_no}: '# {key}: {value}' contradicts line "

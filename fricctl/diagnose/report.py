@@ -15,7 +15,7 @@ from ..plant import JointModel
 from ..units import units as unit_labels
 from . import causes
 from .selection import CHAIN_UNMEASURED, MIN_SCORE, Step
-from .verdict import Verdict
+from .verdict import Verdict, _capital
 from .windows import WindowedSimulation
 
 if TYPE_CHECKING:
@@ -358,10 +358,6 @@ class Diagnosis:
                     f"turn, each tested on what those above it leave.  Below the naming line "
                     f"({100 * MIN_SCORE:.0f} %) a cause is reported, not named."]
         return out
-
-
-def _capital(text: str) -> str:
-    return text[:1].upper() + text[1:]
 
 
 def _passed_over(st) -> str:

@@ -136,6 +136,7 @@ class Verdict:
 
 
 def _capital(text: str) -> str:
+    """``text`` with its first letter capital (a clause made a sentence; the report's too)."""
     return text[:1].upper() + text[1:]
 
 

@@ -60,6 +60,7 @@ def _evidence(base, term, extended):
     neg = float(r[bwd].mean()) if np.any(bwd) else float("nan")
     c = float(extended.offset - base.fitted.offset)
     fc = coulomb_level(extended)
+
     def said(x, way):  # a direction the record never slides in is said so, not a NaN
         return (f"{x:+.3g} {u.torque} moving {way}" if np.isfinite(x) else
                 f"nothing moving {way} (no sliding sample)")

@@ -107,19 +107,19 @@ def _identifiable(base, term):
     grid around a peak may step below)."""
     sig = base.sig
     per_sample = _per_sample(sig)
-    u = base.labels
     if term.h < 2.0 * per_sample:
+        u = base.labels
         return (f"the fitted period ({term.h:.3g} {u.position}) is shorter than two samples of "
                 f"motion at the record's median sliding speed ({per_sample:.3g} {u.position} "
                 f"per sample): above the Nyquist limit in position, an alias of the sampling")
-    return _time_rival(base, term.h)
+    return _time_rival(base, term.h, per_sample / sig.ts)
 
 
-def _time_rival(base, period: float) -> str | None:
+def _time_rival(base, period: float, speed: float) -> str | None:
     """Why a ripple of ``period`` cannot be told from a torque periodic in time, or None.
 
-    At the median sliding speed ``v`` the ripple is a sinusoid in time of frequency
-    ``v/period``; only the record's spread of speeds tells the two apart.  A sinusoid in time
+    At the median sliding speed ``speed`` the ripple is a sinusoid in time of frequency
+    ``speed/period``; only the record's spread of speeds tells the two apart.  A sinusoid in time
     at that frequency (filtered as the ripple's columns are) is fitted to the residual of the
     model as it stands on the sliding samples, as the ripple's own two columns are; where it
     leaves no more, the record cannot tell a ripple in position from a disturbance in time
@@ -130,7 +130,7 @@ def _time_rival(base, period: float) -> str | None:
     if not np.any(m):
         return None
     r = base.current_residual[m]
-    f = float(np.median(np.abs(sig.w[m]))) / period
+    f = speed / period
     ang = 2 * np.pi * f * sig.t
     cols = {"position": _sin_cos(base, period).extra[m],
             "time": np.column_stack([sig.filt(np.sin(ang)), sig.filt(np.cos(ang))])[m]}
