@@ -172,10 +172,12 @@ def test_a_caution_above_twice_the_floor_follows_the_not_explained_sentence():
     assert text.startswith("Not explained:") and text.endswith(v.caution[1:] + ".")
 
 
-def test_no_caution_without_a_simulation_error_fit(monkeypatch):
-    # where the reported baseline is the least-squares fit itself (DIDIM lost a parameter)
-    # there is no simulation-error fit to compare with: no caution (its text would be false).
-    # The triangle's models, compared once as DIDIM's and once as the least-squares fit's
+def test_the_caution_compares_with_didim_even_where_didim_lost_a_parameter(monkeypatch):
+    # where DIDIM does not identify a parameter the least-squares fit reports the equation
+    # error: the caution compares with DIDIM's own fit and says what it lost (before, no
+    # caution: the triangle's false backlash would have been "explained" again); with no
+    # DIDIM fit at all (the record not replayed) there is nothing to compare with.
+    # The triangle's models, compared as DIDIM's, as the least-squares fit's, and with none
     from dataclasses import replace
     from types import SimpleNamespace
 
@@ -184,13 +186,59 @@ def test_no_caution_without_a_simulation_error_fit(monkeypatch):
     seen = {}
     real = api._setup
     monkeypatch.setattr(api, "_setup", lambda *a: seen.setdefault("setup", real(*a)))
-    d = diagnose(_tracking(_triangle))
+    run = _tracking(_triangle)
+    d = diagnose(run)
     setup = seen["setup"]
     setup = replace(setup, ident=setup.ident.result())  # as the diagnosis resolves it
     sel = SimpleNamespace(selected=tuple(SimpleNamespace(cause=SimpleNamespace(name=c))
                                          for c in d.causes))
     assert setup.ident.result.method == "DIDIM" and d.causes != ("none",)
-    assert api._simulation_caution(setup, sel, d.baseline, d.extended) == d.verdict.caution != ""
-    ls = replace(setup, ident=replace(setup.ident, result=replace(setup.ident.result,
-                                                                  method="IDIM-LS")))
-    assert api._simulation_caution(ls, sel, d.baseline, d.extended) == ""
+    made = []
+
+    def rigid(r):  # DIDIM's fit as the diagnosis makes it a model
+        made.append(r)
+        return api._record_fields(api._identified(r, run), run, setup.sig, None)
+
+    said = api._simulation_caution(setup, sel, d.baseline, d.extended, rigid)
+    assert not made  # DIDIM's fit is the baseline reported
+    assert said == d.verdict.caution != "" and "does not identify" not in said
+    ident = setup.ident
+    ls_result = replace(ident.start, method="IDIM-LS")  # as identify reports a lost parameter
+    i = ident.refined.names.index("coulomb")
+    std = ident.refined.std.copy()
+    std[i] = 10 * abs(ident.refined.estimates[i]) + 1.0  # DIDIM no longer identifies it
+    lost = replace(ident, result=ls_result, refined=replace(ident.refined, std=std))
+    said = api._simulation_caution(replace(setup, ident=lost), sel, d.baseline, d.extended,
+                                   rigid)
+    assert made and made[0] is lost.refined
+    assert "it does not identify coulomb on this record" in said and "backlash" in said
+    none = replace(ident, result=ls_result, refined=None)
+    assert api._simulation_caution(replace(setup, ident=none), sel, d.baseline, d.extended,
+                                   rigid) == ""
+
+
+def test_an_overflowing_sum_of_squares_is_inf_never_nan():
+    # both products of a huge coefficient overflow: inf - inf.  A NaN held out read as "no
+    # variant valid" (no change), and as the first variant's training error it kept every
+    # later variant from being compared below it (review R10)
+    from types import SimpleNamespace
+
+    from fricctl.diagnose.crossval import Problem, cross_validate
+
+    huge, G1 = np.array([1e200]), np.array([[1.0]])
+    assert Problem.sse(huge, G1, np.array([1e200]), 1.0) == math.inf
+    assert Problem.sse(np.array([2.0]), G1, np.array([1.0]), 1.0) == 1.0  # 1 - 4 + 4
+
+    # two folds; variant "bad" comes first and overflows in training, "good" fits exactly
+    def stats(parts):
+        v = parts[-1]
+        g = np.array([[1e200], [1e200]]) if v.h == "bad" else np.array([[1.0], [1.0]])
+        st = SimpleNamespace(G=np.array([[[1.0]], [[1.0]]]), g=g, s=np.array([1.0, 1.0]),
+                             scale=np.array([1.0]))
+        return None, None, st
+
+    problem = SimpleNamespace(sig=SimpleNamespace(n_folds=2), stats_of=stats,
+                              bounded=lambda lo, hi, st, G, g: np.linalg.solve(G, g))
+    cv = cross_validate(problem, lambda f: [SimpleNamespace(h="bad"), SimpleNamespace(h="good")])
+    assert [ff.h for ff in cv.fits] == ["good", "good"]
+    assert np.allclose(cv.test, 0.0)

@@ -7,7 +7,7 @@ import math
 from concurrent import futures
 import sys
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -417,7 +417,7 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
     bodies = _evidence_bodies(base, sel.selected, ext.theta, ext.model, motor_revolution)
     named = tuple(s.cause.name for s in sel.selected) or (causes.NONE,)
     baseline_model = _record_fields(base.fitted if setup.ident is None
-                                    else _identified(setup.ident, run), run, sig, model)
+                                    else _identified(setup.ident.result, run), run, sig, model)
     # with terms removed to be judged, what changed is told against the model as supplied
     # (a removed offset the record does not support is marked "diagnosed" at 0, not left
     # with the supplied value's provenance)
@@ -433,7 +433,9 @@ def _diagnosis(run: Run, model: JointModel | None, setup: _Setup, sel: Selection
                    {"position": sig.q, "velocity": sig.w, "time": sig.t, "torque": sig.tm},
                    other_shape=lambda: _other_shape(setup, sel),
                    no_floor=no_floor,
-                   caution=_simulation_caution(setup, sel, baseline_model, extended))
+                   caution=_simulation_caution(setup, sel, baseline_model, extended,
+                                               lambda r: _record_fields(_identified(r, run),
+                                                                        run, sig, model)))
     stops = setup.stops
     if stops.found:  # what the diagnosis left out, said with the stops
         stops = replace(stops, description=(
@@ -566,10 +568,14 @@ def _record_fields(m: JointModel, run: Run, sig: Signals, nominal: JointModel | 
 
 
 def _simulation_caution(setup: _Setup, sel: Selection, baseline: JointModel,
-                        extended: JointModel) -> str:
+                        extended: JointModel, rigid: Callable) -> str:
     """Why the causes named are not confirmed, or ``""``: where ``fricctl identify``'s rigid
-    fit of the record refined by simulation error (DIDIM: the baseline reported) re-simulates
-    the record's windows better than the extended model, both fitted on all data.
+    fit of the record refined by simulation error (DIDIM) re-simulates the record's windows
+    better than the extended model, both fitted on all data.  That fit is the baseline
+    reported (``baseline``), or, where DIDIM does not identify a parameter the equation error
+    does and the equation error is reported, DIDIM's own fit (``rigid`` of its result makes
+    the model): a rigid model that follows the record better by simulation still says so
+    (without it, audit B's false backlash below would be "explained" again).
 
     The selection starts from the least-squares (equation error) baseline, fits every term on
     the equation error and names what re-simulates the held-out windows better than *that*
@@ -584,24 +590,34 @@ def _simulation_caution(setup: _Setup, sel: Selection, baseline: JointModel,
     time delay, a ripple, a Stribeck hump, a drag re-simulated 3-80 times better than that
     baseline.  So it is said, as what was measured, and keeps the record from being called
     explained; it never rejects a cause."""
-    if not sel.selected or setup.ident is None or setup.ident.result.method != "DIDIM":
-        return ""  # no simulation-error fit to compare with (the reported fit is the LS one)
+    if not sel.selected or setup.ident is None or setup.ident.refined is None:
+        return ""  # no simulation-error fit to compare with (the record was not replayed)
     grid = setup.grid
     if grid.starts.size == 0:
         return ""
+    ident, lost = setup.ident, ""
+    if ident.result.method != "DIDIM":  # the equation error reported: DIDIM lost a parameter
+        gone = [n for n, a, b in zip(ident.start.names, ident.start.identified,
+                                     ident.refined.identified) if a and not b]
+        which = ", ".join(gone) or "a parameter the equation error identifies"
+        lost = (f"; it does not identify {which} on this record, so the equation error is the "
+                f"baseline reported")
     try:
+        if lost:
+            baseline = rigid(ident.refined)
         b = simulate_windows(baseline, setup.sig, grid.starts, grid.length).rms().position
         e = simulate_windows(extended, setup.sig, grid.starts, grid.length).rms().position
-    except ValueError:  # a model that cannot be re-simulated: the gain's numbers say it
-        return ""
+    except ValueError:  # a model that cannot be made or re-simulated: the gain's numbers
+        return ""       # say it
     if not (math.isfinite(b) and math.isfinite(e) and e > b):
         return ""
     one = len(sel.selected) == 1
     what = (f"the cause named ({sel.selected[0].cause.name}) is" if one else
             f"the causes named ({', '.join(x.cause.name for x in sel.selected)}) are")
     verb, they = ("is", "it") if one else ("are", "they")
-    return (f"the rigid baseline fricctl identify fits to the record by simulation error "
-            f"(DIDIM) re-simulates its windows better than the extended model (position RMS "
+    return (f"the rigid {'fit' if lost else 'baseline'} fricctl identify fits to the record "
+            f"by simulation error (DIDIM{lost}) re-simulates its windows better than the "
+            f"extended model (position RMS "
             f"{b:.3g} against {e:.3g} {unit_labels(setup.sig.units).position}, all windows, both "
             f"fitted on all data): {what} fitted on the equation error and {verb} not "
             f"confirmed by the simulation error; {they} may be the joint's and simulate poorly "
@@ -609,9 +625,9 @@ def _simulation_caution(setup: _Setup, sel: Selection, baseline: JointModel,
             f"encoder, a record at nearly one speed)")
 
 
-def _identified(ident, run: Run) -> JointModel:
-    """The rigid model of ``fricctl identify``'s fit of the record (the reported baseline)."""
-    r = ident.result
+def _identified(r, run: Run) -> JointModel:
+    """The rigid model of one of ``fricctl identify``'s fits of the record (its result: the
+    reported baseline, or DIDIM's)."""
     return JointModel.from_estimates(
         r.parameters, std=dict(zip(r.names, map(float, r.std))), units=run.units,
         source=f"fricctl diagnose: rigid baseline of {run.source or 'the record'}",

@@ -278,9 +278,13 @@ class Problem:
     def sse(theta, G, g, s):
         # a column (nearly) zero on the training blocks gets a huge coefficient: its held-out
         # sum of squares overflows to inf, which is what it is (the variant fails held out),
-        # not a numpy warning for the user (audit B)
+        # not a numpy warning for the user (audit B).  Where both products overflow, inf - inf
+        # is NaN: a sum of squares that large is inf too -- a NaN would read as "no variant
+        # valid" (the record's own residual kept, no change) held out, and in training no later
+        # variant compares below it (review R10)
         with np.errstate(over="ignore", invalid="ignore"):
-            return float(s - 2 * theta @ g + theta @ G @ theta)
+            r = float(s - 2 * theta @ g + theta @ G @ theta)
+        return math.inf if math.isnan(r) else r
 
 
 def solve_bounded(G, g, lower, upper) -> np.ndarray:
