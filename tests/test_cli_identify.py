@@ -137,7 +137,9 @@ def test_out_is_refused_when_it_exists_or_is_the_input(tmp_path, capsys):
                         (["--recipe", "idim_ls", "--border", "3"], "--border has no effect"),
                         (["--max-torque", "-1"], "--max-torque must be a number > 0"),
                         # audit A 11: accepted and ignored
-                        (["--max-torque", "1"], "--max-torque has no effect without --out")):
+                        (["--max-torque", "1"], "--max-torque has no effect without --out"),
+                        # audit C24 3: accepted and ignored
+                        (["--force"], "--force has no effect without --out or --figure")):
         assert main(["identify", str(path), *argv]) == 2
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1
