@@ -94,6 +94,16 @@ def test_compare_out_is_a_file(tmp_path, capsys):
     assert "not a folder" in capsys.readouterr().err
 
 
+def test_compare_into_a_missing_folder_is_refused(tmp_path, capsys):
+    # audit C24 2: --out nodir/out made nodir too, after the whole run; every other output's
+    # folder must exist (the default, ./fricctl-compare, goes into the working folder)
+    out = tmp_path / "nodir" / "out"
+    assert main(["compare", "--out", str(out)] + SMALL) == 2
+    err = capsys.readouterr().err
+    assert err == f"fricctl compare: error: --out: the folder {out.parent} does not exist\n"
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.slow
 def test_compare_on_processes_and_dask_writes_the_serial_file(written, tmp_path, capsys):
     pytest.importorskip("distributed")

@@ -259,3 +259,58 @@ def test_a_report_into_a_missing_folder_is_refused(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == f"fricctl diagnose: error: --report: the folder {out.parent} does not exist\n"
     assert not out.parent.exists()
+
+
+@pytest.mark.parametrize("fails", ["steps.png", "extended_model.json"])
+def test_a_forced_report_that_fails_leaves_the_old_folder_as_it_was(record_csv, tmp_path, capsys,
+                                                                    monkeypatch, fails):
+    # audit C24 1: --force over an existing report wrote its files one by one; a run cut short
+    # left new figures (or a new report.md) beside the old files, a mixed report
+    import errno
+
+    from fricctl._atomic import TEMP_MARK
+    from fricctl.cli import _painters
+    from fricctl.cli import diagnose as cli_diagnose
+
+    path, _ = record_csv
+    out_dir = tmp_path / "rep"
+    out_dir.mkdir()
+    old = {name: f"old {name}".encode() for name in cli_diagnose.REPORT_FILES}
+    old["notes.txt"] = b"mine"
+    for name, data in old.items():
+        (out_dir / name).write_bytes(data)
+
+    def full(*args, **kwargs):  # the disk fills while the last figure or the model is written
+        raise OSError(errno.ENOSPC, "No space left on device", str(out_dir / fails))
+
+    monkeypatch.setattr(_painters, "parallel_available", lambda: False)  # drawn in order, here
+    if fails == "steps.png":
+        monkeypatch.setitem(cli_diagnose.FIGURES, "steps.png", full)
+    else:
+        monkeypatch.setattr(JointModel, "save", full)
+    assert main(["diagnose", str(path), "--report", str(out_dir), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"fricctl diagnose: error: {out_dir / fails}: No space left on device\n")
+    assert {p.name: p.read_bytes() for p in out_dir.iterdir()} == old
+    assert [p.name for p in tmp_path.iterdir() if TEMP_MARK in p.name] == []
+    monkeypatch.undo()
+    assert main(["diagnose", str(path), "--report", str(out_dir), "--force"]) == 0
+    now = {p.name: p.read_bytes() for p in out_dir.iterdir()}
+    assert sorted(now) == sorted(old) and now["notes.txt"] == b"mine"  # the user's file kept
+    assert all(now[name] != old[name] for name in cli_diagnose.REPORT_FILES)
+    assert [p.name for p in tmp_path.iterdir()] == ["rep"]
+
+
+def test_a_forced_report_over_the_working_folder_is_refused(record_csv, tmp_path, capsys,
+                                                            monkeypatch):
+    # replaced as a whole, the folder the command runs in would be swapped away under it
+    path, _ = record_csv
+    inner = tmp_path / "rep" / "inner"
+    inner.mkdir(parents=True)
+    monkeypatch.chdir(inner)
+    for where in (inner, tmp_path / "rep"):
+        assert main(["diagnose", str(path), "--report", str(where), "--force"]) == 2
+        assert capsys.readouterr().err == (f"fricctl diagnose: error: --report: {where} holds "
+                                           "the working folder, and is replaced as a whole with "
+                                           "--force: run from another folder\n")
+    assert [p.name for p in (tmp_path / "rep").iterdir()] == ["inner"]

@@ -77,6 +77,21 @@ def test_bad_csv_exit_2(tmp_path, capsys, content, msg):
     assert msg in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize("name", ["qm", "gtau", "kp"])
+def test_a_complex_mat_variable_names_the_file_once(tmp_path, capsys, name):
+    # audit C24 5 (fixed in 33bff2c, there checked on load_record): the command's line too
+    from scipy.io import savemat
+
+    n = 20
+    good = dict(t=np.arange(n) * 1e-3, qm=np.zeros(n), qg=np.zeros(n), vir=np.zeros(n),
+                gtau=35.15, kp=1.0, kv=1.0)
+    path = tmp_path / "c.mat"
+    savemat(path, {**good, name: np.asarray(good[name]) + 1j})
+    assert main(["identify", str(path)]) == 2
+    assert capsys.readouterr().err == (f"fricctl identify: error: {path}: variable {name} must "
+                                       "hold real numbers, not complex128\n")
+
+
 def test_missing_file_exit_2(tmp_path, capsys):
     assert main(["identify", str(tmp_path / "nope.csv")]) == 2
     assert "no such file" in capsys.readouterr().err
@@ -137,7 +152,9 @@ def test_out_is_refused_when_it_exists_or_is_the_input(tmp_path, capsys):
                         (["--recipe", "idim_ls", "--border", "3"], "--border has no effect"),
                         (["--max-torque", "-1"], "--max-torque must be a number > 0"),
                         # audit A 11: accepted and ignored
-                        (["--max-torque", "1"], "--max-torque has no effect without --out")):
+                        (["--max-torque", "1"], "--max-torque has no effect without --out"),
+                        # audit C24 3: accepted and ignored
+                        (["--force"], "--force has no effect without --out or --figure")):
         assert main(["identify", str(path), *argv]) == 2
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1

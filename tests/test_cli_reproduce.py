@@ -186,6 +186,22 @@ def test_reproduce_out_is_a_file(tmp_path, capsys):
     assert "not a folder" in capsys.readouterr().err
 
 
+def test_reproduce_into_a_missing_folder_is_refused(tmp_path, capsys, monkeypatch):
+    # audit C24 2: --out nodir/out made nodir too; every other output's folder must exist (the
+    # default, ./fricctl-reproduce, and the Makefile's results go into the working folder)
+    import fricctl.paper
+
+    def ran(**kwargs):
+        raise RuntimeError("the run started")
+
+    monkeypatch.setattr(fricctl.paper, "reproduce_paper", ran)
+    out = tmp_path / "nodir" / "out"
+    assert main(["reproduce", "--out", str(out), "--fast", "--seeds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err == f"fricctl reproduce: error: --out: the folder {out.parent} does not exist\n"
+    assert list(tmp_path.iterdir()) == []
+
+
 # -- --force replaces the tree as a whole and removes only what the manifest lists (issue 26) --
 def _fake_reproduce(monkeypatch, seeds_written, *, interrupt=False):
     """Replace the expensive part of ``reproduce`` (training, figures) by a stub that writes

@@ -59,6 +59,9 @@ def test_output_path_errors_are_one_line(tmp_path, capsys):
     (["simulate", "--torque", "step:0.1", "--scale", "3"], "--scale has no effect"),
     (["simulate", "--torque", "step:0.1", "--net", "x.json"], "--net has no effect"),
     (["simulate", "--controller", "p", "--kp", "1", "--torque", "step:0.1"], "--torque has no effect"),
+    # accepted and ignored: nothing to overwrite (as identify's --force without --out)
+    (["simulate", "--torque", "step:0.1", "--force"],
+     "--force has no effect without --csv, --figure or --c-source"),
 ])
 def test_bad_input_one_line_exit_2(argv, words, capsys):
     assert main(argv) == 2

@@ -92,6 +92,18 @@ def test_missing_file_and_bad_option_exit_2(patterns_csv, tmp_path, capsys):
     assert "hidden" in capsys.readouterr().err
 
 
+def test_a_folder_or_a_missing_file_is_named_as_the_patterns_file(tmp_path, capsys):
+    # audit C24 4: "a folder, not a CSV file" / "no such file" did not say which file was
+    # meant; the model and network files are named ("no such model file")
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    for given, said in ((folder, "a folder, not a patterns file"),
+                        (tmp_path / "absent.csv", "no such patterns file")):
+        assert main(["train", str(given), "--out", str(tmp_path / "n.json")]) == 2
+        assert capsys.readouterr().err == f"fricctl train: error: {given}: {said}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["adir"]
+
+
 @pytest.fixture()
 def lattice_patterns_csv(tmp_path):
     """Patterns as `fricctl patterns` writes them: at_rest column and the velocity quantum."""

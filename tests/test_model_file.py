@@ -237,7 +237,7 @@ def test_a_folder_given_as_a_file_is_said_to_be_a_folder(tmp_path, capsys):
     for argv, what in ((["design", "pd", "--rise-time", "0.05", "--damping", "0.7", "--model"],
                         "model file"),
                        (["model", "show"], "model file"),
-                       (["train", "--out", str(tmp_path / "n.json")], "CSV file"),
+                       (["train", "--out", str(tmp_path / "n.json")], "patterns file"),
                        (["simulate", "--controller", "p", "--kp", "1", "--reference", "step:0.1",
                          "--compensation", "nn", "--net"], "network file")):
         assert main([*argv, str(folder)]) == 2, argv

@@ -108,7 +108,8 @@ def save_figure(fig, path, *, overwrite: bool, dpi: int = 110) -> None:
 
 
 def check_new_folder(option: str, path) -> None:
-    """Refuse a folder to be made at ``path`` when the first existing folder above it is not
+    """Refuse a folder to be made at ``path`` when the folder it goes into does not exist (it
+    is not made, as no output file's folder is: a typo in a path became a new tree) or is not
     writable (checked before any work: the command would fail only when it writes)."""
     if os.path.islink(path) and not os.path.exists(path):
         # a dangling link: the folder is made where it points; say which folder is missing
@@ -118,8 +119,8 @@ def check_new_folder(option: str, path) -> None:
                              f"{target.parent}, which does not exist")
         path = target
     above = Path(os.path.abspath(path)).parent
-    while not above.exists() and above != above.parent:
-        above = above.parent
+    if not above.exists():
+        raise ValueError(f"{option}: the folder {Path(path).parent} does not exist")
     if not above.is_dir():
         raise ValueError(f"{option}: {above} is not a folder; cannot make {path} inside it")
     if not os.access(above, os.W_OK | os.X_OK):

@@ -43,7 +43,8 @@ def register(subparsers) -> None:
         "compare", help="every friction compensator on the paper's experiments and perturbed plants",
         description=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", type=Path, default=Path("fricctl-compare"), metavar="DIR",
-                   help="output folder (created if missing; default ./fricctl-compare)")
+                   help="output folder (made if missing; the folder it goes into must exist; "
+                        "default ./fricctl-compare)")
     # numbers and names are read as text and checked in run(): one line, not argparse's usage block
     p.add_argument("--seeds", default="10", metavar="N",
                    help="seeds of the trained networks, 0 .. N-1 (default 10)")
@@ -93,8 +94,12 @@ def _list(option: str, text, known, noun: str | None = None) -> tuple | None:
 
 
 def _check_out(out: Path, force: bool) -> None:
+    from ._output import check_new_folder
+
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
+    if not out.is_dir():  # made after the run: its folder must exist (is not made) and be writable
+        check_new_folder("--out", out)
     there = [n for n in OUTPUTS if (out / n).exists()]
     if there and not force:
         raise ValueError(f"--out {out} already holds {there[0]}: pass --force to replace it, or choose "
@@ -194,7 +199,7 @@ def run(args) -> int:
     with _executor(kind, workers, scheduler) as ex:
         res = compare(compensators=comps, experiments=exps, plants=plants, seeds=seeds, bench=bench,
                       options=options, executor=ex, progress=not args.quiet)
-    out.mkdir(parents=True, exist_ok=True)
+    out.mkdir(exist_ok=True)  # its folder is not made: a typo in a path became a new tree
     write_text(out / "comparison.json", res.to_json() + "\n", overwrite=args.force)
     write_text(out / "comparison.md", res.table(), overwrite=args.force)
     failed = [r for r in res.rows if r["runaway"]["failures"]]

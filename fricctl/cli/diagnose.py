@@ -57,8 +57,12 @@ A linear axis:
 "diagnosed" on every value the diagnosis added or changed; ``fricctl design
 --model`` and ``fricctl simulate --model`` read it); existing files are not
 overwritten without ``--force``.  A new DIR is built beside and renamed into place when
-complete (an interrupted run leaves no DIR); into an existing DIR each file is written
-atomically.  With two cores or more the figures are drawn by two processes forked before the
+complete (an interrupted run leaves no DIR); with ``--force`` an existing DIR is replaced as a
+whole: the new report is built in a folder beside it (the other files of DIR linked into it)
+and swapped with it when complete, so an interrupted or failed run leaves the old report as it
+was, never new files beside old figures (a DIR that holds the working folder is refused);
+into an existing DIR without ``--force`` (none of the report's files there) each file is
+written atomically.  With two cores or more the figures are drawn by two processes forked before the
 diagnosis starts, which import matplotlib while it runs, once its baseline's fit has ended
 (the same files; one core: drawn by the command itself).  A record longer than 571 428 samples is refused, counted before it is read
 (7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
@@ -95,7 +99,8 @@ def register(subparsers) -> None:
                    help="write figures, report.md and extended_model.json to DIR (made if "
                         "missing; the folder it goes into must exist)")
     p.add_argument("--force", action="store_true",
-                   help="overwrite existing files of --report DIR")
+                   help="replace the report in an existing --report DIR as a whole (its other "
+                        "files are kept)")
     p.set_defaults(func=run)
 
 
@@ -118,6 +123,9 @@ def run(args) -> int:
         if out.is_dir():  # a new folder is made by write_report: nothing in it to clobber
             check_outputs({f"--report ({name})": out / name for name in REPORT_FILES},
                           [args.run, args.model], force=args.force)
+            if args.force:  # replaced as a whole by a folder built beside it
+                _check_replaceable(out)
+                check_new_folder("--report", out)
         else:  # built beside, then renamed into place: its folder must exist and be writable
             _check_parent(out)
             check_new_folder("--report", out)
@@ -262,19 +270,32 @@ def _check_parent(out: Path) -> None:
         raise ValueError(f"--report: the folder {out.parent} does not exist")
 
 
+def _check_replaceable(out: Path) -> None:
+    """Refuse to replace a report folder that holds the working folder: the swap would leave
+    the shell of whoever ran the command in a removed folder."""
+    here = Path.cwd().resolve()
+    if here == out.resolve() or out.resolve() in here.parents:
+        raise ValueError(f"--report: {out} holds the working folder, and is replaced as a whole "
+                         "with --force: run from another folder")
+
+
 def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Path:
     """Figures (PNG), ``report.md`` and ``extended_model.json`` into ``folder``.
 
     A new folder is built beside and renamed into place when complete (the folder it goes
-    into must exist: it is not made, as no other output's folder is); into an existing
-    folder each file is written atomically (``overwrite=False``: an existing file is refused,
-    also one another run writes meanwhile).  See :mod:`fricctl._atomic`.  ``painters``
+    into must exist: it is not made, as no other output's folder is).  An existing folder,
+    ``overwrite=True``: the new report is built in a folder beside it and replaces it as a
+    whole when complete (:func:`~fricctl._atomic.replace_folder`; the folder's other files
+    are kept): a failure or an interrupt before leaves the old report as it was, never new
+    files beside old figures.  ``overwrite=False``: each file is written into it atomically,
+    an existing file refused (also one another run writes meanwhile).  See
+    :mod:`fricctl._atomic`.  ``painters``
     (:class:`fricctl.cli._painters.Painters`): the figures are drawn by those processes while
     this one writes the rest (the same bytes); None: drawn here, one after another.
     """
     from dataclasses import replace
 
-    from .._atomic import atomic_folder, write_text
+    from .._atomic import atomic_folder, replace_folder, write_text
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
@@ -282,7 +303,10 @@ def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Pa
     _check_parent(out)  # the caller checked the files (check_outputs)
     text = result.report() + "\n## Figures\n\n" + "\n".join(
         f"![{n[:-4]}]({n})" for n in FIGURES) + "\n"
-    with atomic_folder(out) as where:
+    # an existing report replaced: built whole beside it, then swapped in (a run cut short
+    # left a new report.md and extended_model.json beside the old figures)
+    replaced = overwrite and out.is_dir()
+    with (replace_folder(out, overwrite=True) if replaced else atomic_folder(out)) as where:
         if painters is None:
             draw_figures(result, FIGURES, where, overwrite=overwrite)
         try:

@@ -100,7 +100,8 @@ def register(subparsers) -> None:
                         "(datasheet); default unknown (null)")
     p.add_argument("--out", type=Path, default=None, metavar="MODEL.json",
                    help="write the identified model (fricctl.joint_model, version 2)")
-    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    p.add_argument("--force", action="store_true",
+                   help="overwrite an existing --out or --figure file")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
@@ -211,6 +212,9 @@ def run(args) -> int:
     if args.max_torque is not None and args.out is None:
         raise ValueError("--max-torque has no effect without --out (it is written into the "
                          "model file, not used by the fit)")
+    if args.force and args.out is None and args.figure is None:
+        raise ValueError("--force has no effect without --out or --figure (it lets them "
+                         "overwrite an existing file)")
     if args.figure is not None and args.no_validation:
         raise ValueError("--figure plots the held-out validation: it cannot go with "
                          "--no-validation")

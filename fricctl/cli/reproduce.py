@@ -72,7 +72,8 @@ def register(subparsers) -> None:
         "reproduce", help="re-run the paper's figures over seeds and pipelines and check its claims",
         description=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", type=Path, default=Path("fricctl-reproduce"), metavar="DIR",
-                   help="output folder (created if missing; default ./fricctl-reproduce)")
+                   help="output folder (made if missing; the folder it goes into must exist; "
+                        "default ./fricctl-reproduce)")
     # numbers are read as text and checked in run(): a bad value is one line, not argparse's usage block
     p.add_argument("--seeds", default="10", metavar="N",
                    help="networks per pipeline, seeds 0 .. N-1 (default 10)")
@@ -160,7 +161,7 @@ def _prepare_out(out: Path, force: bool) -> None:
 
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
-    check_new_folder("--out", out)  # the new tree is built beside DIR
+    check_new_folder("--out", out)  # the new tree is built beside DIR, whose folder must exist
     if not out.exists():
         return
     here = Path.cwd().resolve()
@@ -419,7 +420,6 @@ def run(args) -> int:
     if kind == "process" and workers == 1:
         kind = "serial"
     progress = _Progress()
-    Path(os.path.abspath(out)).parent.mkdir(parents=True, exist_ok=True)
     # the whole tree is built beside DIR and replaces it only when complete (issue 26)
     with replace_folder(out, keep=_earlier_run(Path(os.path.realpath(out))),
                         overwrite=args.force) as new, contextlib.ExitStack() as stack:

@@ -233,6 +233,9 @@ def _check_combination(args) -> None:
     if len(args.compensation) > 1 and args.csv:
         raise ValueError(f"--csv writes one record; --compensation {given_comp} makes "
                          f"{len(args.compensation)} (give one compensation with --csv)")
+    if args.force and args.csv is None and args.figure is None and args.c_source is None:
+        raise ValueError("--force has no effect without --csv, --figure or --c-source (it lets "
+                         "them overwrite an existing file)")
     if args.model is not None:
         bad = [o for o, x in (("--link", args.link), ("--plant", args.plant)) if x]
         if bad:

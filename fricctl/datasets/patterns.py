@@ -229,8 +229,15 @@ def read_patterns(path) -> PatternTable:
     The header names :data:`PATTERN_COLUMNS` (``tm,omega,friction``, any order)
     and optionally ``at_rest`` (0 or 1); at least 2 rows.  The ``# units:`` line
     (``rotary``, the default, or ``linear``) and ``# velocity_quantum:`` (> 0) are
-    checked; other ``#`` lines are kept in ``meta``.  Errors as :func:`read_columns`.
+    checked; other ``#`` lines are kept in ``meta``.  Errors as :func:`read_columns`; a
+    folder or a missing file is named as the patterns file expected ("a folder, not a
+    patterns file", "no such patterns file"), as a model or network file is.
     """
+    path = Path(path)
+    if path.is_dir():  # "not a CSV file": which of the command's files was meant?
+        raise IsADirectoryError(21, "a folder, not a patterns file", str(path))
+    if not path.is_file():
+        raise FileNotFoundError(2, "no such patterns file", str(path))
     table = read_columns(path, required=PATTERN_COLUMNS, optional=("at_rest",), min_rows=2)
     meta = dict(table.meta)
     try:
