@@ -155,9 +155,18 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     chain = _ChainShares(setup.base)
     simulate = _HeldOutSimulation.of(setup)
     try:
-        sel = forward_selection(setup.problem, setup.base,
-                                causes.candidates(nominal=model is not None),
-                                chain, simulate, progress=bar.step if req.show else None)
+        candidates, vanished = causes.candidates(nominal=model is not None), {}
+        while True:  # at most once per candidate: each pass drops what vanished
+            sel = forward_selection(setup.problem, setup.base, candidates, chain, simulate,
+                                    progress=bar.step if req.show else None)
+            ext = _extension(setup, sel)
+            gone = _vanished(sel, ext)
+            if not gone:
+                break
+            vanished.update(gone)
+            candidates = tuple(c for c in candidates if c.name not in gone)
+        if vanished:
+            sel = replace(sel, not_identifiable={**sel.not_identifiable, **vanished})
         below = below_line(setup.problem, sel, chain, simulate,
                            motor_revolution=req.motor_revolution)
     finally:
@@ -166,8 +175,7 @@ def diagnose(run: Run, model: JointModel | None = None, *, window: float = 0.5,
     # fit, which cannot be cancelled once running (it ends in its thread, unused)
     if setup.ident is not None:
         setup = replace(setup, ident=setup.ident.result())
-    d = _diagnosis(run, model, setup, sel, _extension(setup, sel), chain.floor_rms(),
-                   req.motor_revolution)
+    d = _diagnosis(run, model, setup, sel, ext, chain.floor_rms(), req.motor_revolution)
     return replace(d, below_line=below, motor_revolution=req.motor_revolution,
                    notes={**d.notes, **_below_notes(below)})
 
@@ -395,6 +403,31 @@ def _extension(setup: _Setup, sel: Selection) -> _Extension:
                            tuple(s.variant for s in sel.selected[:-1])).theta)
     parts = [(s.cause, s.variant.h) for s in sel.selected]
     return _Extension(fit=refit, theta=theta, model=base.model(parts, theta))
+
+
+def _vanished(sel: Selection, ext: _Extension) -> dict:
+    """The named causes whose term vanishes from the extended model (``name -> reason``):
+    every coefficient of the cause held at a bound of 0 when the named terms are refitted
+    together on all data.  A cause named at one step can be taken over by one named later
+    (a spring at the grid's lowest frequency decouples the load and reads as less inertia:
+    a nominal inertia error was named ``compliance`` + ``inertia``, the spring refitted to 0
+    beside the inertia, and the record called explained); the final model then lacks what
+    the cause names, so the selection is run again without it."""
+    if ext.fit is None:  # no refit (IPOPT refused: rank): the bounded fit keeps every term
+        return {}
+    at, est = dict(zip(ext.fit.names, ext.fit.at_bound)), dict(zip(ext.fit.names,
+                                                                    ext.fit.estimates))
+    out = {}
+    for k, s in enumerate(sel.selected):
+        params = s.cause.params
+        if params and all(at.get(p, False) and est.get(p) == 0.0 for p in params):
+            later = [x.cause.name for x in sel.selected[k + 1:]] or ["the baseline"]
+            out[s.cause.name] = (
+                f"tried, rejected: named at step {k + 1}, its term vanished when the causes "
+                f"named were refitted together on all data ({', '.join(params)} at the bound "
+                f"0): {', '.join(later)} take{'s' if len(later) == 1 else ''} what it "
+                f"removed, so the selection was run again without it")
+    return out
 
 
 def _other_shape(setup: _Setup, sel: Selection) -> float:
