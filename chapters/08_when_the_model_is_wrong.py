@@ -93,7 +93,10 @@ plt.show()
 # encoder, excitation and feedback and no effect, so what a term "explains" there is
 # the measuring chain's share (quantisation and the timing of reversals and stops).
 # A cause is named when its net score reaches 19 % (a 10 % drop of the RMS); then the
-# search repeats with its term in the model, until no candidate reaches it.
+# search repeats with its term in the model, until no candidate reaches it.  The causes
+# named are finally refitted together on all data; one whose term goes to zero there was
+# taken over by a later one (the extended model lacks it), so it is reported as tried and
+# rejected and the search is run again without it.
 
 # %%
 for c in causes.candidates(nominal=True):

@@ -45,6 +45,12 @@ A candidate whose chain share cannot be measured (the twin of the model as it st
 :attr:`fricctl.diagnose.twin.Twin.ran_away`) has no net score: it is set aside for the step
 with :data:`CHAIN_UNMEASURED` and not named on its gross score (its ranking shows NaN, not
 the 0 it is held at).
+
+The causes named are then refitted together on all data (:func:`fricctl.diagnose.diagnose`):
+one whose every coefficient goes to a bound of 0 there has been taken over by a cause named
+after it (a spring at the grid's lowest frequency decouples the load and reads as less
+inertia), so the extended model lacks it; it is reported tried and rejected, and the
+selection is run again without it.
 """
 
 from __future__ import annotations
