@@ -318,6 +318,18 @@ def _exchange(a: Path, b: Path) -> None:
     os.rename(trash, a)
 
 
+def _no_mount_inside(folder: Path) -> None:
+    """Refuse a folder holding a mount point: carried into the new folder it would be copied
+    file by file (no hard links across devices) and then emptied with the old folder."""
+    for top, dirs, _ in os.walk(folder):
+        for d in dirs:
+            here = os.path.join(top, d)
+            if not os.path.islink(here) and os.path.ismount(here):
+                raise ValueError(f"{folder}: holds the mount point {here}, which replacing "
+                                 f"the folder would copy and then empty: unmount it or "
+                                 f"choose another folder")
+
+
 def _carry(old: Path, new: Path, keep) -> None:
     """Link each entry of ``old`` that ``keep(relative posix path, path)`` accepts into ``new``, at
     the same place, unless ``new`` has something there (hard links: no copy, the same file;
@@ -417,6 +429,7 @@ def replace_folder(path, *, keep=None, overwrite: bool = False) -> Iterator[Path
             raise NotADirectoryError(errno.ENOTDIR, "exists and is not a folder", str(dest))
         if not overwrite and any(dest.iterdir()):
             raise _exists_error(dest)
+        _no_mount_inside(dest)
         shutil.copymode(dest, tmp)
         _carry(dest, tmp, keep)
         with _signals_held():

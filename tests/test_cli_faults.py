@@ -469,6 +469,27 @@ def test_a_full_disk_in_a_new_folder_names_the_file_not_the_temporary(tmp_path, 
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_folder_holding_a_mount_point_is_not_replaced(tmp_path, monkeypatch):
+    # carried into the new folder, a mount's files would be copied (no hard links across
+    # devices) and then removed with the old folder: refused, the folder left as it was
+    import os
+
+    from fricctl import _atomic
+
+    dest = tmp_path / "report"
+    (dest / "mnt").mkdir(parents=True)
+    (dest / "mnt" / "data.bin").write_text("theirs")
+    mount = str(dest / "mnt")
+    real = os.path.ismount
+    monkeypatch.setattr(os.path, "ismount", lambda p: os.fspath(p) == mount or real(p))
+    with pytest.raises(ValueError, match="holds the mount point .*mnt"):
+        with _atomic.replace_folder(dest, overwrite=True) as where:
+            (where / "report.md").write_text("new")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+    assert sorted(p.name for p in dest.iterdir()) == ["mnt"]
+    assert (dest / "mnt" / "data.bin").read_text() == "theirs"
+
+
 def test_a_full_disk_names_the_output_file(tmp_path, capsys, monkeypatch):
     import errno
 
