@@ -26,7 +26,8 @@ from ..datasets import Run
 from ..estimation import at_rest, butterworth_central, decimate, estimate
 from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
-from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
+from .models import (LINEAR_MODELS, MODELS, check_directions, lower_bounds, model_names,
+                     regressor)
 
 __all__ = ["identify_run", "IdimRecipe", "IdimObservations", "idim_observations", "idim_ls",
            "CrossValidation", "cross_validate"]
@@ -130,6 +131,12 @@ class IdimObservations:
     """The torque (force) decimated the same way [N*m] or [N]."""
 
 
+def filter_reach(run: Run, recipe: IdimRecipe) -> int:
+    """Samples each side of a sample over which the recipe's filters spread it: the
+    Butterworth's ``2/cutoff`` and the decimation filter's ``4*factor`` [samples]."""
+    return int(np.ceil(2.0 / (recipe.cutoff * run.sample_time))) + 4 * recipe.decimation
+
+
 def idim_observations(run, model, offset, recipe: IdimRecipe) -> IdimObservations:
     """The IDIM-LS observations of ``run``: Butterworth + central differences, border
     dropped, regressor columns and torque decimated (the EMPS recipe)."""
@@ -174,6 +181,14 @@ def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     obs = idim_observations(run, model, offset, recipe)
     X, y = obs.decimated, obs.torque
     names = model_names(model, offset)
+    # a direction the record barely slides in gives a column that differs from a constant
+    # (or from zero) only by the filters' smear: refused by name, before the fit reads it
+    w = butterworth_central(run.t, run.position, cutoff=recipe.cutoff,
+                            order=recipe.filter_order).velocity[recipe.border:]
+    sliding = ~at_rest(run.position)[recipe.border:]
+    check_directions(names, np.sum(sliding & (w > 0)), np.sum(sliding & (w < 0)),
+                     filter_reach(run, recipe), f"the reach of its {recipe.cutoff:g} Hz "
+                     f"Butterworth and its decimation by {recipe.decimation}")
     res = fit_least_squares(linear_prediction, X, y, names=names,
                             initial=np.zeros(len(names)), lower=lower_bounds(names),
                             scale=(np.linalg.norm(y) or 1.0) / np.linalg.norm(X, axis=0),
