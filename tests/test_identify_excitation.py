@@ -3,8 +3,9 @@
 Records come from the package's sampled loop on the paper's actuator at 1 kHz (Coulomb +
 viscous, offset 0).
 Every test failed before its fix: a one-way record gave the default recipe a Coulomb level
-and an offset of +-45 N*m to 0.01 % (truth 0.144 and 0); the asymmetric model on a one-way
-record said "scale holds NaN or inf".
+and an offset of +-45 N*m to 0.01 % (truth 0.144 and 0); idim_iv raised an IndexError or
+numpy's "Singular matrix"; the asymmetric model on a one-way record said "scale holds NaN or
+inf".
 """
 
 from dataclasses import replace
@@ -22,6 +23,9 @@ from fricctl.simulate import simulate
 
 _P = replace(paper_actuator(), sample_time=0.001)
 LAW = fr.Viscous(_P.viscous) + fr.Coulomb(_P.coulomb)
+#: a three-tone reference: the joint reverses within its first 0.2 s
+TONES = ctl.pd_control(20.0, 0.5, ctl.sinusoid(1.0, 0.3) + ctl.sinusoid(0.4, 1.1, 1.0)
+                       + ctl.sinusoid(0.2, 2.3, 2.0))
 
 
 def _record(controller, duration: float) -> Run:
@@ -68,3 +72,20 @@ def test_asymmetric_on_a_one_way_record_names_the_backward_parameters(one_way, t
     err = capsys.readouterr().err
     assert err.count("\n") == 1, err
     assert "viscous_neg and coulomb_neg act only while it slides backward" in err, err
+
+
+def test_idim_iv_on_a_record_shorter_than_its_window_says_the_minimum():
+    # before: IndexError (the rest window outgrew the record); 49 + 2*(20 + 40) + 1 samples
+    run = _record(TONES, 0.12)
+    with pytest.raises(ValueError, match=r"too short for the IDIM recipe's filters: 120 samples, "
+                                         r"at least 170 needed \(0\.17 s"):
+        I.idim_iv(run)
+
+
+def test_idim_iv_with_too_few_rows_clear_of_rest_says_so():
+    # before: numpy's "Singular matrix" (no row of the 0.25 s record is clear of rest)
+    run = _record(TONES, 0.25)
+    with pytest.raises(ValueError, match=r"IDIM-IV: \d of the record's 21 decimated rows lie "
+                                         r"clear of rest .* fewer than the 5 needed to identify "
+                                         r"inertia, viscous, coulomb, offset"):
+        I.idim_iv(run)

@@ -137,12 +137,27 @@ def filter_reach(run: Run, recipe: IdimRecipe) -> int:
     return int(np.ceil(2.0 / (recipe.cutoff * run.sample_time))) + 4 * recipe.decimation
 
 
+def check_length(run: Run, recipe: IdimRecipe) -> None:
+    """Refuse a record shorter than the recipe's window: its start border and the filters'
+    reach (:func:`filter_reach`) each side of one row, naming the minimum."""
+    reach = filter_reach(run, recipe)
+    need = recipe.border + 2 * reach + 1
+    if run.n_samples < need:
+        raise ValueError(f"the record is too short for the IDIM recipe's filters: "
+                         f"{run.n_samples} samples, at least {need} needed "
+                         f"({need * run.sample_time:.3g} s at this sample rate: {recipe.border} "
+                         f"dropped at the start, and the filters reach {reach} samples each side "
+                         f"of a row, the {recipe.cutoff:g} Hz Butterworth's 2/cutoff and the "
+                         f"decimation by {recipe.decimation}'s 4*{recipe.decimation})")
+
+
 def idim_observations(run, model, offset, recipe: IdimRecipe) -> IdimObservations:
     """The IDIM-LS observations of ``run``: Butterworth + central differences, border
     dropped, regressor columns and torque decimated (the EMPS recipe)."""
     if v.choice("model", model, MODELS) not in LINEAR_MODELS:
         raise ValueError(f"model: the IDIM-LS recipe decimates regressor columns, so it needs a "
                          f"linear model ({', '.join(LINEAR_MODELS)}), not {model!r}")
+    check_length(run, recipe)
     est = butterworth_central(run.t, run.position, cutoff=recipe.cutoff, order=recipe.filter_order)
     sl = slice(recipe.border, None)
     X0 = regressor(model, est.velocity[sl], est.acceleration[sl], offset=offset)
