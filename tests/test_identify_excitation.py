@@ -1,13 +1,14 @@
-"""What a record excites (audit C, items 1 and 8).
+"""What a record excites, and what a fit may call identified (audit C, items 1, 4 and 8).
 
 Records come from the package's sampled loop on the paper's actuator at 1 kHz (Coulomb +
-viscous, offset 0).
+viscous, offset 0), or are written by hand from a friction law on an analytic trajectory.
 Every test failed before its fix: a one-way record gave the default recipe a Coulomb level
 and an offset of +-45 N*m to 0.01 % (truth 0.144 and 0); idim_iv raised an IndexError or
 numpy's "Singular matrix"; the asymmetric model on a one-way record said "scale holds NaN or
-inf".
+inf"; a Stribeck fit printed a breakaway below the Coulomb level as identified.
 """
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -89,3 +90,42 @@ def test_idim_iv_with_too_few_rows_clear_of_rest_says_so():
                                          r"clear of rest .* fewer than the 5 needed to identify "
                                          r"inertia, viscous, coulomb, offset"):
         I.idim_iv(run)
+
+
+def _dip_csv(path, static=0.1, coulomb=0.2):
+    # a Stribeck law whose "breakaway" lies below its Coulomb level, on an analytic
+    # trajectory: the fit recovers the dip, which no model file can hold
+    t = np.arange(0.0, 10.0, 0.002)
+    q = 1.2 * np.sin(1.3 * t)
+    w = 1.2 * 1.3 * np.cos(1.3 * t)
+    a = -1.2 * 1.3 ** 2 * np.sin(1.3 * t)
+    tau = (0.0046 * a + 0.0169 * w
+           + np.sign(w) * (coulomb + (static - coulomb) * np.exp(-(w / 0.3) ** 2)))
+    return Run(t=t, torque=tau, position=q, source="dip").to_csv(path)
+
+
+def test_a_breakaway_below_coulomb_is_flagged_where_it_is_printed(tmp_path, capsys):
+    path = _dip_csv(tmp_path / "dip.csv")
+    assert main(["identify", str(path), "--recipe", "plain", "--model", "stribeck",
+                 "--json"]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    p = out["parameters"]
+    assert p["static"]["value"] < p["coulomb"]["value"]  # the law's dip, recovered
+    assert not p["static"]["identified"] and "non-physical" in p["static"]["note"]
+    assert [w for w in out["warnings"] if w.startswith("static: breakaway level")]
+    assert "warning: static: breakaway level" in captured.err
+    # the table says it next to the estimate, and --out refuses the same fit
+    assert main(["identify", str(path), "--recipe", "plain", "--model", "stribeck"]) == 0
+    row = [ln for ln in capsys.readouterr().out.splitlines() if "Parameter static " in ln]
+    assert "non-physical: not identified by this record" in row[0]
+    assert main(["identify", str(path), "--recipe", "plain", "--model", "stribeck", "--out",
+                 str(tmp_path / "m.json")]) == 2
+    assert "lies below the Coulomb level" in capsys.readouterr().err
+
+
+def test_a_breakaway_above_coulomb_is_not_flagged(tmp_path):
+    res = I.identify_run(Run.from_csv(_dip_csv(tmp_path / "rise.csv", static=0.3)),
+                         model="stribeck")
+    assert res.parameters["static"] > res.parameters["coulomb"]
+    assert not res.warnings and res.identified[res.names.index("static")]

@@ -46,6 +46,7 @@ __all__ = [
     "regressor",
     "inverse_dynamics",
     "check_directions",
+    "implausible",
 ]
 
 #: Parameter names of each model (``offset`` included where it is the default).
@@ -232,3 +233,21 @@ def check_directions(names, forward: int, backward: int, need: int, reach: str) 
                      f"{counts['backward']} backward, and a direction needs {need} ({reach}): "
                      + "; ".join(why) + f"; {hint}")
 
+
+def implausible(model: str | None, parameters: Mapping) -> dict:
+    """Name -> why its estimate is not physical, for the estimates of a fit of ``model``.
+
+    A Stribeck curve falls from its breakaway level ``static`` to the Coulomb level: a
+    ``static`` below ``coulomb`` is a dip the law cannot mean (a model file refuses it).
+
+    Examples
+    --------
+    >>> implausible("stribeck", dict(coulomb=0.2, static=0.1))
+    {'static': 'breakaway level 0.1 below the Coulomb level 0.2, non-physical'}
+    """
+    if model != "stribeck" or not {"static", "coulomb"} <= set(parameters):
+        return {}
+    fs, fc = float(parameters["static"]), float(parameters["coulomb"])
+    if fs >= fc:
+        return {}
+    return {"static": f"breakaway level {fs:.4g} below the Coulomb level {fc:.4g}, non-physical"}
