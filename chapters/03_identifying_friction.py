@@ -205,6 +205,9 @@ X5 = np.column_stack([X[:, 0], X[:, 1], sgn * (1 - est_st), sgn * est_st, X[:, 3
 theta5, *_ = np.linalg.lstsq(X5, y, rcond=None)
 print("with v_s fixed, lstsq gives (I, b, Fc, Fs, o) =", np.array2string(theta5, precision=5))
 assert not st_fit.at_bound.any() and st_fit.parameters["static"] < st_fit.parameters["coulomb"]
+# the fit says so itself: static is not identified, with a warning (a model file refuses it)
+assert not st_fit.identified[i] and st_fit.warnings[0].startswith("static: breakaway level")
+print(st_fit.warnings[0])
 assert np.allclose(theta5, st_fit.estimates[[0, 1, 2, 3, 5]], rtol=1e-4, atol=1e-7)
 
 # %% [markdown]
@@ -213,8 +216,9 @@ assert np.allclose(theta5, st_fit.estimates[[0, 1, 2, 3, 5]], rtol=1e-4, atol=1e
 # worst.  The errors there are *systematic*, so the standard deviations, which
 # assume independent noise, do not warn us: the static level misses by many of its
 # own standard deviations, and even lands below the Coulomb level (a Stribeck curve
-# upside down, which the bounds $F_s \ge 0$, $v_s > 0$ do not forbid).  A standard
-# deviation measures noise, never bias.
+# upside down, which the bounds $F_s \ge 0$, $v_s > 0$ do not forbid; the fit flags that
+# one as non-physical, and a model file refuses it).  A standard deviation measures noise,
+# never bias.
 #
 # ## 4. Static friction needs its own experiment
 #

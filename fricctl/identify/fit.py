@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 
 from .. import _validate as v
 from ..units import units as units_of
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
-from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
+from .models import LINEAR_MODELS, MODELS, implausible, lower_bounds, model_names, regressor
 
 __all__ = ["fit_friction"]
 
@@ -113,6 +114,11 @@ def fit_friction(velocity, acceleration, torque, *, model: str = "coulomb_viscou
     x0 = np.array([float(start[nm]) for nm in names])
     lower[names.index("stribeck_velocity")] = 1e-6 * vmax
     scale = np.maximum(np.abs(x0), 1e-3 * np.max(np.abs(x0)))
-    return fit_least_squares(_stribeck_prediction, np.column_stack([a, w]), y, names=names,
-                             initial=x0, lower=lower, upper=upper, scale=scale, model=model,
-                             units=units, solver_options=solver_options)
+    res = fit_least_squares(_stribeck_prediction, np.column_stack([a, w]), y, names=names,
+                            initial=x0, lower=lower, upper=upper, scale=scale, model=model,
+                            units=units, solver_options=solver_options)
+    # a value the law cannot mean is said where the estimate is shown (a model file refuses it)
+    bad = implausible(model, res.parameters)
+    return replace(res, warnings=res.warnings + tuple(
+        f"{n}: {why} (a Stribeck curve falls from breakaway to the Coulomb level); no model "
+        f"file can be written from this fit" for n, why in bad.items()))

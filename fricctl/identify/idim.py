@@ -26,7 +26,8 @@ from ..datasets import Run
 from ..estimation import at_rest, butterworth_central, decimate, estimate
 from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
-from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
+from .models import (LINEAR_MODELS, MODELS, check_directions, lower_bounds, model_names,
+                     regressor)
 
 __all__ = ["identify_run", "IdimRecipe", "IdimObservations", "idim_observations", "idim_ls",
            "CrossValidation", "cross_validate"]
@@ -130,12 +131,33 @@ class IdimObservations:
     """The torque (force) decimated the same way [N*m] or [N]."""
 
 
+def filter_reach(run: Run, recipe: IdimRecipe) -> int:
+    """Samples each side of a sample over which the recipe's filters spread it: the
+    Butterworth's ``2/cutoff`` and the decimation filter's ``4*factor`` [samples]."""
+    return int(np.ceil(2.0 / (recipe.cutoff * run.sample_time))) + 4 * recipe.decimation
+
+
+def check_length(run: Run, recipe: IdimRecipe) -> None:
+    """Refuse a record shorter than the recipe's window: its start border and the filters'
+    reach (:func:`filter_reach`) each side of one row, naming the minimum."""
+    reach = filter_reach(run, recipe)
+    need = recipe.border + 2 * reach + 1
+    if run.n_samples < need:
+        raise ValueError(f"the record is too short for the IDIM recipe's filters: "
+                         f"{run.n_samples} samples, at least {need} needed "
+                         f"({need * run.sample_time:.3g} s at this sample rate: {recipe.border} "
+                         f"dropped at the start, and the filters reach {reach} samples each side "
+                         f"of a row, the {recipe.cutoff:g} Hz Butterworth's 2/cutoff and the "
+                         f"decimation by {recipe.decimation}'s 4*{recipe.decimation})")
+
+
 def idim_observations(run, model, offset, recipe: IdimRecipe) -> IdimObservations:
     """The IDIM-LS observations of ``run``: Butterworth + central differences, border
     dropped, regressor columns and torque decimated (the EMPS recipe)."""
     if v.choice("model", model, MODELS) not in LINEAR_MODELS:
         raise ValueError(f"model: the IDIM-LS recipe decimates regressor columns, so it needs a "
                          f"linear model ({', '.join(LINEAR_MODELS)}), not {model!r}")
+    check_length(run, recipe)
     est = butterworth_central(run.t, run.position, cutoff=recipe.cutoff, order=recipe.filter_order)
     sl = slice(recipe.border, None)
     X0 = regressor(model, est.velocity[sl], est.acceleration[sl], offset=offset)
@@ -174,6 +196,14 @@ def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     obs = idim_observations(run, model, offset, recipe)
     X, y = obs.decimated, obs.torque
     names = model_names(model, offset)
+    # a direction the record barely slides in gives a column that differs from a constant
+    # (or from zero) only by the filters' smear: refused by name, before the fit reads it
+    w = butterworth_central(run.t, run.position, cutoff=recipe.cutoff,
+                            order=recipe.filter_order).velocity[recipe.border:]
+    sliding = ~at_rest(run.position)[recipe.border:]
+    check_directions(names, np.sum(sliding & (w > 0)), np.sum(sliding & (w < 0)),
+                     filter_reach(run, recipe), f"the reach of its {recipe.cutoff:g} Hz "
+                     f"Butterworth and its decimation by {recipe.decimation}")
     res = fit_least_squares(linear_prediction, X, y, names=names,
                             initial=np.zeros(len(names)), lower=lower_bounds(names),
                             scale=(np.linalg.norm(y) or 1.0) / np.linalg.norm(X, axis=0),

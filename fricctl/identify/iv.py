@@ -33,7 +33,7 @@ import numpy as np
 from .. import _validate as v
 from ..controllers import Controller
 from ..datasets import Run
-from .idim import IdimRecipe, idim_ls, idim_observations
+from .idim import IdimRecipe, check_length, filter_reach, idim_ls, idim_observations
 from .least_squares import IdentificationResult
 from .models import LINEAR_MODELS, MODELS, model_names
 from .simulation import initial_velocity, record_loop, simulate_record
@@ -110,6 +110,12 @@ def idim_iv(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     names = model_names(model, offset)
     obs = idim_observations(run, model, offset, recipe)
     keep = moving_rows(run, recipe)
+    if keep.sum() <= len(names):  # Z^T X would be singular: say what the record lacks
+        raise ValueError(f"IDIM-IV: {int(keep.sum())} of the record's {keep.size} decimated "
+                         f"rows lie clear of rest (no sample at rest within "
+                         f"{filter_reach(run, recipe)} samples, the filters' reach), fewer than "
+                         f"the {len(names) + 1} needed to identify {', '.join(names)}; record "
+                         f"longer or with fewer stops")
     X, y = obs.decimated[keep], obs.torque[keep]
     colscale = (np.linalg.norm(y) or 1.0) / np.linalg.norm(X, axis=0)
     w0 = initial_velocity(run, recipe.cutoff, recipe.filter_order)
@@ -129,7 +135,13 @@ def idim_iv(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
         # a square p x p system, the IV estimate itself: numpy's LU solve is exact here,
         # there is nothing to optimise (no bounds: a negative magnitude is flagged below,
         # not clipped, as clipping would make the estimate inconsistent)
-        new = np.linalg.solve(Z.T @ X, Z.T @ y)
+        try:
+            new = np.linalg.solve(Z.T @ X, Z.T @ y)
+        except np.linalg.LinAlgError:
+            raise ValueError(f"IDIM-IV: the instruments of iterate {iteration} do not excite "
+                             f"all of {', '.join(names)} (Z^T X is singular): the simulated "
+                             f"motion lacks what the record shows; use --recipe didim or the "
+                             f"default recipe") from None
         change = np.linalg.norm((new - theta) / colscale) / np.linalg.norm(new / colscale)
         previous, theta = theta, new
         if change < tolerance:
@@ -170,9 +182,10 @@ def moving_rows(run: Run, recipe: IdimRecipe) -> np.ndarray:
     """
     from ..estimation import at_rest
 
+    check_length(run, recipe)  # else the window below outgrows the record (an IndexError)
     q = np.asarray(run.position)[recipe.border:]
     rest = at_rest(q).astype(float)
-    reach = int(np.ceil(2.0 / (recipe.cutoff * run.sample_time))) + 4 * recipe.decimation
+    reach = filter_reach(run, recipe)
     near = np.convolve(rest, np.ones(2 * reach + 1), mode="same") > 0
     n, f = q.size, recipe.decimation
     first = f - (f * -(-n // f) - n) - 1  # decimate's first kept sample (MATLAB's nbeg - 1)

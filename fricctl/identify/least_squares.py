@@ -21,7 +21,7 @@ import numpy as np
 from .. import _validate as v
 from .._json import finite_or_none
 from ..units import units as units_of
-from .models import inverse_dynamics, parameter_unit
+from .models import implausible, inverse_dynamics, parameter_unit
 
 __all__ = ["IdentificationResult", "fit_least_squares", "linear_prediction"]
 
@@ -103,17 +103,24 @@ class IdentificationResult:
         """Per parameter: not at a bound and its standard deviation below its magnitude.
 
         A parameter whose 1-sigma interval contains 0, or that sits on a bound, is not
-        identified by this record (the record does not excite it, or contradicts the model).
+        identified by this record (the record does not excite it, or contradicts the model);
+        nor is one whose value the model cannot mean (:func:`~fricctl.identify.models.implausible`:
+        a breakaway level below the Coulomb level).
         """
+        bad = implausible(self.model, self.parameters)
         with np.errstate(invalid="ignore"):
-            return (~self.at_bound) & (self.std < np.abs(self.estimates))
+            return ((~self.at_bound) & (self.std < np.abs(self.estimates))
+                    & np.array([n not in bad for n in self.names], dtype=bool))
 
     def notes(self) -> tuple:
         """Per parameter: why it is not identified by this record, or ``""``."""
-        out = []
-        for ab, ok, s, x in zip(self.at_bound, self.identified, self.std, self.estimates):
+        out, bad = [], implausible(self.model, self.parameters)
+        for n, ab, ok, s, x in zip(self.names, self.at_bound, self.identified, self.std,
+                                   self.estimates):
             if ab:
                 out.append("at its bound: not identified by this record")
+            elif n in bad:
+                out.append(f"{bad[n]}: not identified by this record")
             elif not ok:
                 out.append(f"std {s:.3g} >= |value| {abs(x):.3g}: not identified by this record")
             else:

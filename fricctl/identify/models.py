@@ -45,6 +45,8 @@ __all__ = [
     "lower_bounds",
     "regressor",
     "inverse_dynamics",
+    "check_directions",
+    "implausible",
 ]
 
 #: Parameter names of each model (``offset`` included where it is the default).
@@ -178,3 +180,74 @@ def inverse_dynamics(model: str, parameters: Mapping, velocity, acceleration) ->
                    + np.where(neg, p["viscous_neg"] * w - p["coulomb_neg"], 0.0)
     excess = (p["static"] - p["coulomb"]) * np.exp(-(w / p["stribeck_velocity"]) ** 2)
     return tau + p["viscous"] * w + s * (p["coulomb"] + excess)
+
+
+def check_directions(names, forward: int, backward: int, need: int, reach: str) -> None:
+    """Refuse a fit of ``names`` on a record that slides one way only.
+
+    While the joint slides one way, a Coulomb level and a constant offset are one constant
+    torque: no record of that motion tells them apart; and the other direction's
+    coefficients of the asymmetric model never act.  A direction counts as excited when it
+    holds at least ``need`` sliding samples: with fewer, its columns differ from a constant
+    only by what the recipe's filters smear into them, and a fit that separates them reports
+    numbers the record cannot vouch for.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Parameter names of the fit (:func:`model_names`).
+    forward, backward : int
+        Sliding samples the fit reads in each direction [samples].
+    need : int
+        Fewest sliding samples that excite a direction, decided by the record's own
+        processing (its filters' reach) [samples].
+    reach : str
+        What ``need`` is, for the message.
+
+    Raises
+    ------
+    ValueError
+        A direction below ``need`` where ``names`` needs it, naming the parameters and why.
+    """
+    counts = {"forward": int(forward), "backward": int(backward)}
+    lacking = [d for d, c in counts.items() if c < need]
+    if not lacking:
+        return
+    suffix = {"forward": "_pos", "backward": "_neg"}
+    why = [f"{' and '.join(own)} act only while it slides {d}" for d in lacking
+           if (own := [n for n in names if n.endswith(suffix[d])])]
+    if "offset" in names:
+        present = [d for d in counts if d not in lacking] or list(counts)
+        levels = [n for n in names if n == "coulomb"
+                  or any(n == "coulomb" + suffix[d] for d in present)]
+        if levels:
+            why.append(f"{' and '.join(levels)} and offset are one constant torque while it "
+                       f"slides {' or '.join(present)} only, and cannot be told apart")
+    if not why:
+        return
+    hint = ("record motion both ways, or fit without the offset (--no-offset) if the drive "
+            "has none" if "offset" in names and not any(n.endswith(("_pos", "_neg"))
+                                                        for n in names)
+            else "record motion both ways")
+    raise ValueError(f"the record slides {counts['forward']} samples forward and "
+                     f"{counts['backward']} backward, and a direction needs {need} ({reach}): "
+                     + "; ".join(why) + f"; {hint}")
+
+
+def implausible(model: str | None, parameters: Mapping) -> dict:
+    """Name -> why its estimate is not physical, for the estimates of a fit of ``model``.
+
+    A Stribeck curve falls from its breakaway level ``static`` to the Coulomb level: a
+    ``static`` below ``coulomb`` is a dip the law cannot mean (a model file refuses it).
+
+    Examples
+    --------
+    >>> implausible("stribeck", dict(coulomb=0.2, static=0.1))
+    {'static': 'breakaway level 0.1 below the Coulomb level 0.2, non-physical'}
+    """
+    if model != "stribeck" or not {"static", "coulomb"} <= set(parameters):
+        return {}
+    fs, fc = float(parameters["static"]), float(parameters["coulomb"])
+    if fs >= fc:
+        return {}
+    return {"static": f"breakaway level {fs:.4g} below the Coulomb level {fc:.4g}, non-physical"}

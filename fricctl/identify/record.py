@@ -62,7 +62,7 @@ from ..datasets import Run
 from .didim import didim
 from .idim import IdimRecipe
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
-from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names
+from .models import LINEAR_MODELS, MODELS, check_directions, lower_bounds, model_names
 from .signals import Signals, estimate_signals
 from .simulation import RecordLoop, initial_velocity, simulate_record
 from .stops import EndStops, end_stops
@@ -113,6 +113,13 @@ def equation_error(sig: Signals, model: str = "coulomb_viscous",
     for i, s_ in enumerate(sigs):
         v.instance(f"sig[{i}]", s_, Signals, "the record's Signals (fricctl.identify.signals)")
     names = model_names(model, offset)
+    # the columns are low-passed with the samples at rest zeroed, so on a one-way record the
+    # sign's column differs from the constant's only by the filter's smear at the record's
+    # edges (1e-6): far from the rank test, and the fit "separates" Coulomb and offset
+    need = int(math.ceil(2.0 / (sigs[0].cutoff * sigs[0].ts)))
+    check_directions(names, sum(int(np.sum(s_.moving & (s_.seff > 0))) for s_ in sigs),
+                     sum(int(np.sum(s_.moving & (s_.seff < 0))) for s_ in sigs), need,
+                     f"two periods of its {sigs[0].cutoff:.3g} Hz low-pass, the filter's reach")
     X = np.vstack([record_columns(s_, model, offset)[s_.moving] for s_ in sigs])
     y = np.concatenate([s_.torque_target(0)[s_.moving] for s_ in sigs])
     scale = (np.linalg.norm(y) or 1.0) / np.maximum(np.linalg.norm(X, axis=0), 1e-300)
