@@ -175,6 +175,24 @@ def _fit_again(args, record, controller, estimator):
                         border=50 if args.border is None else args.border)
 
 
+def _poor_fit(result) -> list:
+    """The recipe's own fit (its report's ``Fit (%)``) below the held-out check's
+    :data:`~fricctl.identify.record.POOR_FIT_PERCENT`: the same threshold, as it is the same
+    measure (the share of the fitted signal's variation the model explains, normalised RMSE)
+    of the signal the recipe fits -- the torque for an equation error, the simulated output
+    for DIDIM.  A record mostly at rest, whose holding torques no friction law explains, gives
+    one with a biased estimate and standard errors that assume the model holds."""
+    from ..identify.record import POOR_FIT_PERCENT
+
+    if result.fit_percent >= POOR_FIT_PERCENT:
+        return []
+    what = ("its simulated output (simulation error)" if result.method == "DIDIM"
+            else "the torque (equation error)")
+    return [f"poor fit: {result.fit_percent:.3g} % of {what} (< {POOR_FIT_PERCENT:g} %): the "
+            f"model explains little of this record (samples at rest, noise, or an effect it "
+            f"lacks), and its standard errors assume it does"]
+
+
 def _flagged(model, result):
     """The model with each warning in the provenance note of the values it concerns: a
     warning that starts with a parameter's name concerns that parameter, any other all."""
@@ -198,11 +216,12 @@ def _flagged(model, result):
 
 def run(args) -> int:
     import sys
+    from dataclasses import replace
 
     from ..controllers import constant, pd_control
     from ..datasets import load_record
     from ..identify import LINEAR_MODELS, didim, identify_record, identify_run, idim_iv, idim_ls
-    from ..identify.record import held_out_halves
+    from ..identify.record import held_out_halves, held_out_warnings
     from ._output import about, check_figure, check_outputs, json_text
 
     check_figure("--figure", args.figure)  # before the fit: matplotlib would refuse it after
@@ -265,6 +284,9 @@ def run(args) -> int:
         held = None
         if ident is None and args.model in LINEAR_MODELS and not args.no_validation:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
+        if ident is None:  # the default recipe's result carries them already
+            result = replace(result, warnings=tuple(dict.fromkeys(
+                result.warnings + tuple(held_out_warnings(held) + _poor_fit(result)))))
     # before any output: a fit that gives no model file is one error line, not warnings first
     model = None if args.out is None else _model_file(result, record, args)
     for w in result.warnings:
@@ -276,9 +298,6 @@ def run(args) -> int:
         fig = (plot_held_out(ident) if ident is not None else plot_validation(
             held, result=result, title=f"{result.method} ({result.model}): each half "
                                        f"replayed with the other half's estimate"))
-    if held is not None and held.failure:
-        print(f"fricctl identify: warning: held-out validation not run: {held.failure}",
-              file=sys.stderr)
     if fig is not None:
         from ._output import save_figure
 
