@@ -27,6 +27,7 @@ from ..estimation import at_rest, butterworth_central, decimate, estimate
 from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import LINEAR_MODELS, MODELS, lower_bounds, model_names, regressor
+from .uncertainty import block_covariance
 
 __all__ = ["identify_run", "IdimRecipe", "IdimObservations", "idim_observations", "idim_ls",
            "CrossValidation", "cross_validate"]
@@ -89,8 +90,14 @@ def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butte
     if keep.sum() < 10:
         raise ValueError("no motion: fewer than 10 samples that move (non-zero estimated velocity, "
                          "encoder not at rest)")
-    return fit_friction(w[keep], a[keep], y[keep], model=model, offset=offset, initial=initial,
-                        units=run.units)
+    res = fit_friction(w[keep], a[keep], y[keep], model=model, offset=offset, initial=initial,
+                       units=run.units)
+    if model not in LINEAR_MODELS:
+        return res
+    # the filtered motion against the raw torque leaves a coloured residual, for which the
+    # textbook std is optimistic: the block covariance's where it is the larger (audit C 6)
+    X = regressor(model, w[keep], a[keep], offset=offset)
+    return replace(res, std=np.maximum(res.std, block_covariance(X, res.residual).std))
 
 
 @dataclass(frozen=True, kw_only=True)
