@@ -73,7 +73,11 @@ def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butte
     filtering estimators: a Butterworth velocity is never exactly zero, and the rest
     samples left in pair holding torques with small velocities of either sign, which
     pulls the Coulomb level down (by half on the paper's bench, chapter 3).  No
-    decimation (plain least squares); see :func:`idim_ls` for the full EMPS recipe.
+    decimation (plain least squares); see :func:`idim_ls` for the full EMPS recipe.  The
+    standard errors of a linear model are the block covariance's
+    (:func:`~fricctl.identify.uncertainty.block_covariance`) where larger than the white
+    formula's: the filtered motion against the raw torque leaves a coloured residual.  They
+    do not hold the estimator's own bias (``fricctl identify --recipe plain`` checks it).
     """
     _run(run)
     border = v.integer("border", border, low=0)
