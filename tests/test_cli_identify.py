@@ -320,3 +320,26 @@ def test_plain_standard_errors_cover_the_truth(tmp_path, capsys, rate):
         assert all(abs(x) < 3 for x in z.values()), (seed, z)
         flagged = [w for w in obj["warnings"] if "lower bounds of the bias" in w]
         assert bool(flagged) == (rate == 5000.0), obj["warnings"]
+
+
+@pytest.mark.parametrize("recipe", ["auto", "idim_ls"])
+def test_a_python_warning_on_the_way_is_in_the_json(tmp_path, capsys, monkeypatch, recipe):
+    # audit C 3: --help says every warning goes into the JSON; one raised by a library on the
+    # way (numpy's "divide by zero" in a half with no motion) went to stderr only
+    import warnings
+
+    from fricctl import identify
+
+    name = "identify_record" if recipe == "auto" else "idim_ls"
+    fit = getattr(identify, name)
+
+    def warned(*args, **kwargs):
+        warnings.warn("something numpy said", RuntimeWarning, stacklevel=1)
+        return fit(*args, **kwargs)
+
+    monkeypatch.setattr(identify, name, warned)
+    path = _synthetic_csv(tmp_path / "run.csv")
+    assert main(["identify", str(path), "--recipe", recipe, "--json", "--no-validation"]) == 0
+    cap = capsys.readouterr()
+    assert _warned(cap.err).count("something numpy said") == 1
+    assert "something numpy said" in json.loads(cap.out)["warnings"]

@@ -285,6 +285,7 @@ def _flagged(model, result):
 
 def run(args) -> int:
     import sys
+    import warnings
     from dataclasses import replace
 
     from ..controllers import constant, pd_control
@@ -327,7 +328,9 @@ def run(args) -> int:
     controller = None
     if args.controller is not None:
         controller = pd_control(*args.controller, constant(0.0))
-    with about(args.run):
+    with about(args.run), warnings.catch_warnings(record=True) as caught:
+        # a Python warning raised on the way (numpy's...) is one of the result's, so that the
+        # JSON holds every warning printed
         record = load_record(args.run, units=args.units)
         if record.encoder_grid() is None and record.position.min() == record.position.max():
             # a valid record (a joint stuck below breakaway), but nothing to identify from
@@ -358,6 +361,11 @@ def run(args) -> int:
         if ident is None:  # the default recipe's result carries them already
             result = replace(result, warnings=tuple(dict.fromkeys(
                 result.warnings + tuple(held_out_warnings(held) + _poor_fit(result)))))
+    raised = [str(w.message).splitlines()[0] or w.category.__name__ for w in caught]
+    if raised:
+        result = replace(result, warnings=tuple(dict.fromkeys(result.warnings + tuple(raised))))
+        if ident is not None:
+            ident = replace(ident, result=result)
     # before any output: a fit that gives no model file is one error line, not warnings first
     model = None if args.out is None else _model_file(result, record, args)
     for w in result.warnings:
