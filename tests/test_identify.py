@@ -292,3 +292,34 @@ def test_an_estimate_of_zero_with_no_std_prints_no_nan_and_warns_nothing():
         assert np.isnan(zero.relative_std[i])
     line = next(x for x in text.splitlines() if x.startswith("Parameter viscous"))
     assert "nan" not in line and " - " in line
+
+
+def test_identify_run_std_holds_for_a_coloured_residual():
+    # audit C 6: identify_run's std was sigma*sqrt(diag((X^T X)^-1)), which assumes a white
+    # residual; the filtered motion against the raw torque leaves one correlated over many
+    # samples (the PD loop's dither at 5 kHz), and the std was then several times too small.
+    # Reference: the same samples refitted by fit_friction (the white formula), and the block
+    # covariance of fricctl.identify.uncertainty on its residual
+    from dataclasses import replace
+
+    from fricctl import controllers as ctl, friction as fr
+    from fricctl.estimation import at_rest, estimate
+    from fricctl.identify.uncertainty import block_covariance
+    from fricctl.params import paper_actuator
+    from fricctl.simulate import simulate
+
+    p = paper_actuator()
+    loop = ctl.pd_control(2.0, 0.05, ctl.sinusoid(1.0, 0.4) + ctl.sinusoid(0.3, 1.7))
+    run = simulate(replace(p, sample_time=2e-4), loop, duration=4.0,
+                   friction=fr.Viscous(p.viscous) + fr.Coulomb(p.coulomb), noise_std=0.005,
+                   rng=np.random.default_rng(1)).to_run()
+    res = I.identify_run(run)
+    est = estimate(run.t, run.position, "butterworth_central")
+    sl = slice(50, run.n_samples - 50)
+    w, a = est.velocity[sl], est.acceleration[sl]
+    keep = ~at_rest(run.position, guard=2)[sl] & (w != 0)
+    white = I.fit_friction(w[keep], a[keep], run.torque[sl][keep])
+    np.testing.assert_allclose(res.estimates, white.estimates, rtol=1e-9)
+    block = block_covariance(I.regressor("coulomb_viscous", w[keep], a[keep]), white.residual)
+    np.testing.assert_allclose(res.std, np.maximum(white.std, block.std), rtol=1e-9)
+    assert res.std[0] > 1.5 * white.std[0]  # the inertia's (1.7x here): the residual is coloured

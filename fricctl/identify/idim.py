@@ -28,6 +28,7 @@ from .fit import fit_friction
 from .least_squares import IdentificationResult, fit_least_squares, linear_prediction
 from .models import (LINEAR_MODELS, MODELS, check_directions, lower_bounds, model_names,
                      regressor)
+from .uncertainty import block_covariance
 
 __all__ = ["identify_run", "IdimRecipe", "IdimObservations", "idim_observations", "idim_ls",
            "CrossValidation", "cross_validate"]
@@ -73,7 +74,11 @@ def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butte
     filtering estimators: a Butterworth velocity is never exactly zero, and the rest
     samples left in pair holding torques with small velocities of either sign, which
     pulls the Coulomb level down (by half on the paper's bench, chapter 3).  No
-    decimation (plain least squares); see :func:`idim_ls` for the full EMPS recipe.
+    decimation (plain least squares); see :func:`idim_ls` for the full EMPS recipe.  The
+    standard errors of a linear model are the block covariance's
+    (:func:`~fricctl.identify.uncertainty.block_covariance`) where larger than the white
+    formula's: the filtered motion against the raw torque leaves a coloured residual.  They
+    do not hold the estimator's own bias (``fricctl identify --recipe plain`` checks it).
     """
     _run(run)
     border = v.integer("border", border, low=0)
@@ -90,8 +95,14 @@ def identify_run(run, *, model: str = "coulomb_viscous", estimator: str = "butte
     if keep.sum() < 10:
         raise ValueError("no motion: fewer than 10 samples that move (non-zero estimated velocity, "
                          "encoder not at rest)")
-    return fit_friction(w[keep], a[keep], y[keep], model=model, offset=offset, initial=initial,
-                        units=run.units)
+    res = fit_friction(w[keep], a[keep], y[keep], model=model, offset=offset, initial=initial,
+                       units=run.units)
+    if model not in LINEAR_MODELS:
+        return res
+    # the filtered motion against the raw torque leaves a coloured residual, for which the
+    # textbook std is optimistic: the block covariance's where it is the larger (audit C 6)
+    X = regressor(model, w[keep], a[keep], offset=offset)
+    return replace(res, std=np.maximum(res.std, block_covariance(X, res.residual).std))
 
 
 @dataclass(frozen=True, kw_only=True)

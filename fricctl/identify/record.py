@@ -69,6 +69,7 @@ from .stops import EndStops, end_stops
 from .uncertainty import block_covariance
 
 __all__ = ["identify_record", "equation_error", "record_columns", "validate", "held_out_halves",
+           "held_out_warnings",
            "RecordIdentification", "Validation", "DISAGREEMENT_SIGMAS", "POOR_FIT_PERCENT",
            "POOR_INERTIA_RELATIVE_STD", "JACKKNIFE_BLOCKS"]
 
@@ -471,14 +472,22 @@ def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
             msg += (f", or take the equation error's {s.estimates[i]:.5g} +- {s.std[i]:.2g} "
                     f"if the encoder is fine enough (it agrees within the standard errors)")
         out.append(msg)
-    if held is not None:
-        if held.failure:
-            out.append(f"held-out validation not run: {held.failure}")
-        elif not held.simulation_fit >= POOR_FIT_PERCENT:
-            out.append(f"poor held-out simulation fit: {held.simulation_fit:.3g} % of the "
-                       f"position (< {POOR_FIT_PERCENT:g} %); the model misses what drives "
-                       f"this record (fricctl diagnose names causes)")
-    return out
+    return out + held_out_warnings(held)
+
+
+def held_out_warnings(held) -> list:
+    """What a held-out :class:`Validation` (or None: not asked) cannot vouch for: that it was
+    not run, or a simulation fit below :data:`POOR_FIT_PERCENT` -- the same sentence for
+    every recipe of ``fricctl identify``."""
+    if held is None:
+        return []
+    if held.failure:
+        return [f"held-out validation not run: {held.failure}"]
+    if not held.simulation_fit >= POOR_FIT_PERCENT:
+        return [f"poor held-out simulation fit: {held.simulation_fit:.3g} % of the position "
+                f"(< {POOR_FIT_PERCENT:g} %); the model misses what drives this record "
+                f"(fricctl diagnose names causes)"]
+    return []
 
 
 def _piece(run: Run, lo: int, hi: int) -> Run:
