@@ -270,12 +270,16 @@ def test_a_record_mostly_at_rest_is_flagged_in_the_json(tmp_path, capsys):
     from fricctl.identify.record import POOR_FIT_PERCENT
 
     t = np.arange(0.0, 10.0, 0.002)
-    s = np.clip((t - 4.75) / 0.5, 0.0, 1.0)  # one move, from 4.75 to 5.25 s
-    q = 0.5 * (s - np.sin(2 * np.pi * s) / (2 * np.pi))
-    w = np.where((s > 0) & (s < 1), 0.5 / 0.5 * (1 - np.cos(2 * np.pi * s)), 0.0)
-    a = np.where((s > 0) & (s < 1), 0.5 / 0.25 * 2 * np.pi * np.sin(2 * np.pi * s), 0.0)
-    hold = np.where(t < 4.75, 0.05, -0.1)  # what a PD holds against stiction, below breakaway
-    tau = np.where(w > 0, 0.0046 * a + 0.0169 * w + 0.144, hold)
+    q, w, a = np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)
+    for start, way in ((3.25, 1.0), (6.25, -1.0)):  # one move each way, 0.5 s each
+        s = np.clip((t - start) / 0.5, 0.0, 1.0)
+        inside = (s > 0) & (s < 1)
+        q += way * 0.5 * (s - np.sin(2 * np.pi * s) / (2 * np.pi))
+        w += np.where(inside, way * (1 - np.cos(2 * np.pi * s)), 0.0)
+        a += np.where(inside, way * 4 * np.pi * np.sin(2 * np.pi * s), 0.0)
+    # what a PD holds against stiction between the moves, below breakaway
+    hold = np.where(t < 3.25, 0.05, np.where(t < 6.25, -0.1, 0.08))
+    tau = np.where(w != 0, 0.0046 * a + 0.0169 * w + 0.144 * np.sign(w), hold)
     path = tmp_path / "rest.csv"
     Run(t=t, torque=tau, position=q, source="rest").to_csv(path)
     assert main(["identify", str(path), "--recipe", "idim_ls", "--json"]) == 0
