@@ -448,6 +448,44 @@ def test_steady_state_error_of_a_run_that_has_not_settled_says_so(tmp_path, caps
         assert ("not settled" in line) is moving
 
 
+@pytest.mark.parametrize("clip", [False, True])
+def test_a_network_run_outside_its_training_envelope_warns(tmp_path, capsys, clip):
+    # auditC item 9: simulate ran a net at 8x its training speeds without a word.  A hand net
+    # with a small envelope (|omega| <= 0.1 rad/s, |Tm| <= 0.2 N*m) on a 0.5 rad step;
+    # reference: the run's own record -- its motor torque and the backward difference of its
+    # encoder readings (the net's inputs) against the box, counted here.
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.05,
+                      envelope_low=[-0.2, -0.1], envelope_high=[0.2, 0.1])
+    netp = save_net(net, tmp_path / "net.json")
+    csv = tmp_path / "run.csv"
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "step:0.5", "--duration", "1", "--compensation", "nn",
+                 "--net", str(netp), "--csv", str(csv), "--json", *(["--clip"] if clip else [])]) == 0
+    out, err = capsys.readouterr()
+    said = [w for w in json.loads(out)["warnings"] if "outside its training envelope" in w]
+    assert len(said) == 1 and "outside its training envelope" in err
+    run = Run.from_csv(csv)
+    ts = run.sample_time
+    wh = np.diff(np.r_[0.0, run.position]) / ts
+    outside = (np.abs(run.torque) > 0.2) | (np.abs(wh) > 0.1)
+    n = np.count_nonzero(outside)
+    assert 0 < n < run.n_samples
+    assert f"for {n * ts:.3g} s ({100 * n / run.n_samples:.3g} % of the samples)" in said[0]
+    top = np.max(np.abs(wh))
+    assert f"|omega| up to {top:.4g} rad/s, {top / 0.1:.3g}x the envelope's 0.1 rad/s" in said[0]
+    assert ("clipped" in said[0]) is clip
+    # a net whose envelope holds the whole run: no such warning
+    wide = save_net(net.replace(envelope_low=[-1e3, -1e3], envelope_high=[1e3, 1e3]),
+                    tmp_path / "wide.json")
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "step:0.5", "--duration", "1", "--compensation", "nn",
+                 "--net", str(wide)]) == 0
+    assert "training envelope" not in capsys.readouterr().err
+
+
 def test_one_summary_schema_with_units_with_or_without_a_model(capsys):
     # the paper's actuator built in, and the same actuator as a model file: the same keys, each
     # quantity {value, unit}, the same numbers (the same plant: see the bit-for-bit test above)

@@ -395,11 +395,25 @@ def _settling_warnings(res, kind: str) -> list[str]:
     if res.info.controller == "open loop" or res.settled(_ss_window(res)):
         return []
     w, u = _ss_window(res), units_of(kind).position
+    last = res.t >= res.t[-1] - w + 1e-12
+    tracking = bool(np.ptp(res.reference[last]) > 0)
     return [f"the run has not settled: over its last {w:g} s its error still moves up to "
             f"{res.error_spread(w):.4g} {u} about its mean, beyond the settling band "
             f"{res.settling_band():.4g} {u} (one encoder count, or 2 % of its largest error); "
             f"steady_state_error is the mean of an error still in motion, not a steady state: "
-            f"run longer"]
+            + ("the reference still moves there (a tracking run)" if tracking else "run longer")]
+
+
+def _envelope_warnings(res, comp, name: str, kind: str) -> list[str]:
+    """Where a network compensation ran its net outside the net's training envelope: how far
+    and how long (:func:`fricctl.nn.envelope.excursion`).  The net's inputs are the held motor
+    torque Tm_k and the loop's velocity estimate omega_hat_k (``nn_confirmed`` passes it or 0)."""
+    if name not in _NETS:
+        return []
+    from ..nn.envelope import excursion, excursion_warnings
+
+    exc = excursion(comp.estimator, res.torque_motor, res.omega_hat, res.sample_time)
+    return excursion_warnings(exc, kind, clipped=comp.clip)
 
 
 def _errors(res, keys) -> dict:
@@ -502,6 +516,7 @@ def run(args) -> int:
     period = _torque_period(args, ctrl)
     warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res, comp, period)
              + _velocity_note(name, comp) + _settling_warnings(res, units or "rotary")
+             + _envelope_warnings(res, comp, name, units or "rotary")
              for res, comp, name in zip(results, comps, args.compensation)]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
