@@ -463,7 +463,8 @@ def test_a_network_run_outside_its_training_envelope_warns(tmp_path, capsys, cli
     csv = tmp_path / "run.csv"
     assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
                  "--reference", "step:0.5", "--duration", "1", "--compensation", "nn",
-                 "--net", str(netp), "--csv", str(csv), "--json", *(["--clip"] if clip else [])]) == 0
+                 "--net", str(netp), "--csv", str(csv), "--json",
+                 *(["--clip"] if clip else [])]) == 0
     out, err = capsys.readouterr()
     said = [w for w in json.loads(out)["warnings"] if "outside its training envelope" in w]
     assert len(said) == 1 and "outside its training envelope" in err

@@ -383,7 +383,8 @@ NO_REFERENCE = "open loop: there is no reference, so no error"
 
 
 def _ss_window(res) -> float:
-    """The stretch ``steady_state_error`` averages over: the last 0.5 s, or half a shorter run [s]."""
+    """The stretch ``steady_state_error`` averages over: the last 0.5 s, or half a shorter
+    run [s]."""
     return min(0.5, res.t[-1] / 2)
 
 

@@ -116,7 +116,8 @@ class Design:
                         (f"Ts={self.sample_time:g} s", self.sampled)):
             lines.append(f"  {name:12} {cell(m.rise_time, 10, 4)} {cell(m.damping, 9, 4)} "
                          f"{cell(m.overshoot_percent, 9, 3)} {cell(m.settling_time, 11, 4)}")
-        if not math.isfinite(self.sampled.damping) and math.isfinite(self.sampled.overshoot_percent):
+        s = self.sampled
+        if not math.isfinite(s.damping) and math.isfinite(s.overshoot_percent):
             # stable (it has an overshoot) but no damping: no single pole pair dominates
             lines.append(f"  {'':12} {'':10} damping -: the sampled loop is not second-order")
         for w in self.warnings if v.flag("with_warnings", with_warnings) else ():
