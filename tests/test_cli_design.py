@@ -191,3 +191,16 @@ def test_the_peak_reading_of_rise_time(capsys):
     loop = control.tf([kp], [i, b + kd, kp])
     peak = control.step_info(loop, T=np.linspace(0.0, 2.0, 200001))["PeakTime"]
     assert peak == pytest.approx(0.2, rel=1e-3)
+def test_a_sampled_step_without_a_peak_is_said_so(capsys):
+    """auditC item 5: the sampled loop of a 0.1 s / 0.9 design never overshoots (its slowest pole
+    is real), so it has no peak time; the warning said 'rise time nan s differs ...'."""
+    code, out, err = run(capsys, "pd", "--rise-time", "0.1", "--damping", "0.9",
+                         "--rise-time-definition", "peak", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["sampled"]["rise_time"]["value"] is None
+    assert d["sampled"]["overshoot_percent"]["value"] == 0
+    assert "nan" not in err and "has no peak" in err
+    assert any("has no peak" in w for w in d["warnings"])
+
+

@@ -71,9 +71,41 @@ def test_json_and_held_out_net(tmp_path, capsys):
     obj = json.loads(capsys.readouterr().out)
     p = read_patterns(out).patterns
     ref = fit_report(p.friction, net=net, tm=p.tm, omega=p.omega)
-    assert obj["net"] == ref.as_dict() and obj["n_patterns"] == len(p) == 590
+    assert obj["net"] == {**ref.as_dict(), "viscous_removed": 0.0}
+    assert obj["n_patterns"] == len(p) == 590
     assert obj["estimator"] == "savitzky_golay" and obj["units"] == "rotary"
     assert obj["friction_rms"] == pytest.approx(float(np.sqrt(np.mean(p.friction ** 2))))
+
+
+def test_a_fricctl_pipeline_net_is_judged_with_its_viscous_term(tmp_path, capsys):
+    # auditC item 7: a --pipeline fricctl net estimates Tat - b*omega (b in its metadata);
+    # train reports the fit of net + b*omega, patterns --net judged the net alone (72 % -> 48 %
+    # on the very patterns it was trained on).  Reference: fit_report on net + b*omega
+    # computed here from the net's own evaluation.
+    from fricctl.nn import FrictionNet, fit_report, save_net
+
+    b = 0.4
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.1,
+                      envelope_low=[-1, -1], envelope_high=[1, 1],
+                      metadata={"pipeline": "fricctl", "viscous_removed": b})
+    netp = save_net(net, tmp_path / "net.json")
+    argv = ["patterns", str(_record(tmp_path)), "--model", str(_model(tmp_path)),
+            "--out", str(tmp_path / "p.csv"), "--net", str(netp)]
+    assert main([*argv, "--json"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    p = read_patterns(tmp_path / "p.csv").patterns
+    full = fit_report(p.friction, np.asarray(net(p.tm, p.omega)) + b * p.omega)
+    alone = fit_report(p.friction, net=net, tm=p.tm, omega=p.omega)
+    assert abs(full.fit_percent - alone.fit_percent) > 1.0      # the two readings differ here
+    assert obj["net"]["fit_percent"] == pytest.approx(full.fit_percent, rel=1e-12)
+    assert obj["net"]["rmse"] == pytest.approx(full.rmse, rel=1e-12)
+    assert obj["net"]["outside_envelope"] == alone.outside_envelope
+    assert obj["net"]["viscous_removed"] == b
+    assert main([*argv, "--force"]) == 0
+    text = capsys.readouterr().out
+    assert f"(net + b*omega, b = 0.4 N*m*s/rad) on these patterns: fit {full.fit_percent:.2f} %" \
+        in text
 
 
 def test_linear_units_follow_the_model(tmp_path, capsys):

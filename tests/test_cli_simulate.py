@@ -7,6 +7,7 @@ import pytest
 
 from fricctl.cli import main
 from fricctl.datasets import Run
+from fricctl.params import paper_actuator
 
 
 def test_simulate_pd_json_and_csv(tmp_path, capsys):
@@ -272,7 +273,11 @@ def test_a_compensated_run_that_winds_up_warns(tmp_path):
                "--rise-time", "0.3", "--damping", "0.9", "--reference", "step:0.08",
                "--duration", "1", "--json")
     assert out.returncode == 0, out.stderr
-    warns = [w for w in json.loads(out.stdout)["warnings"] if "sampled loop" not in w]  # design's
+    obj = json.loads(out.stdout)
+    warns = [w for w in obj["warnings"] if "sampled loop" not in w]  # design's
+    # the wound-up joint keeps moving: it has not settled either (its own warning)
+    assert not obj["settled"] and sum("has not settled" in w for w in warns) == 1
+    warns = [w for w in warns if "has not settled" not in w]
     assert len(warns) == 1 and "winds its torque up" in warns[0]
     lines = out.stderr.splitlines()  # one line per warning (the design's own may come first)
     assert all(ln.startswith("fricctl simulate: warning: ") for ln in lines)
@@ -397,6 +402,7 @@ def test_reference_in_mm_on_a_linear_model(tmp_path, capsys):
     assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
                  "--reference", "step:5mm", "--duration", "0.05", "--csv", str(tmp_path / "r.csv")]) == 0
     assert Run.from_csv(tmp_path / "r.csv").reference[-1] == pytest.approx(0.005, rel=1e-12)
+    assert "has not settled" in capsys.readouterr().err     # 0.05 s: still moving
     # a rotary unit on a linear axis: one line that says the unit is metres
     assert main(["simulate", "--model", str(m), "--controller", "p", "--kp", "1000",
                  "--reference", "step:20deg", "--duration", "0.05"]) == 2
@@ -415,6 +421,70 @@ def _summary(capsys, *argv, json_out=True):
     assert main(["simulate", *argv, *(["--json"] if json_out else [])]) == 0
     out = capsys.readouterr().out
     return json.loads(out) if json_out else out
+
+
+def test_steady_state_error_of_a_run_that_has_not_settled_says_so(tmp_path, capsys):
+    # auditC item 10: a 0.2 s run of a 0.3 s rise-time design printed steady_state_error
+    # 10.36 deg with no caveat.  Reference: its own record -- over the averaged stretch (the
+    # last 0.1 s) the encoder still moves by tens of counts; after 2 s it stands still.
+    common = ["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+              "--reference", "step:0.5236"]
+    for duration, moving in (("0.2", True), ("2", False)):
+        csv = tmp_path / f"run{duration}.csv"
+        assert main([*common, "--duration", duration, "--json", "--csv", str(csv)]) == 0
+        out, err = capsys.readouterr()
+        obj = json.loads(out)
+        run = Run.from_csv(csv)
+        last = run.t >= run.t[-1] - min(0.5, run.t[-1] / 2)
+        counts = np.ptp(run.position[last]) / paper_actuator().encoder_resolution
+        assert (counts > 20) if moving else (counts == 0)
+        assert obj["settled"] is (not moving)
+        assert obj["steady_state_error"]["value"] is not None        # kept, with its caveat
+        said = [w for w in obj["warnings"] if "has not settled" in w]
+        assert len(said) == (1 if moving else 0) and ("has not settled" in err) is moving
+        assert main([*common, "--duration", duration]) == 0
+        line = next(ln for ln in capsys.readouterr().out.splitlines()
+                    if ln.startswith("steady_state_error"))
+        assert ("not settled" in line) is moving
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_a_network_run_outside_its_training_envelope_warns(tmp_path, capsys, clip):
+    # auditC item 9: simulate ran a net at 8x its training speeds without a word.  A hand net
+    # with a small envelope (|omega| <= 0.1 rad/s, |Tm| <= 0.2 N*m) on a 0.5 rad step;
+    # reference: the run's own record -- its motor torque and the backward difference of its
+    # encoder readings (the net's inputs) against the box, counted here.
+    from fricctl.nn import FrictionNet, save_net
+
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.05,
+                      envelope_low=[-0.2, -0.1], envelope_high=[0.2, 0.1])
+    netp = save_net(net, tmp_path / "net.json")
+    csv = tmp_path / "run.csv"
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "step:0.5", "--duration", "1", "--compensation", "nn",
+                 "--net", str(netp), "--csv", str(csv), "--json",
+                 *(["--clip"] if clip else [])]) == 0
+    out, err = capsys.readouterr()
+    said = [w for w in json.loads(out)["warnings"] if "outside its training envelope" in w]
+    assert len(said) == 1 and "outside its training envelope" in err
+    run = Run.from_csv(csv)
+    ts = run.sample_time
+    wh = np.diff(np.r_[0.0, run.position]) / ts
+    outside = (np.abs(run.torque) > 0.2) | (np.abs(wh) > 0.1)
+    n = np.count_nonzero(outside)
+    assert 0 < n < run.n_samples
+    assert f"for {n * ts:.3g} s ({100 * n / run.n_samples:.3g} % of the samples)" in said[0]
+    top = np.max(np.abs(wh))
+    assert f"|omega| up to {top:.4g} rad/s, {top / 0.1:.3g}x the envelope's 0.1 rad/s" in said[0]
+    assert ("clipped" in said[0]) is clip
+    # a net whose envelope holds the whole run: no such warning
+    wide = save_net(net.replace(envelope_low=[-1e3, -1e3], envelope_high=[1e3, 1e3]),
+                    tmp_path / "wide.json")
+    assert main(["simulate", "--controller", "pd", "--rise-time", "0.3", "--damping", "0.9",
+                 "--reference", "step:0.5", "--duration", "1", "--compensation", "nn",
+                 "--net", str(wide)]) == 0
+    assert "training envelope" not in capsys.readouterr().err
 
 
 def test_one_summary_schema_with_units_with_or_without_a_model(capsys):
@@ -544,7 +614,8 @@ def test_a_reference_above_the_nyquist_frequency_warns_on_stderr_and_in_json(cap
     assert len(mine) == 1 and mine[0].startswith("fricctl simulate: warning: the reference")
     warns = json.loads(out)["warnings"]
     assert len([w for w in warns if words in w]) == 1
-    assert len([w for w in warns if "sampled loop" not in w]) == 1  # and the design's
+    # and the design's, and that the run has not settled (it follows an aliased sinusoid)
+    assert len([w for w in warns if "sampled loop" not in w and "has not settled" not in w]) == 1
 
 
 def test_the_designs_warnings_are_in_the_json_too(capsys):

@@ -119,6 +119,35 @@ def lattice_patterns_csv(tmp_path):
     return path
 
 
+@pytest.mark.parametrize("omega_max, narrow", [(2.0, False), (0.0157 * 1.5, True)])
+def test_patterns_of_a_narrow_band_of_speeds_warn(tmp_path, capsys, omega_max, narrow):
+    # auditC item 9: patterns within +-1 count per sample trained to a 97 % fit, no warning,
+    # and the net then ran at 8x its speeds.  The same smooth law on the loop's velocity
+    # lattice (q = 0.0157 rad/s per count per sample), up to 127 counts (no warning) or 1.5
+    # (rounded to +-1 count: the warning, saying it in counts per sample)
+    from fricctl.datasets import FrictionPatterns, write_patterns
+    from fricctl.nn.patterns import smooth_friction_patterns
+
+    q = 0.0157
+    pats = smooth_friction_patterns(np.random.default_rng(4), n_sliding=500, n_stuck=250,
+                                    omega_max=omega_max, smoothing_velocity=min(0.05, q))
+    om = np.round(pats.omega / q) * q
+    path = tmp_path / "p.csv"
+    write_patterns(path, FrictionPatterns(tm=pats.tm, omega=om, friction=pats.friction,
+                                          at_rest=om == 0, units="rotary", velocity_quantum=q,
+                                          meta={}))
+    assert main(["train", str(path), "--pipeline", "fricctl", "--out", str(tmp_path / "n.json"),
+                 "--progress", "off", "--json"]) == 0
+    out, err = capsys.readouterr()
+    rep = json.loads(out)
+    said = [w for w in rep["warnings"] if "narrow band of speeds" in w]
+    top = max(abs(x) for x in rep["envelope"]["omega"])          # the stored envelope
+    assert (top / q <= 1 + 1e-9) is narrow
+    assert len(said) == int(narrow) and ("narrow band of speeds" in err) is narrow
+    if narrow:
+        assert f"|omega| <= {top:.4g} rad/s, 1 encoder count(s) per sample" in said[0]
+
+
 def test_train_fricctl_pipeline_certifies_its_gain_band(lattice_patterns_csv, tmp_path, capsys):
     out, csrc = tmp_path / "n.json", tmp_path / "comp.c"
     assert main(["train", str(lattice_patterns_csv), "--pipeline", "fricctl", "--gain-band",

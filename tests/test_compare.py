@@ -655,3 +655,38 @@ def test_a_check_too_short_for_its_period_says_so_in_the_row(monkeypatch):
     assert row["warnings"] == [short.reason]
     assert (row["runaway"]["passed"], row["runaway"]["runs"], row["runaway"]["not_judged"]) == (0, 1, 1)
     assert row["runaway"]["rate"] is None  # no run judged: no rate
+
+
+def test_a_network_driven_outside_its_training_envelope_is_a_row_warning():
+    # auditC item 9 (compare): a net run outside its training box said nothing.  A hand net with
+    # a small envelope in the coast experiment (open-loop pulse of 2 Fs, then coasting); the
+    # reference: the same deterministic run simulated here and its inputs (Tm_k, omega_hat_k)
+    # counted against the box
+    from fricctl import controllers as ctl
+    from fricctl.compare.plants import Realised
+    from fricctl.nn import FrictionNet
+    from fricctl.paper import coast as coast_test
+    from fricctl.simulate import simulate
+
+    p = B.actuator
+    net = FrictionNet(w1=[[0.0, 5.0]], b1=[0.0], w2=[1.0], b2=0.0, input_offset=[0, 0],
+                      input_scale=[1, 1], output_offset=0.0, output_scale=0.02,
+                      envelope_low=[-0.5, -0.2], envelope_high=[0.5, 0.2])
+    pl = Realised(params=p, friction=p.friction_model(), delay=0, compensation_scale=1.0,
+                  noise_std=0.0)
+    counts = []
+    for comp in (NNCompensator(net), NNCompensator(net.replace(envelope_low=[-1e3, -1e3],
+                                                               envelope_high=[1e3, 1e3]))):
+        o = EXPERIMENTS["coast"].run(B, pl, comp, D, np.random.default_rng(0))
+        amp = coast_test.PULSE_FACTOR * p.static
+        r = simulate(p, ctl.open_loop(ctl.sequence([amp, 0.0], [coast_test.PULSE_DURATION,
+                                                                 coast_test.COAST_DURATION])),
+                     comp, duration=coast_test.PULSE_DURATION + coast_test.COAST_DURATION)
+        n = int(np.count_nonzero(comp.estimator.outside_envelope(r.torque_motor, r.omega_hat)))
+        said = [w for w in o.warnings if "outside its training envelope" in w]
+        if n:
+            assert len(said) == 1 and f"for {n * p.sample_time:.3g} s" in said[0]
+        else:
+            assert said == []
+        counts.append(n)
+    assert counts[0] > 0 and counts[1] == 0      # the small box is left, the wide one is not

@@ -24,6 +24,7 @@ from fricctl.design import (
     sampled_loop,
     step_metrics,
 )
+from fricctl.design.second_order import dominant_damping
 from fricctl.params import PAPER_LINK_INERTIA, paper_actuator
 
 P0 = paper_actuator()
@@ -347,10 +348,39 @@ def test_paper_designs_warn_where_the_literal_sampled_loop_differs():
     assert warned == {"fig13-14"}
 
 
-def test_fast_design_warns_and_unstable_design_warns():
-    with pytest.warns(DesignWarning, match="sampled loop"):
+def test_dominant_damping_orders_poles_by_decay_not_magnitude():
+    # the audit's sampled loop: a real pole at -160 rad/s decays 5.8x faster than the pair
+    # -27.5 +- 280j, which is the slow one although |p| = 281 > 160 (closed form -Re p/|p|)
+    p = [-160.0, -27.5 + 280j, -27.5 - 280j, -537.0 + 1571j]
+    assert dominant_damping(p) == pytest.approx(27.5 / abs(-27.5 + 280j), rel=1e-12)
+    # two slowest reals (-1, -4) beneath a fast, lightly damped pair: s^2 + 5 s + 4 -> 1.25
+    assert dominant_damping([-4.0, -1.0, -50 + 900j, -50 - 900j]) == pytest.approx(1.25, rel=1e-12)
+
+
+def test_fast_design_is_not_second_order_and_unstable_design_warns():
+    # auditC item 5: design pd --rise-time 0.02 --damping 0.7 printed damping 1 for the sampled
+    # loop beside 28 % overshoot.  Independent of the design code: the literal loop's poles
+    # (expm ZOH, backward difference, one-sample delay) have a slowest pair with zeta ~0.1
+    # that alone would overshoot ~73 %; its step overshoots 28 %: no pair dominates.
+    with pytest.warns(DesignWarning, match="sampled loop") as rec:
         d = design_pd(P0, rise_time=0.02, damping=0.7)
-    assert abs(d.sampled.damping - d.zeta) / d.zeta > 0.10
+    a_c = np.array([[0.0, 1.0], [0.0, -d.viscous / d.inertia]])
+    big = np.zeros((3, 3))
+    big[:2, :2] = a_c
+    big[1, 2] = 1.0 / d.inertia
+    e = expm(big * d.sample_time)
+    m = np.zeros((4, 4))             # state (q, omega, q_prev, u_prev); u applied one sample late
+    m[:2, :2], m[:2, 3] = e[:2, :2], e[:2, 2]
+    m[2, 0] = 1.0
+    m[3, 0], m[3, 2] = -d.kp - d.kd / d.sample_time, d.kd / d.sample_time
+    s = np.log(np.linalg.eigvals(m).astype(complex)) / d.sample_time
+    slow = s[np.argmax(s.real)]
+    assert -slow.real / abs(slow) == pytest.approx(0.098, abs=0.002)
+    assert d.sampled.overshoot_percent == pytest.approx(28.4, abs=0.1)   # the audit's value
+    assert math.isnan(d.sampled.damping)
+    assert any("not second-order" in str(w.message) and "0.0977" in str(w.message) for w in rec)
+    assert not any("damping 1 " in str(w.message) for w in rec)
+    assert "not second-order" in d.report() and d.as_dict()["sampled"]["damping"]["value"] is None
     with pytest.warns(DesignWarning, match="unstable"):
         d = design_pd(P0, rise_time=0.004, damping=0.7)
     assert math.isnan(d.sampled.rise_time)

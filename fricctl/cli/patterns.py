@@ -20,7 +20,10 @@ file is kept unless ``--force``; an input is never overwritten.
 records: patterns it was not trained on) and prints its fit.  ``--json`` prints
 one object: ``out, units, n_patterns, n_at_rest, velocity_quantum, estimator,
 inertia, records[{source, n_samples, sample_time}], friction_rms``, and with
-``--net`` ``net{fit_percent, r_squared, rmse, max_abs_error, n, outside_envelope}``.
+``--net`` ``net{fit_percent, r_squared, rmse, max_abs_error, n, outside_envelope,
+viscous_removed}``.  The net is judged as ``fricctl train`` judges it: by the full friction
+estimate, ``net + b*omega`` for a ``--pipeline fricctl`` net (whose target left out the viscous
+term ``b*omega``, ``viscous_removed`` in its file; 0 for any other net).
 """
 
 from __future__ import annotations
@@ -117,12 +120,19 @@ def run(args) -> int:
     net_fit = None
     if args.net is not None:
         from ..nn import fit_report, load_net
+        from ..nn.pipelines import friction_estimate, viscous_removed_of
 
         net = load_net(args.net)
         if net.units != model.units:
             raise ValueError(f"{args.net.name}: a network trained on a {net.units} axis, the "
                              f"model ({Path(args.model).name}) is {model.units}")
-        net_fit = fit_report(pats.friction, net=net, tm=pats.tm, omega=pats.omega)
+        # judged as train judges it: the full friction estimate, net + b_hat*omega for a
+        # fricctl-pipeline net (its target left the viscous term out; the net alone is not a
+        # friction estimate)
+        viscous = viscous_removed_of(net)
+        net_fit = replace(fit_report(pats.friction, friction_estimate(net, pats.tm, pats.omega)),
+                          outside_envelope=int(np.count_nonzero(
+                              net.outside_envelope(pats.tm, pats.omega))))
     write_patterns(args.out, pats, overwrite=args.force)
     u = units_of(model.units)
     n_rest = int(np.count_nonzero(pats.at_rest))
@@ -133,7 +143,7 @@ def run(args) -> int:
                             "sample_time": r.sample_time} for r in records],
                "friction_rms": float(np.sqrt(np.mean(pats.friction ** 2)))}
     if net_fit is not None:
-        summary["net"] = net_fit.as_dict()
+        summary["net"] = {**net_fit.as_dict(), "viscous_removed": viscous}
     if args.json:
         print(json_text(summary))
         return 0
@@ -146,7 +156,8 @@ def run(args) -> int:
         print("no pattern at rest: these records say nothing about the friction below "
               "breakaway (the fricctl pipeline needs some)")
     if net_fit is not None:
-        print(f"{args.net.name} on these patterns: fit {net_fit.fit_percent:.2f} %, "
+        estimate = f" (net + b*omega, b = {viscous:.5g} {u.viscous})" if viscous else ""
+        print(f"{args.net.name}{estimate} on these patterns: fit {net_fit.fit_percent:.2f} %, "
               f"R^2 {net_fit.r_squared:.5f}, RMSE {net_fit.rmse:.4g} {u.torque}, "
               f"max |error| {net_fit.max_abs_error:.4g} {u.torque}, "
               f"{net_fit.outside_envelope} outside the training envelope")

@@ -7,12 +7,16 @@ its units, e.g. [m], [N], [N/m] on a linear axis).  A number in ``--reference`` 
 ``--torque`` is in that unit, or carries its own: ``step:30deg``, ``step:5mm``
 (:data:`fricctl.units.SUFFIXES`).  The summary has the same keys with or
 without ``--model``: ``controller, kp, kd, compensator, compensation_scale, units,
-final_error, steady_state_error, tracking_error_rms, max_abs_error,
+final_error, steady_state_error, settled, tracking_error_rms, max_abs_error,
 max_abs_position, max_abs_torque, stuck_intervals, stuck_at_end`` (and a Coulomb
 compensation's ``coulomb_compensation_pos, coulomb_compensation_neg``); each quantity
 is printed with its unit and in ``--json`` is ``{"value": ..., "unit": ...}`` (as
 ``identify --json`` writes its parameters), in SI units of the plant's axis ([rad],
-[N*m] on a rotary joint; the text also gives an angle in [deg]).
+[N*m] on a rotary joint; the text also gives an angle in [deg]).  ``settled`` says whether
+``steady_state_error`` (the mean error over the last 0.5 s, or half a shorter run) is one: the
+run settled when its error stays over that stretch within one encoder count, or 2 % of its
+largest error, of its mean; a run that did not settle gets a warning saying how far it still
+moves, and its text line says "not settled" (null for an open-loop run).
 ``--compensation none,coulomb`` runs each compensation on the same plant and
 reference: one entry each in the summary (``--json``: ``{"runs": [...]}``), one
 overlaid figure.  Besides none, coulomb and nn, ``--compensation`` takes every compensator
@@ -378,13 +382,48 @@ def _outputs(args) -> dict:
 NO_REFERENCE = "open loop: there is no reference, so no error"
 
 
+def _ss_window(res) -> float:
+    """The stretch ``steady_state_error`` averages over: the last 0.5 s, or half a shorter
+    run [s]."""
+    return min(0.5, res.t[-1] / 2)
+
+
+def _settling_warnings(res, kind: str) -> list[str]:
+    """A closed-loop run that has not settled (:meth:`fricctl.simulate.SimResult.settled`) has no
+    steady-state error: say how much it still moves, and over what."""
+    from ..units import units as units_of
+
+    if res.info.controller == "open loop" or res.settled(_ss_window(res)):
+        return []
+    w, u = _ss_window(res), units_of(kind).position
+    last = res.t >= res.t[-1] - w + 1e-12
+    tracking = bool(np.ptp(res.reference[last]) > 0)
+    return [f"the run has not settled: over its last {w:g} s its error still moves up to "
+            f"{res.error_spread(w):.4g} {u} about its mean, beyond the settling band "
+            f"{res.settling_band():.4g} {u} (one encoder count, or 2 % of its largest error); "
+            f"steady_state_error is the mean of an error still in motion, not a steady state: "
+            + ("the reference still moves there (a tracking run)" if tracking else "run longer")]
+
+
+def _envelope_warnings(res, comp, name: str, kind: str) -> list[str]:
+    """Where a network compensation ran its net outside the net's training envelope: how far
+    and how long (:func:`fricctl.nn.envelope.excursion`).  The net's inputs are the held motor
+    torque Tm_k and the loop's velocity estimate omega_hat_k (``nn_confirmed`` passes it or 0)."""
+    if name not in _NETS:
+        return []
+    from ..nn.envelope import excursion, excursion_warnings
+
+    exc = excursion(comp.estimator, res.torque_motor, res.omega_hat, res.sample_time)
+    return excursion_warnings(exc, kind, clipped=comp.clip)
+
+
 def _errors(res, keys) -> dict:
     """The error values of a summary (null for an open-loop run: see :data:`NO_REFERENCE`)."""
     if res.info.controller == "open loop":
         return dict.fromkeys(keys)
     err = res.reference - res.q
     values = {"final_error": float(err[-1]),
-              "steady_state_error": res.steady_state_error(min(0.5, res.t[-1] / 2)),
+              "steady_state_error": res.steady_state_error(_ss_window(res)),
               "tracking_error_rms": float(np.sqrt(np.mean(err ** 2))),
               "max_abs_error": float(np.max(np.abs(err)))}
     return {k: values[k] for k in keys}
@@ -477,7 +516,9 @@ def run(args) -> int:
         units = None
     period = _torque_period(args, ctrl)
     warns = [sampling_warnings(ctrl, res.sample_time) + _runaway_warnings(res, comp, period)
-             + _velocity_note(name, comp) for res, comp, name in zip(results, comps, args.compensation)]
+             + _velocity_note(name, comp) + _settling_warnings(res, units or "rotary")
+             + _envelope_warnings(res, comp, name, units or "rotary")
+             for res, comp, name in zip(results, comps, args.compensation)]
     summaries = [_summary(res, units or "rotary", comp) for res, comp in zip(results, comps)]
     if args.csv:
         res = results[0]
@@ -523,8 +564,10 @@ def _no_reference(out: dict) -> dict:
     """Why each null error value of a summary (or of each of its ``runs``) is undefined."""
     entries = ({f"runs[{i}].": x for i, x in enumerate(out["runs"])} if "runs" in out
                else {"": out})
-    return {f"{where}{k}.value": NO_REFERENCE for where, x in entries.items()
-            for k, q in x.items() if isinstance(q, dict) and q["value"] is None}
+    return {**{f"{where}{k}.value": NO_REFERENCE for where, x in entries.items()
+               for k, q in x.items() if isinstance(q, dict) and q["value"] is None},
+            **{f"{where}{k}": NO_REFERENCE for where, x in entries.items()
+               for k, q in x.items() if q is None}}
 
 
 def _torque_period(args, ctrl) -> float | None:
@@ -578,7 +621,8 @@ def _runaway_warnings(res, comp, period: float | None = None) -> list[str]:
 #: Keys of the summary, in order: the same for the paper's actuator and a model file
 #: (each quantity ``{value, unit}`` in the plant's units; see :func:`_summary`).
 SUMMARY_KEYS = ("controller", "kp", "kd", "compensator", "compensation_scale", "units",
-                "final_error", "steady_state_error", "tracking_error_rms", "max_abs_error",
+                "final_error", "steady_state_error", "settled", "tracking_error_rms",
+                "max_abs_error",
                 "max_abs_position", "max_abs_torque", "stuck_intervals", "stuck_at_end")
 
 
@@ -598,13 +642,17 @@ def _summary(res, kind: str, comp) -> dict:
            "compensation_scale": quantity(res.info.compensation_scale, "-"),
            "units": kind,
            **{k: quantity(x, u.position) for k, x in errors.items()},
+           # whether steady_state_error is one (null for an open-loop run: no reference)
+           "settled": (None if res.info.controller == "open loop"
+                       else bool(res.settled(_ss_window(res)))),
            "max_abs_position": quantity(float(np.max(np.abs(res.q))), u.position),
            "max_abs_torque": quantity(float(np.max(np.abs(res.torque_motor))), u.torque),
            "stuck_intervals": len(res.stuck_intervals()), "stuck_at_end": bool(res.stuck[-1])}
     if isinstance(comp, CoulombCompensator):
         out["coulomb_compensation_pos"] = quantity(float(comp.coulomb_pos), u.torque)
         out["coulomb_compensation_neg"] = quantity(float(comp.coulomb_neg), u.torque)
-    return out
+    # the keys in their documented order (settled sits after steady_state_error)
+    return {k: out[k] for k in (*SUMMARY_KEYS, *(k for k in out if k not in SUMMARY_KEYS))}
 
 
 def _summary_text(summary: dict) -> str:
@@ -613,6 +661,9 @@ def _summary_text(summary: dict) -> str:
     lines = []
     for k, x in summary.items():
         if k == "warnings":
+            continue
+        if x is None:
+            lines.append(f"{k:26s} - ({NO_REFERENCE})")
             continue
         if not isinstance(x, dict):
             lines.append(f"{k:26s} {x:.6g}" if isinstance(x, float) else f"{k:26s} {x}")
@@ -624,5 +675,7 @@ def _summary_text(summary: dict) -> str:
         text = f"{k:26s} {v:.6g} {'' if unit == '-' else unit}".rstrip()
         if unit == "rad":
             text += f" ({math.degrees(v):.6g} deg)"
+        if k == "steady_state_error" and summary["settled"] is False:
+            text += " -- not settled: the mean of an error still in motion (see the warning)"
         lines.append(text)
     return "\n".join(lines)

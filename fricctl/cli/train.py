@@ -298,7 +298,9 @@ def run(args) -> int:
         write_text(args.c_source, nn.c_source(net, units=units), overwrite=args.force)
         write_text(header, c_header(net, units=units), overwrite=args.force)
     rep = nn.fit_report(friction, estimate)
-    warns = _gain_warnings(net)
+    from ..nn.envelope import narrow_speed_warnings
+
+    warns = _gain_warnings(net) + narrow_speed_warnings(net, pats.patterns.velocity_quantum)
     for text in warns:
         warnings.warn(text, stacklevel=1)
     if args.json:

@@ -122,7 +122,8 @@ class Outcome:
     ----------
     metrics : metric name -> value, in the unit of :data:`METRICS`
     checks : the runaway checks of its compensated runs (:class:`~fricctl.paper.RunawayCheck`)
-    warnings : one line each: what the experiment could not judge (its row shows them)
+    warnings : one line each: what the experiment could not judge, and where a network ran
+        outside its training envelope (its row shows them)
     """
 
     metrics: Mapping
@@ -357,6 +358,23 @@ def _loop(pl, rng) -> dict:
                 rng=rng if pl.noise_std > 0 else None)
 
 
+def _envelope(comp, runs, ts) -> tuple:
+    """Where a network compensator drove its net outside the net's training envelope over the
+    experiment's runs: how long and how far (:func:`fricctl.nn.envelope.excursion_warnings`;
+    inputs Tm_k and omega_hat_k).  Empty for any other compensator, or a run inside it."""
+    from ..compensators.network import NNCompensator
+    from ..compensators.nn_confirmed import ConfirmedNNCompensator
+    from ..nn import FrictionNet
+    from ..nn.envelope import excursion, excursion_warnings
+
+    if not (isinstance(comp, (NNCompensator, ConfirmedNNCompensator))
+            and isinstance(comp.estimator, FrictionNet)):
+        return ()
+    tm = np.concatenate([np.ravel(r.torque_motor) for r in runs])
+    om = np.concatenate([np.ravel(r.omega_hat) for r in runs])
+    return tuple(excursion_warnings(excursion(comp.estimator, tm, om, ts), clipped=comp.clip))
+
+
 def _effort(runs_tm, ts) -> dict:
     tm = np.asarray(runs_tm, dtype=float)
     tm2 = tm.reshape(-1, tm.shape[-1])
@@ -375,7 +393,8 @@ def _dead_zone(bench, pl, comp, design, rng) -> Outcome:
     factor = dz0.dead_zone / dz1.dead_zone if dz1.dead_zone > 0 else math.inf
     return Outcome(metrics={"dead_zone": 100 * dz1.fraction, "dead_zone_factor": factor,
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(torque_check(r, comp), reversal(r, 1.0)))
+                   checks=(torque_check(r, comp), reversal(r, 1.0)),
+                   warnings=_envelope(comp, [r], p.sample_time))
 
 
 def _steps(bench, pl, comp, design, rng, steps, duration) -> Outcome:
@@ -385,7 +404,8 @@ def _steps(bench, pl, comp, design, rng, steps, duration) -> Outcome:
     e = np.abs(np.asarray(b.steady_state_error(SS_WINDOW)))
     return Outcome(metrics={"steady_state_error": float(np.rad2deg(e.max())),
                             **_effort(b.torque_motor, p.sample_time)},
-                   checks=tuple(torque_check(b[i], comp) for i in range(len(b))))
+                   checks=tuple(torque_check(b[i], comp) for i in range(len(b))),
+                   warnings=_envelope(comp, [b], p.sample_time))
 
 
 def _pd_steps(bench, pl, comp, design, rng) -> Outcome:
@@ -404,7 +424,7 @@ def _sawtooth(bench, pl, comp, design, rng) -> Outcome:
     return Outcome(metrics={"tracking_rms": float(np.rad2deg(np.sqrt(np.mean(r.error ** 2)))),
                             "stick_slip_cycles": float(restarts(r)),
                             **_effort(r.torque_motor, p.sample_time)},
-                   checks=(torque_check(r, comp),))
+                   checks=(torque_check(r, comp),), warnings=_envelope(comp, [r], p.sample_time))
 
 
 def _coast(bench, pl, comp, design, rng) -> Outcome:
@@ -418,7 +438,8 @@ def _coast(bench, pl, comp, design, rng) -> Outcome:
     k_end = int(off[0]) + 1 + pl.delay
     decay = coast_decay(r, float(r.t[k_end]))
     return Outcome(metrics={"coast_excess": decay.value, **_effort(r.torque_motor, p.sample_time)},
-                   checks=(decay, torque_check(r, comp)))
+                   checks=(decay, torque_check(r, comp)),
+                   warnings=_envelope(comp, [r], p.sample_time))
 
 
 def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
@@ -436,7 +457,8 @@ def _limit_cycle(bench, pl, comp, design, rng) -> Outcome:
                             **_effort(r.torque_motor, p.sample_time)},
                    # the cycle measured is the slowest oscillation the divergence check must see
                    checks=(torque_check(r, comp, period=1.0 / osc.frequency if osc.frequency > 0 else None),),
-                   warnings=(osc.reason,) if osc.verdict == "not judged" else ())
+                   warnings=((osc.reason,) if osc.verdict == "not judged" else ())
+                   + _envelope(comp, [r], p.sample_time))
 
 
 _EFFORT = ("effort_rms", "effort_hf_share")

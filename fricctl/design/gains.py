@@ -28,7 +28,8 @@ from ..plant.model import JointModel
 from ..units import units as units_of
 from .loops import LinearLoop
 from .result import Design, DesignWarning
-from .second_order import normalized_rise_time, resolve_rise_time_definition
+from .second_order import (normalized_rise_time, overshoot_of_damping,
+                           resolve_rise_time_definition)
 
 __all__ = ["WARN_TOLERANCE", "design_p", "design_pd"]
 
@@ -88,13 +89,32 @@ def _finish(*, law, kp, kd, params, rise_time, damping, priority, definition, ex
     t_end = 3.0 * max(achieved.settling_time, rise if rise <= 5.0 * achieved.settling_time else 0.0)
     sampled = loop.sampled_metrics(definition, t_end)
     msgs = list(extra_warnings)
-    if not math.isfinite(sampled.damping):
+    if not loop.sampled_stable():
         u = units_of(params.units)
         msgs.append(f"the sampled loop at Ts = {ts:g} s is unstable (Kp = {kp:.4g} {u.stiffness}, "
                     f"Kd = {kd:.4g} {u.viscous}); slow the design down")
     else:
+        if not math.isfinite(sampled.damping):
+            # stable, but its slowest pair does not shape the step (sampled_metrics)
+            zp = loop.sampled_pole_damping()
+            msgs.append(
+                f"sampled loop (Ts = {ts:g} s) is not second-order: its slowest-decaying pole "
+                f"pair has damping {zp:.3g} (alone it would overshoot "
+                f"{overshoot_of_damping(max(zp, 0.0)):.3g} %) but the step overshoots "
+                f"{sampled.overshoot_percent:.3g} %; no single pair dominates, so no damping is "
+                f"given for it: judge it by its rise time, overshoot and settling time")
         for name, unit in (("rise_time", " s"), ("damping", "")):
             c, s = getattr(achieved, name), getattr(sampled, name)
+            if name == "damping" and not math.isfinite(s):
+                continue                       # said above: not second-order
+            if name == "rise_time" and not math.isfinite(s):
+                # no number to compare: say what the sampled step lacks
+                what = ("has no peak: its step never rises above its final value"
+                        if definition == "peak" else
+                        f"never reaches the top of its {definition} % rise")
+                msgs.append(f"sampled loop (Ts = {ts:g} s) {what}, so it has no {definition} "
+                            f"rise time (the continuous design's is {c:.4g} s)")
+                continue
             if not math.isfinite(s) or _rel(s, c) > WARN_TOLERANCE:
                 msg = (f"sampled loop (Ts = {ts:g} s) {name.replace('_', ' ')} {s:.4g}{unit} "
                        f"differs from the continuous design's {c:.4g}{unit} by more than "

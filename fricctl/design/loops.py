@@ -17,7 +17,7 @@ encoder quantisation or joint flexibility.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import control
 import numpy as np
@@ -25,7 +25,8 @@ import numpy as np
 from .. import _validate as v
 from ..params import ActuatorParams
 from .result import Design
-from .second_order import StepMetrics, dominant_damping, metrics_from_response, second_order_metrics
+from .second_order import (StepMetrics, dominant_damping, metrics_from_response,
+                           second_order_holds, second_order_metrics)
 
 __all__ = ["plant_tf", "LinearLoop", "SampledResponse", "sampled_loop", "linear_response"]
 
@@ -228,20 +229,31 @@ class LinearLoop:
         """
         return second_order_metrics(self.wn, self.zeta, definition)
 
+    def sampled_pole_damping(self) -> float:
+        """Damping of the sampled loop's slowest-decaying pole pair (:func:`dominant_damping`) [-].
+
+        The poles of :meth:`sampled` (:func:`control.poles`) mapped by ``s = ln(z)/Ts``; poles at
+        ``z = 0`` are infinitely fast and left out (``control.damp`` would take their log).
+        """
+        z = np.asarray(control.poles(self.sampled()), complex)
+        nz = z[np.abs(z) > 1e-12]
+        return dominant_damping(np.log(nz) / self.sample_time)
+
     def sampled_metrics(self, definition: str, t_end: float) -> StepMetrics:
         """Step metrics of :meth:`sampled`, evaluated 20 times per sample interval.
 
-        The damping is that of the dominant poles mapped by ``s = ln(z)/Ts``; an
-        unstable loop gives :meth:`StepMetrics.undefined`.  The horizon ``t_end``
-        [s] is extended (up to 8x) until the step settles.
+        The damping is that of the slowest-decaying poles mapped by ``s = ln(z)/Ts``
+        (:meth:`sampled_pole_damping`), kept only where the step's overshoot agrees with it
+        (:func:`second_order_holds`); where no single pair dominates the step the loop is not
+        second-order and the damping is NaN.  An unstable loop gives
+        :meth:`StepMetrics.undefined`.  The horizon ``t_end`` [s] is extended (up to 8x) until
+        the step settles.
         """
         ts = self.sample_time
         t_end = v.real("t_end", t_end, positive=True, unit="s")
-        z = np.linalg.eigvals(self.sampled().A)
-        if np.any(np.abs(z) >= 1.0):
+        if not self.sampled_stable():
             return StepMetrics.undefined()
-        nz = z[np.abs(z) > 1e-12]           # poles at z = 0 are infinitely fast
-        damping = dominant_damping(np.log(nz.astype(complex)) / ts)
+        damping = self.sampled_pole_damping()
         for _ in range(4):
             n = int(math.ceil(t_end / ts)) + 1
             if n > MAX_SAMPLED:
@@ -254,9 +266,15 @@ class LinearLoop:
             m = metrics_from_response(resp.t, resp.q, final=1.0, definition=definition,
                                       damping=damping)
             if math.isfinite(m.settling_time):
-                return m
+                break
             t_end *= 2.0
+        if not second_order_holds(m.damping, m.overshoot_percent):
+            m = replace(m, damping=math.nan)
         return m
+
+    def sampled_stable(self) -> bool:
+        """Whether every pole of :meth:`sampled` lies strictly inside the unit circle."""
+        return bool(np.all(np.abs(np.asarray(control.poles(self.sampled()))) < 1.0))
 
 
 def sampled_loop(design: Design | None = None, *, kp: float | None = None,

@@ -116,6 +116,10 @@ class Design:
                         (f"Ts={self.sample_time:g} s", self.sampled)):
             lines.append(f"  {name:12} {cell(m.rise_time, 10, 4)} {cell(m.damping, 9, 4)} "
                          f"{cell(m.overshoot_percent, 9, 3)} {cell(m.settling_time, 11, 4)}")
+        s = self.sampled
+        if not math.isfinite(s.damping) and math.isfinite(s.overshoot_percent):
+            # stable (it has an overshoot) but no damping: no single pole pair dominates
+            lines.append(f"  {'':12} {'':10} damping -: the sampled loop is not second-order")
         for w in self.warnings if v.flag("with_warnings", with_warnings) else ():
             lines.append(f"  warning: {w}")
         return "\n".join(lines)

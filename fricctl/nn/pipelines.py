@@ -53,7 +53,7 @@ from .train import TRAINERS, Scaling, TrainingHistory
 from .train.certified import Certificate
 
 __all__ = ["PipelineNet", "Pipeline", "PIPELINES", "pipeline", "ViscousFit", "viscous_fit",
-           "DEFAULT_GAIN_BAND"]
+           "DEFAULT_GAIN_BAND", "viscous_removed_of", "friction_estimate"]
 
 #: Gain band of the fricctl pipeline, from the paper's loops and its Fs = 0.18 N*m.  A stuck
 #: position loop stops anywhere within Fs*(1 - g)/Kp of its reference.  The lower edge: the
@@ -65,6 +65,29 @@ __all__ = ["PipelineNet", "Pipeline", "PIPELINES", "pipeline", "ViscousFit", "vi
 #: ``Tm(k+1) = Tc + s*g*Tm(k)`` a contraction with a time constant of at most 100 samples,
 #: with a margin below 1 for compensation scales s <= 1.
 DEFAULT_GAIN_BAND = (0.98, 0.99)
+
+
+def viscous_removed_of(net: FrictionNet) -> float:
+    """``b_hat`` a saved network's pipeline took out of its target [N*m*s/rad] (0: none).
+
+    A net of the fricctl pipeline estimates ``Tat - b_hat*omega`` and stores ``b_hat`` in
+    ``metadata["viscous_removed"]``; any other net estimates the full friction.
+    """
+    v.instance("net", net, FrictionNet)
+    if "viscous_removed" not in net.metadata:
+        return 0.0
+    return v.real("metadata['viscous_removed']", net.metadata["viscous_removed"], nonneg=True)
+
+
+def friction_estimate(net: FrictionNet, tm, omega) -> np.ndarray:
+    """The full friction estimate of a (loaded) network: ``net(Tm, omega) + b_hat*omega`` [N*m].
+
+    What ``fricctl train`` judges a net by (:meth:`PipelineNet.estimate`), for a net read from
+    its file; ``b_hat`` is :func:`viscous_removed_of` (0 for a net of the full friction).  The net
+    is evaluated without clipping.
+    """
+    omega = np.asarray(omega, dtype=float)
+    return np.asarray(net(tm, omega)) + viscous_removed_of(net) * omega
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -12,7 +12,12 @@ from ..friction import FrictionModel
 from ..params import ActuatorParams
 from ..units import KINDS
 
-__all__ = ["SimInfo", "SimResult", "BatchResult", "ReplayResult", "ARRAYS"]
+__all__ = ["SimInfo", "SimResult", "BatchResult", "ReplayResult", "ARRAYS", "SETTLING_BAND"]
+
+#: Fraction of a run's largest error within which a settled run's error stays [-]: the 2 % band
+#: of the settling time (python-control's default, ``fricctl.design.SETTLING_THRESHOLD``; not
+#: imported from there, so that the simulation does not depend on the design package).
+SETTLING_BAND = 0.02
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -122,7 +127,8 @@ class SimResult(_Trajectories):
         return self.reference - self.q
 
     def steady_state_error(self, window: float = 0.5, *, measured: bool = False) -> float:
-        """Mean error r - q over the last ``window`` seconds [rad].
+        """Mean error r - q over the last ``window`` seconds [rad]: a steady-state error only
+        where the run has :meth:`settled`.
 
         Raises
         ------
@@ -133,6 +139,42 @@ class SimResult(_Trajectories):
         if self.info.controller == "open loop":
             raise ValueError("an open-loop run has no reference: no steady-state error")
         return float(self._final_mean_error(window, measured))
+
+    def error_spread(self, window: float = 0.5) -> float:
+        """Largest departure of r - q from its mean over the last ``window`` seconds [rad].
+
+        How much the run still moves (against its reference) over the stretch that
+        :meth:`steady_state_error` averages.
+        """
+        window = v.real("window", window, positive=True, unit="s")
+        sel = self.t >= self.t[-1] - window + 1e-12
+        e = self.reference[sel] - self.q[sel]
+        return float(np.max(np.abs(e - np.mean(e))))
+
+    def settling_band(self) -> float:
+        """Half-width of the band within which a settled run's error stays [rad].
+
+        The larger of one encoder count (a quantised loop may hunt by a count for ever) and
+        :data:`SETTLING_BAND` of the run's largest error (for a step, of the step's size).
+        """
+        biggest = float(np.max(np.abs(self.reference - self.q)))
+        return max(float(self.info.encoder_resolution), SETTLING_BAND * biggest)
+
+    def settled(self, window: float = 0.5) -> bool:
+        """Whether the run has settled: over the last ``window`` seconds its error r - q stays
+        within :meth:`settling_band` of its mean (:meth:`error_spread`).
+
+        A run that has not settled has no steady-state error: :meth:`steady_state_error` is then
+        the mean of an error still in motion (a short run, a hunting or tracking loop).
+
+        Raises
+        ------
+        ValueError
+            For an open-loop run (no reference).
+        """
+        if self.info.controller == "open loop":
+            raise ValueError("an open-loop run has no reference: it settles to no error")
+        return self.error_spread(window) <= self.settling_band()
 
     def stuck_intervals(self, min_duration: float = 0.0) -> list[tuple[float, float]]:
         """``(t_start, t_end)`` of the intervals with the joint at rest [s].
