@@ -318,6 +318,17 @@ def _exchange(a: Path, b: Path) -> None:
     os.rename(trash, a)
 
 
+def check_replaceable(folder) -> None:
+    """Refuse (ValueError) an existing folder that :func:`replace_folder` cannot replace: a
+    mount point (it cannot be renamed), or one holding a mount point.  Callers check it
+    before any work; :func:`replace_folder` checks again when it swaps."""
+    folder = Path(folder)
+    if folder.is_dir() and not folder.is_symlink() and os.path.ismount(folder):
+        raise ValueError(f"{folder}: a mount point, which cannot be replaced as a whole (the new "
+                         f"folder is built beside it and swapped in): give a folder inside it")
+    _no_mount_inside(folder)
+
+
 def _no_mount_inside(folder: Path) -> None:
     """Refuse a folder holding a mount point: carried into the new folder it would be copied
     file by file (no hard links across devices) and then emptied with the old folder."""
@@ -429,7 +440,7 @@ def replace_folder(path, *, keep=None, overwrite: bool = False) -> Iterator[Path
             raise NotADirectoryError(errno.ENOTDIR, "exists and is not a folder", str(dest))
         if not overwrite and any(dest.iterdir()):
             raise _exists_error(dest)
-        _no_mount_inside(dest)
+        check_replaceable(dest)
         shutil.copymode(dest, tmp)
         _carry(dest, tmp, keep)
         with _signals_held():

@@ -490,6 +490,38 @@ def test_a_folder_holding_a_mount_point_is_not_replaced(tmp_path, monkeypatch):
     assert (dest / "mnt" / "data.bin").read_text() == "theirs"
 
 
+@pytest.mark.parametrize("argv", [["diagnose", "{record}", "--report", "{out}", "--force"],
+                                  ["reproduce", "--out", "{out}", "--force", "--fast", "--seeds",
+                                   "1"]])
+@pytest.mark.parametrize("where", ["itself", "inside"])
+def test_a_mount_point_in_a_replaced_folder_is_refused_before_any_work(work, tmp_path, capsys,
+                                                                        monkeypatch, argv, where):
+    # the folder is replaced as a whole when the run ends: a mount point there (the folder
+    # itself, which cannot be renamed, or one inside it) was refused only then, after the
+    # whole diagnosis or reproduction (review R12)
+    import fricctl.diagnose
+    import fricctl.paper
+
+    out = tmp_path / "out"
+    (out / "mnt").mkdir(parents=True)
+    (out / "old.txt").write_text("old")
+    mount = str(out if where == "itself" else out / "mnt")
+    real = os.path.ismount
+    monkeypatch.setattr(os.path, "ismount", lambda p: os.fspath(p) == mount or real(p))
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(fricctl.diagnose, "diagnose", no_work)
+    monkeypatch.setattr(fricctl.paper, "reproduce_paper", no_work)
+    args = [a.format(record=work / "record.csv", out=out) for a in argv]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    _one_line(err, f"fricctl {argv[0]}: error: ")
+    assert f"{mount}: a mount point" in err or f"holds the mount point {mount}" in err
+    assert (out / "old.txt").read_text() == "old"
+
+
 def test_a_full_disk_names_the_output_file(tmp_path, capsys, monkeypatch):
     import errno
 

@@ -347,3 +347,19 @@ def test_a_python_warning_on_the_way_is_in_the_json(tmp_path, capsys, monkeypatc
     cap = capsys.readouterr()
     assert _warned(cap.err).count("something numpy said") == 1
     assert "something numpy said" in json.loads(cap.out)["warnings"]
+
+
+def test_the_default_recipe_flags_a_poor_fit_of_its_own(tmp_path, capsys):
+    # review R12: a constant torque driving the joint one way (nothing but the start-up
+    # accelerates it): the default recipe reported a fit of -808 % of the torque with no
+    # poor-fit warning, where every other recipe warns below 80 %
+    from fricctl.identify.record import POOR_FIT_PERCENT
+
+    path = tmp_path / "oneway.csv"
+    assert main(["simulate", "--torque", "step:0.25", "--duration", "6", "--csv",
+                 str(path)]) == 0
+    capsys.readouterr()
+    assert main(["identify", str(path), "--no-offset", "--json"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    assert obj["fit_percent"] < POOR_FIT_PERCENT
+    assert any(w.startswith(f"poor fit: {obj['fit_percent']:.3g} %") for w in obj["warnings"])

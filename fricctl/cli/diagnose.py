@@ -109,6 +109,17 @@ REPORT_FILES = ("residuals.png", "simulation.png", "spectrum.png", "steps.png", 
                 "extended_model.json")
 
 
+def _no_mount(option: str, out: Path) -> None:
+    """A folder replaced as a whole must be neither a mount point nor hold one (checked before
+    the diagnosis: :func:`fricctl._atomic.replace_folder` would refuse only when it swaps)."""
+    from .._atomic import check_replaceable
+
+    try:
+        check_replaceable(out)
+    except ValueError as exc:
+        raise ValueError(f"{option}: {exc}") from None
+
+
 def run(args) -> int:
     from ..datasets import load_record
     from ..diagnose import MAX_SAMPLES, diagnose
@@ -126,6 +137,7 @@ def run(args) -> int:
             if args.force:  # replaced as a whole by a folder built beside it
                 _check_replaceable(out)
                 check_new_folder("--report", out)
+                _no_mount("--report", out)
         else:  # built beside, then renamed into place: its folder must exist and be writable
             _check_parent(out)
             check_new_folder("--report", out)

@@ -361,6 +361,10 @@ def run(args) -> int:
         if ident is None:  # the default recipe's result carries them already
             result = replace(result, warnings=tuple(dict.fromkeys(
                 result.warnings + tuple(held_out_warnings(held) + _poor_fit(result)))))
+        elif _poor_fit(result):  # but not its own fit's (review R12: -808 % unflagged)
+            result = replace(result, warnings=tuple(dict.fromkeys(
+                result.warnings + tuple(_poor_fit(result)))))
+            ident = replace(ident, result=result)
     raised = [str(w.message).splitlines()[0] or w.category.__name__ for w in caught]
     if raised:
         result = replace(result, warnings=tuple(dict.fromkeys(result.warnings + tuple(raised))))

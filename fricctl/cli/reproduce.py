@@ -164,6 +164,12 @@ def _prepare_out(out: Path, force: bool) -> None:
     check_new_folder("--out", out)  # the new tree is built beside DIR, whose folder must exist
     if not out.exists():
         return
+    from .._atomic import check_replaceable
+
+    try:  # a mount point is refused now, not once the run is done
+        check_replaceable(out)
+    except ValueError as exc:
+        raise ValueError(f"--out {exc}") from None
     here = Path.cwd().resolve()
     if here == out.resolve() or out.resolve() in here.parents:
         raise ValueError(f"--out {out} holds the working folder, and is replaced as a whole when "
