@@ -633,5 +633,7 @@ def test_a_reader_that_closes_stdout_is_not_an_error():
     proc.stdout.close()  # the reader is gone before the command writes
     err = proc.stderr.read()
     assert proc.wait() == 141, err
-    assert "error" not in err and "Traceback" not in err and "Exception ignored" not in err
+    # (its warnings may say "error": the 0.2 s run has not settled, and its warning says so)
+    assert ": error:" not in err and "Traceback" not in err and "Exception ignored" not in err
+    assert "Broken pipe" not in err
     assert "fricctl simulate: warning: sampled loop" in err  # the design's warning (0.3 s / 0.9)
