@@ -360,7 +360,8 @@ def run(args) -> int:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
         if ident is None:  # the default recipe's result carries them already
             result = replace(result, warnings=tuple(dict.fromkeys(
-                result.warnings + tuple(held_out_warnings(held) + _poor_fit(result)))))
+                result.warnings + tuple(held_out_warnings(held, refined=args.recipe == "didim")
+                                   + _poor_fit(result)))))
         elif _poor_fit(result):  # but not its own fit's (review R12: -808 % unflagged)
             result = replace(result, warnings=tuple(dict.fromkeys(
                 result.warnings + tuple(_poor_fit(result)))))

@@ -472,13 +472,14 @@ def _judge(fit: _Fit, result: IdentificationResult, held) -> list:
             msg += (f", or take the equation error's {s.estimates[i]:.5g} +- {s.std[i]:.2g} "
                     f"if the encoder is fine enough (it agrees within the standard errors)")
         out.append(msg)
-    return out + held_out_warnings(held)
+    return out + held_out_warnings(held, refined=True)
 
 
-def held_out_warnings(held) -> list:
+def held_out_warnings(held, *, refined: bool = False) -> list:
     """What a held-out :class:`Validation` (or None: not asked) cannot vouch for: that it was
     not run, or a simulation fit below :data:`POOR_FIT_PERCENT` -- the same sentence for
-    every recipe of ``fricctl identify``."""
+    every recipe of ``fricctl identify``; ``refined``: the estimate minimises the simulation
+    error already (the default recipe, DIDIM), so the sentence does not send the user there."""
     if held is None:
         return []
     if held.failure:
@@ -486,7 +487,9 @@ def held_out_warnings(held) -> list:
     if not held.simulation_fit >= POOR_FIT_PERCENT:
         return [f"poor held-out simulation fit: {held.simulation_fit:.3g} % of the position "
                 f"(< {POOR_FIT_PERCENT:g} %); the model misses what drives this record "
-                f"(fricctl diagnose names causes)"]
+                f"(fricctl diagnose names causes)"
+                + ("" if refined else ", or the recipe's estimate is biased (the default "
+                                      "recipe refines it by the simulation error)")]
     return []
 
 
