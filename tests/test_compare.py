@@ -690,3 +690,20 @@ def test_a_network_driven_outside_its_training_envelope_is_a_row_warning():
             assert said == []
         counts.append(n)
     assert counts[0] > 0 and counts[1] == 0      # the small box is left, the wide one is not
+
+
+def test_warnings_alike_over_seeds_are_one_line():
+    # a network outside its envelope for a few samples in every seed made 43 lines of
+    # comparison.md on `make reproduce` (review R12): alike warnings (the same sentence, other
+    # numbers) are one line naming the seeds and quoting the first; others stay one per seed
+    from fricctl.compare.protocol import _by_seed
+
+    said = [(0, "outside for 0.004 s (0.0167 % of the samples): |Tm| 1.417 N*m"),
+            (1, "outside for 0.006 s (0.025 % of the samples): |Tm| 1.417 N*m"),
+            (3, "not judged: the joint never moved"),
+            (4, "outside for 2e-03 s (1 % of the samples): |Tm| 1.4 N*m")]
+    assert _by_seed(said, 10) == [
+        "seeds 0, 1, 4 (3 of 10) alike, as seed 0: outside for 0.004 s (0.0167 % of the "
+        "samples): |Tm| 1.417 N*m",
+        "seed 3: not judged: the joint never moved"]
+    assert _by_seed(said[2:3], 10) == ["seed 3: not judged: the joint never moved"]

@@ -18,6 +18,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import re
 from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass
 from typing import Mapping, Sequence
@@ -115,6 +116,24 @@ def _criterion(outs: list) -> str | None:
     return names.pop() if names else None
 
 
+def _by_seed(said: list, n: int) -> list:
+    """``(seed, warning)`` pairs as lines: one per seed, or, where several seeds warn alike (the
+    same sentence with other numbers: a network outside its envelope for 4 ms in every seed),
+    one line naming them and quoting the first with its numbers."""
+    groups: dict = {}
+    for s, w in said:
+        groups.setdefault(re.sub(r"\d+(\.\d+)?(e[-+]?\d+)?", "#", w), []).append((s, w))
+    out = []
+    for items in groups.values():
+        if len(items) == 1:
+            out.append(f"seed {items[0][0]}: {items[0][1]}")
+        else:
+            seeds = ", ".join(str(s) for s, _ in items)
+            out.append(f"seeds {seeds} ({len(items)} of {n}) alike, as seed {items[0][0]}: "
+                       f"{items[0][1]}")
+    return out
+
+
 def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool) -> dict:
     ex = EXPERIMENTS[en]
     warnings = []
@@ -128,7 +147,7 @@ def _row(name: str, en: str, plant: dict, seeds: list, outs: list, seeded: bool)
         metrics[m] = {"unit": METRICS[m][0], **_stats(vals)}
     # what an experiment could not judge, in its own words (e.g. a limit cycle too slow for the run)
     said = [(s, w) for s, o in zip(seeds, outs) for w in (o["warnings"] if "warnings" in o else ())]
-    warnings += [f"seed {s}: {w}" if seeded else w for s, w in said]
+    warnings += _by_seed(said, len(seeds)) if seeded else [w for _, w in said]
     na = [o["not_applicable"] for o in outs if "not_applicable" in o]
     if na:  # open loop for a compensator of the position error: nothing measured, nothing failed
         return {"compensator": name, "experiment": en, "plant": plant, "seeds": list(seeds),
