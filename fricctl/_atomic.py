@@ -322,8 +322,8 @@ def check_replaceable(folder) -> None:
     """Refuse (ValueError) an existing folder that :func:`replace_folder` cannot replace: a
     mount point (it cannot be renamed), or one holding a mount point.  Callers check it
     before any work; :func:`replace_folder` checks again when it swaps."""
-    folder = Path(folder)
-    if folder.is_dir() and not folder.is_symlink() and os.path.ismount(folder):
+    folder = Path(os.path.realpath(folder))  # as replace_folder swaps it: a link's target
+    if folder.is_dir() and os.path.ismount(folder):
         raise ValueError(f"{folder}: a mount point, which cannot be replaced as a whole (the new "
                          f"folder is built beside it and swapped in): give a folder inside it")
     _no_mount_inside(folder)

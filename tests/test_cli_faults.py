@@ -493,19 +493,22 @@ def test_a_folder_holding_a_mount_point_is_not_replaced(tmp_path, monkeypatch):
 @pytest.mark.parametrize("argv", [["diagnose", "{record}", "--report", "{out}", "--force"],
                                   ["reproduce", "--out", "{out}", "--force", "--fast", "--seeds",
                                    "1"]])
-@pytest.mark.parametrize("where", ["itself", "inside"])
+@pytest.mark.parametrize("where", ["itself", "inside", "linked"])
 def test_a_mount_point_in_a_replaced_folder_is_refused_before_any_work(work, tmp_path, capsys,
                                                                         monkeypatch, argv, where):
     # the folder is replaced as a whole when the run ends: a mount point there (the folder
     # itself, which cannot be renamed, or one inside it) was refused only then, after the
-    # whole diagnosis or reproduction (review R12)
+    # whole diagnosis or reproduction (review R12); the option naming a link to a mount point
+    # is the mount point the swap meets (review R13)
     import fricctl.diagnose
     import fricctl.paper
 
     out = tmp_path / "out"
     (out / "mnt").mkdir(parents=True)
     (out / "old.txt").write_text("old")
-    mount = str(out if where == "itself" else out / "mnt")
+    mount = str(out if where != "inside" else out / "mnt")
+    if where == "linked":
+        (tmp_path / "link").symlink_to(out)
     real = os.path.ismount
     monkeypatch.setattr(os.path, "ismount", lambda p: os.fspath(p) == mount or real(p))
 
@@ -514,7 +517,8 @@ def test_a_mount_point_in_a_replaced_folder_is_refused_before_any_work(work, tmp
 
     monkeypatch.setattr(fricctl.diagnose, "diagnose", no_work)
     monkeypatch.setattr(fricctl.paper, "reproduce_paper", no_work)
-    args = [a.format(record=work / "record.csv", out=out) for a in argv]
+    given = tmp_path / "link" if where == "linked" else out
+    args = [a.format(record=work / "record.csv", out=given) for a in argv]
     assert main(args) == 2
     err = capsys.readouterr().err
     _one_line(err, f"fricctl {argv[0]}: error: ")

@@ -363,3 +363,29 @@ def test_the_default_recipe_flags_a_poor_fit_of_its_own(tmp_path, capsys):
     obj = json.loads(capsys.readouterr().out)
     assert obj["fit_percent"] < POOR_FIT_PERCENT
     assert any(w.startswith(f"poor fit: {obj['fit_percent']:.3g} %") for w in obj["warnings"])
+
+
+def test_the_default_held_out_warning_names_the_bias_where_it_reports_the_equation_error(
+        tmp_path, capsys):
+    # review R13: the default recipe reports the equation error where DIDIM loses a parameter;
+    # its poor held-out warning then names the equation error's bias too, as the other
+    # least-squares recipes' do (it named only the model)
+    from types import SimpleNamespace
+
+    from fricctl.identify import record as rec
+
+    path = tmp_path / "oneway.csv"
+    assert main(["simulate", "--torque", "step:0.25", "--duration", "6", "--csv",
+                 str(path)]) == 0
+    capsys.readouterr()
+    run = Run.from_csv(path)
+    fit = rec._fit([run], "coulomb_viscous", False, True)
+    assert fit.lost and fit.chosen is fit.start  # DIDIM loses inertia and viscous here
+    poor = SimpleNamespace(failure="", simulation_fit=50.0)  # a held-out fit of 50 %
+    said = [w for w in rec._judge(fit, fit.chosen, poor)
+            if w.startswith("poor held-out simulation fit")]
+    assert len(said) == 1 and "or the estimate is biased (an equation-error fit" in said[0]
+    kept = rec._Fit(cutoff=fit.cutoff, start=fit.start, refined=fit.start, why_not="")
+    said = [w for w in rec._judge(kept, kept.chosen, poor)
+            if w.startswith("poor held-out simulation fit")]
+    assert len(said) == 1 and "biased" not in said[0]  # DIDIM's own estimate reported

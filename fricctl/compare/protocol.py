@@ -116,21 +116,32 @@ def _criterion(outs: list) -> str | None:
     return names.pop() if names else None
 
 
+#: A number standing alone in a warning (not a digit of a name such as "L1"; "1.05x" is one).
+_NUMBER = re.compile(r"(?<![A-Za-z_.\d])[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?![A-Za-wyz_\d]|\.\d)")
+
+
 def _by_seed(said: list, n: int) -> list:
     """``(seed, warning)`` pairs as lines: one per seed, or, where several seeds warn alike (the
-    same sentence with other numbers: a network outside its envelope for 4 ms in every seed),
-    one line naming them and quoting the first with its numbers."""
+    same sentence with other numbers: a network outside its envelope for a few milliseconds in
+    every seed), one line naming them, each number given as its range over them."""
     groups: dict = {}
+    seen: dict = {}
     for s, w in said:
-        groups.setdefault(re.sub(r"\d+(\.\d+)?(e[-+]?\d+)?", "#", w), []).append((s, w))
+        template = _NUMBER.sub("#", w)
+        k = seen[(s, template)] = seen.get((s, template), -1) + 1  # a seed's k-th such warning
+        groups.setdefault((template, k), []).append((s, w))
     out = []
     for items in groups.values():
         if len(items) == 1:
             out.append(f"seed {items[0][0]}: {items[0][1]}")
-        else:
-            seeds = ", ".join(str(s) for s, _ in items)
-            out.append(f"seeds {seeds} ({len(items)} of {n}) alike, as seed {items[0][0]}: "
-                       f"{items[0][1]}")
+            continue
+        numbers = [_NUMBER.findall(w) for _, w in items]
+        parts = _NUMBER.split(items[0][1])
+        text = parts[0]
+        for i, part in enumerate(parts[1:]):
+            column = sorted({x[i] for x in numbers}, key=float)
+            text += (column[0] if len(column) == 1 else f"{column[0]} to {column[-1]}") + part
+        out.append(f"seeds {', '.join(str(s) for s, _ in items)} ({len(items)} of {n}): {text}")
     return out
 
 
