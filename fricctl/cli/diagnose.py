@@ -64,7 +64,7 @@ was, never new files beside old figures (a DIR that holds the working folder is 
 into an existing DIR without ``--force`` (none of the report's files there) each file is
 written atomically.  With two cores or more the figures are drawn by two processes forked before the
 diagnosis starts, which import matplotlib while it runs, once its baseline's fit has ended
-(the same files; one core: drawn by the command itself).  A record longer than 571 428 samples is refused, counted before it is read
+(the same files; one core: drawn by the command itself).  A record longer than 500 000 samples is refused, counted before it is read
 (7.0 kB per sample measured at the limit, a 4 GB budget); a progress bar shows on stderr when it is a
 terminal.
 Bad input prints one line on stderr and exits with code 2.
