@@ -389,3 +389,17 @@ def test_the_default_held_out_warning_names_the_bias_where_it_reports_the_equati
     said = [w for w in rec._judge(kept, kept.chosen, poor)
             if w.startswith("poor held-out simulation fit")]
     assert len(said) == 1 and "biased" not in said[0]  # DIDIM's own estimate reported
+
+
+def test_didim_from_an_unsupported_start_says_its_fit_does_not_vouch(tmp_path, capsys):
+    # review R12: a constant torque driving the joint one way; --recipe didim --no-offset gave
+    # inertia 7.5e-7 +- 1e-8 (truth 2.9e-3) at a position fit of 99.9995 % with no flag: its
+    # IDIM-LS start fits the torque worse than the torque's mean
+    path = tmp_path / "oneway.csv"
+    assert main(["simulate", "--torque", "step:0.25", "--duration", "6", "--csv",
+                 str(path)]) == 0
+    capsys.readouterr()
+    assert main(["identify", str(path), "--recipe", "didim", "--no-offset", "--json"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    said = [w for w in obj["warnings"] if w.startswith("its IDIM-LS start fits")]
+    assert len(said) == 1 and "do not vouch for the estimate" in said[0]

@@ -201,7 +201,8 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
                          "applies the recorded torque); give the controller or use 'position'")
     recipe = IdimRecipe() if recipe is None else v.instance("recipe", recipe, IdimRecipe)
     names = model_names(model, offset)
-    if start is None:
+    own_start = start is None
+    if own_start:
         start = idim_ls(run, model=model, offset=offset, recipe=recipe)
     else:
         v.instance("start", start, IdentificationResult)
@@ -275,6 +276,16 @@ def didim(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     if not converged:
         warnings.append(f"DIDIM did not converge in {max_iterations} iterations (last relative "
                         f"step {change:.2g}): the estimate is the last iterate")
+    if own_start and not start.fit_percent >= 0.0:
+        # a start worse than the torque's mean (review R12: a constant torque driving the joint
+        # one way; DIDIM then gave inertia 7.5e-7 +- 1e-8 for 2.9e-3 at a position fit of
+        # 99.9995 %): the replay follows the record with parameters the record does not excite
+        warnings.append(
+            f"its IDIM-LS start fits {start.fit_percent:.3g} % of the torque, less than its mean "
+            f"does: DIDIM refines an estimate the equation error does not support, and a "
+            f"replay can follow a record that barely excites a parameter (a joint at one speed: "
+            f"the inertia) with any value of it -- its fit and standard errors do not vouch for "
+            f"the estimate")
     if theta is not J_at:  # else the last iteration took no step: its Jacobian is this one
         J = prob.jacobian(theta, r, 1e-4 * mag)  # (r is theta's; three replays saved)
     measured = prob.measured()
