@@ -358,17 +358,12 @@ def run(args) -> int:
         held = None
         if ident is None and args.model in LINEAR_MODELS and not args.no_validation:
             held = held_out_halves(lambda r: _fit_again(args, r, controller, estimator), record)
-        if ident is None:  # the default recipe's result carries them already
-            result = replace(result, warnings=tuple(dict.fromkeys(
-                result.warnings + tuple(held_out_warnings(held, refined=args.recipe == "didim")
-                                   + _poor_fit(result)))))
-        elif _poor_fit(result):  # but not its own fit's (review R12: -808 % unflagged)
-            result = replace(result, warnings=tuple(dict.fromkeys(
-                result.warnings + tuple(_poor_fit(result)))))
-            ident = replace(ident, result=result)
-    raised = [str(w.message).splitlines()[0] or w.category.__name__ for w in caught]
-    if raised:
-        result = replace(result, warnings=tuple(dict.fromkeys(result.warnings + tuple(raised))))
+        extra = _poor_fit(result)  # every recipe's, the default's too (review R12)
+        if ident is None:  # the default recipe's result carries its held-out warnings already
+            extra = held_out_warnings(held, refined=args.recipe == "didim") + extra
+    extra += [str(w.message).splitlines()[0] or w.category.__name__ for w in caught]
+    if extra:
+        result = replace(result, warnings=tuple(dict.fromkeys(result.warnings + tuple(extra))))
         if ident is not None:
             ident = replace(ident, result=result)
     # before any output: a fit that gives no model file is one error line, not warnings first

@@ -140,6 +140,9 @@ class IdimObservations:
     """Every column decimated (parallel filtering)."""
     torque: np.ndarray
     """The torque (force) decimated the same way [N*m] or [N]."""
+    velocity: np.ndarray
+    """The filtered velocity after the border, not decimated (the rows of :attr:`full`)
+    [rad/s] or [m/s]."""
 
 
 def filter_reach(run: Run, recipe: IdimRecipe) -> int:
@@ -174,7 +177,8 @@ def idim_observations(run, model, offset, recipe: IdimRecipe) -> IdimObservation
     X0 = regressor(model, est.velocity[sl], est.acceleration[sl], offset=offset)
     y0 = np.asarray(run.torque[sl])
     X = np.column_stack([decimate(X0[:, j], recipe.decimation) for j in range(X0.shape[1])])
-    return IdimObservations(full=X0, decimated=X, torque=decimate(y0, recipe.decimation))
+    return IdimObservations(full=X0, decimated=X, torque=decimate(y0, recipe.decimation),
+                            velocity=est.velocity[sl])
 
 
 def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
@@ -209,8 +213,7 @@ def idim_ls(run, *, model: str = "coulomb_viscous", offset: bool | None = None,
     names = model_names(model, offset)
     # a direction the record barely slides in gives a column that differs from a constant
     # (or from zero) only by the filters' smear: refused by name, before the fit reads it
-    w = butterworth_central(run.t, run.position, cutoff=recipe.cutoff,
-                            order=recipe.filter_order).velocity[recipe.border:]
+    w = obs.velocity
     sliding = ~at_rest(run.position)[recipe.border:]
     check_directions(names, np.sum(sliding & (w > 0)), np.sum(sliding & (w < 0)),
                      filter_reach(run, recipe), f"the reach of its {recipe.cutoff:g} Hz "
