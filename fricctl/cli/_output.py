@@ -24,6 +24,7 @@ from pathlib import Path
 from .._json import json_safe
 
 __all__ = ["check_outputs", "check_figure", "json_text", "about", "save_figure", "check_new_folder",
+           "check_replaceable_folder",
            "FIGURE_FORMATS"]
 
 #: File name endings ``--figure`` accepts (matplotlib picks the format from it).
@@ -125,6 +126,25 @@ def check_new_folder(option: str, path) -> None:
         raise ValueError(f"{option}: {above} is not a folder; cannot make {path} inside it")
     if not os.access(above, os.W_OK | os.X_OK):
         raise ValueError(f"{option}: the folder {above} is not writable; cannot make {path}")
+
+
+def check_replaceable_folder(option: str, path, when: str) -> None:
+    """Refuse, before any work, an existing folder that will be replaced as a whole (``when``:
+    on what, for the message) but should not or cannot be: one holding the working folder (the
+    swap would leave the shell of whoever ran the command in a removed folder), a mount point,
+    or one holding a mount point (:func:`fricctl._atomic.check_replaceable`;
+    :func:`~fricctl._atomic.replace_folder` would refuse those only when it swaps, after the
+    run)."""
+    from .._atomic import check_replaceable
+
+    here, there = Path.cwd().resolve(), Path(path).resolve()
+    if here == there or there in here.parents:
+        raise ValueError(f"{option}: {path} holds the working folder, and is replaced as a whole "
+                         f"{when}: run from another folder")
+    try:
+        check_replaceable(path)
+    except ValueError as exc:
+        raise ValueError(f"{option}: {exc}") from None
 
 
 def _file_id(path) -> tuple | None:

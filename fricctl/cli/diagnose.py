@@ -109,22 +109,11 @@ REPORT_FILES = ("residuals.png", "simulation.png", "spectrum.png", "steps.png", 
                 "extended_model.json")
 
 
-def _no_mount(option: str, out: Path) -> None:
-    """A folder replaced as a whole must be neither a mount point nor hold one (checked before
-    the diagnosis: :func:`fricctl._atomic.replace_folder` would refuse only when it swaps)."""
-    from .._atomic import check_replaceable
-
-    try:
-        check_replaceable(out)
-    except ValueError as exc:
-        raise ValueError(f"{option}: {exc}") from None
-
-
 def run(args) -> int:
     from ..datasets import load_record
     from ..diagnose import MAX_SAMPLES, diagnose
     from ..plant import JointModel
-    from ._output import check_new_folder, check_outputs
+    from ._output import check_new_folder, check_outputs, check_replaceable_folder
     from ._painters import forked_painters
 
     if args.report is not None:
@@ -135,9 +124,8 @@ def run(args) -> int:
             check_outputs({f"--report ({name})": out / name for name in REPORT_FILES},
                           [args.run, args.model], force=args.force)
             if args.force:  # replaced as a whole by a folder built beside it
-                _check_replaceable(out)
+                check_replaceable_folder("--report", out, "with --force")
                 check_new_folder("--report", out)
-                _no_mount("--report", out)
         else:  # built beside, then renamed into place: its folder must exist and be writable
             _check_parent(out)
             check_new_folder("--report", out)
@@ -280,15 +268,6 @@ def _check_parent(out: Path) -> None:
     (``--report nodir/rep`` made ``nodir`` too: a typo in a path became a new tree)."""
     if not out.is_dir() and not Path(out.absolute()).parent.is_dir():
         raise ValueError(f"--report: the folder {out.parent} does not exist")
-
-
-def _check_replaceable(out: Path) -> None:
-    """Refuse to replace a report folder that holds the working folder: the swap would leave
-    the shell of whoever ran the command in a removed folder."""
-    here = Path.cwd().resolve()
-    if here == out.resolve() or out.resolve() in here.parents:
-        raise ValueError(f"--report: {out} holds the working folder, and is replaced as a whole "
-                         "with --force: run from another folder")
 
 
 def write_report(result, folder, *, overwrite: bool = True, painters=None) -> Path:

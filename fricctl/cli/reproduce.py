@@ -157,23 +157,14 @@ def _pipelines(text: str) -> tuple:
 def _prepare_out(out: Path, force: bool) -> None:
     """Refuse a non-empty folder unless ``force``, and a folder this run could not replace
     (checked before the run: a refusal costs nothing)."""
-    from ._output import check_new_folder
+    from ._output import check_new_folder, check_replaceable_folder
 
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
     check_new_folder("--out", out)  # the new tree is built beside DIR, whose folder must exist
     if not out.exists():
         return
-    from .._atomic import check_replaceable
-
-    try:  # a mount point is refused now, not once the run is done
-        check_replaceable(out)
-    except ValueError as exc:
-        raise ValueError(f"--out {exc}") from None
-    here = Path.cwd().resolve()
-    if here == out.resolve() or out.resolve() in here.parents:
-        raise ValueError(f"--out {out} holds the working folder, and is replaced as a whole when "
-                         "the run completes: run from another folder")
+    check_replaceable_folder("--out", out, "when the run completes")  # now, not after the run
     entries = sorted(out.iterdir())
     if not entries:
         return
