@@ -87,11 +87,15 @@ plt.show()
 # only make sense against a nominal model.
 #
 # The score of a candidate is the held-out fraction of the *remaining* torque residual
-# (sum of squares) its term removes, **less what the same term removes on the
+# (sum of squares) its term removes, **net of what the same term removes on the
 # record's effect-free twin**: the model as it stands re-simulated with the recorded
 # torque and read through the record's encoder.  The twin has the record's rate,
 # encoder, excitation and feedback and no effect, so what a term "explains" there is
 # the measuring chain's share (quantisation and the timing of reversals and stops).
+# The twin's noise is set so that it keeps the residual the record keeps once the term is
+# in, so that share is a fraction of the record's chain residual, not of all its
+# residual: the net score is (gross - chain) / (1 - chain), what the term removes beyond
+# the chain's part of it.
 # A cause is named when its net score reaches 19 % (a 10 % drop of the RMS); then the
 # search repeats with its term in the model, until no candidate reaches it.  The causes
 # named are finally refitted together on all data; one whose term goes to zero there was

@@ -175,8 +175,10 @@ def test_report_and_json():
     assert out["cause"] == "thermal_drift" and out["causes"] == ["thermal_drift"]
     step = out["steps"][0]
     assert step["cause"] == "thermal_drift" and step["score"] == pytest.approx(d.score)
-    # the net score is the gross one less the measuring chain's share
-    assert step["score"] == pytest.approx(step["gross"] - step["chain"], abs=1e-12)
+    # the net score is the gross one less the measuring chain's estimated part of it
+    # (selection.net_of_chain): (gross - chain) / (1 - chain)
+    assert step["score"] == pytest.approx((step["gross"] - step["chain"]) / (1 - step["chain"]),
+                                          abs=1e-12)
     assert step["torque_rms_after"] < step["torque_rms_before"]
     # every fit-mode candidate is scored once, best first
     assert sorted(r["cause"] for r in out["ranking"]) == sorted(FIT_MODE)

@@ -26,8 +26,9 @@ an engineer does when simulation and experiment disagree:
    record cut in contiguous blocks; fit on all blocks but one, predict the one
    left out, hyper-parameters such as the ripple period or the delay chosen on
    the training blocks only), as the fraction of the remaining held-out torque
-   residual it removes, less what the same term removes on the record's
-   effect-free twin (:mod:`.twin`: the measuring chain's share).  Among the
+   residual it removes, net of what the same term removes on the record's
+   effect-free twin (:mod:`.twin`: the measuring chain's share, taken of the record's
+   chain residual: :func:`~.selection.net_of_chain`).  Among the
    candidates whose net score reaches :data:`MIN_SCORE` and that can be told on
    this record (not collinear with the model's columns, no coefficient at a
    bound, no resonance above the excitation's band: else "cannot be told on this

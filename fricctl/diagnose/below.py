@@ -55,7 +55,7 @@ import numpy as np
 
 from .causes import Term
 from .crossval import full_fit
-from .selection import (CHAIN_UNMEASURED, MIN_SCORE, Selection, _name, _parts, _residual, _score,
+from .selection import (CHAIN_UNMEASURED, MIN_SCORE, net_of_chain, Selection, _name, _parts, _residual, _score,
                         _Told, _why_not_told, rival_on_top, sensor_scales, simulation_score,
                         speed_curve, term_trial)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
@@ -82,7 +82,8 @@ class BelowLine:
     """The candidate."""
     score: float
     """Net held-out share of the remaining torque residual (sum of squares) its term removes:
-    :attr:`gross` less :attr:`chain`; :attr:`gross` itself where the chain's share is not
+    :attr:`gross` net of :attr:`chain` (:func:`~fricctl.diagnose.selection.net_of_chain`);
+    :attr:`gross` itself where the chain's share is not
     measured (the gross share fails the test already) [-]."""
     gross: float
     """The held-out share before the measuring chain's is taken off [-]."""
@@ -284,7 +285,7 @@ def _entry(problem, state, s, sse_prev: float, dof: float, chain: Callable, simu
         return _Tried(line=BelowLine(**entry, score=math.nan, chain=math.nan, p_value=math.nan,
                                      supported=False, plausible=None, reason=CHAIN_UNMEASURED),
                       cause=s.cause, fit=fit)
-    net = s.gross - share
+    net = net_of_chain(s.gross, share)
     if not net > 0:
         return None  # the measuring chain alone removes as much: nothing of the record's
     p = reduction_p(net, dof, after)

@@ -72,8 +72,8 @@ class Diagnosis:
         the held-out torque and simulation RMS before and after it.
     ranking : tuple of (str, float)
         The first step's candidates with their net scores, best first: the held-out
-        fraction of the baseline's torque residual (sum of squares) each removes, less
-        the measuring chain's share [-]; NaN for a candidate with no net share (its
+        fraction of the baseline's torque residual (sum of squares) each removes, net of
+        the measuring chain's share (:func:`~fricctl.diagnose.selection.net_of_chain`) [-]; NaN for a candidate with no net share (its
         chain share could not be measured: the twin ran away), in the place a net 0 takes.
     evidence : str
         The evidence for the named causes, in words and numbers.
@@ -287,7 +287,9 @@ class Diagnosis:
                       "no floor: the twin of the baseline ran away")
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
-                      f"record's effect-free twin ({chain_said}); named when the net share is "
+                      f"record's effect-free twin ({chain_said}): net = (gross - chain) / (1 - "
+                      f"chain), the chain's share being a fraction of the twin's residual, which is "
+                      f"what the record keeps with the term in; named when the net share is "
                       f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
                       f"{self.cutoff:.4g} Hz.", ""]
         if self.not_identifiable:
@@ -415,8 +417,8 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         whose = "the baseline's" if i == 0 else "the remaining"
         parts.append(f"{lead}{st.cause}: {causes.physical(st.cause)}. Adding the term removes "
                      f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
-                     f"blocked cross-validation, net of the measuring chain's "
-                     f"{100 * st.chain:.0f} %); {body}." + _passed_over(st))
+                     f"blocked cross-validation, net of the measuring chain's share: the term "
+                     f"removes {100 * st.chain:.0f} % of its effect-free twin's residual); {body}." + _passed_over(st))
     tail = (f" Held-out torque RMS {_num(gain.torque_rms_before, '.3g')} -> "
             f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
             f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "

@@ -27,7 +27,8 @@ from a fixed seed: a diagnosis is reproducible.
 
 The candidate is scored on the twin by the same blocked cross-validation, after the
 causes already named (:func:`chain_shares`); the held-out fraction of the residual it
-removes there -- the chain's share -- is taken off its score on the record.
+removes there -- the chain's share -- is taken off its score on the record, as a fraction of
+the record's chain residual (:func:`fricctl.diagnose.selection.net_of_chain`).
 """
 
 from __future__ import annotations
