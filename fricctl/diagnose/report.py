@@ -288,7 +288,7 @@ class Diagnosis:
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
                       f"record's effect-free twin ({chain_said}): net = (gross - chain) / (1 - "
-                      f"chain), the chain's share being a fraction of the twin's residual, which is "
+                      f"chain) where gross > chain (else gross - chain), the chain's share being a fraction of the twin's residual, which is "
                       f"what the record keeps with the term in; named when the net share is "
                       f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
                       f"{self.cutoff:.4g} Hz.", ""]
@@ -418,7 +418,8 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         parts.append(f"{lead}{st.cause}: {causes.physical(st.cause)}. Adding the term removes "
                      f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
                      f"blocked cross-validation, net of the measuring chain's share: the term "
-                     f"removes {100 * st.chain:.0f} % of its effect-free twin's residual); {body}." + _passed_over(st))
+                     f"removes {100 * st.chain:.0f} % of the record's effect-free twin's residual); "
+                     f"{body}." + _passed_over(st))
     tail = (f" Held-out torque RMS {_num(gain.torque_rms_before, '.3g')} -> "
             f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
             f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "

@@ -645,8 +645,8 @@ def _why_not_told(problem: Problem, state: _State, cause: Cause, fit: FullFit | 
     if state.base.fit_mode and not fit.theta[0] > 0:
         # the model would hold no inertia (Baseline.model clamps it to 1e-12): no joint moves
         # so, and its effect-free twin cannot even be simulated (independent bench, [31, 107]:
-        # a delay of 11 samples at 200 Hz beside an inertia refitted to 0, and the diagnosis
-        # stopped on "too stiff for this sample time")
+        # a delay of 11 samples at 200 Hz beside an inertia refitted to -0.0039 kg*m^2, and
+        # the diagnosis stopped on "too stiff for this sample time")
         return (f"the joint's inertia refitted beside it is {fit.theta[0]:.3g} "
                 f"{state.base.labels.inertia}: a model with no positive inertia is not a joint")
     coef = fit.theta[fit.theta.size - cause.n_extra:]
