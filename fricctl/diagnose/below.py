@@ -55,9 +55,9 @@ import numpy as np
 
 from .causes import Term
 from .crossval import full_fit
-from .selection import (CHAIN_UNMEASURED, MIN_SCORE, net_of_chain, Selection, _name, _parts, _residual, _score,
-                        _Told, _why_not_told, rival_on_top, sensor_scales, simulation_score,
-                        speed_curve, term_trial)
+from .selection import (CHAIN_UNMEASURED, MIN_SCORE, Selection, _name, _parts, _residual, _score,
+                        _Told, _why_not_told, net_of_chain, rival_on_top, sensor_scales,
+                        simulation_score, speed_curve, term_trial)
 from .verdict import SIGNIFICANCE, effective_dof, reduction_p
 
 __all__ = ["BelowLine", "below_line", "TEST", "PERIOD_PARAMETERS"]
@@ -83,8 +83,8 @@ class BelowLine:
     score: float
     """Net held-out share of the remaining torque residual (sum of squares) its term removes:
     :attr:`gross` net of :attr:`chain` (:func:`~fricctl.diagnose.selection.net_of_chain`);
-    :attr:`gross` itself where the chain's share is not
-    measured (the gross share fails the test already) [-]."""
+    :attr:`gross` itself where the chain's share is not measured (the gross share fails the
+    test already) [-]."""
     gross: float
     """The held-out share before the measuring chain's is taken off [-]."""
     chain: float

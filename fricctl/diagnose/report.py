@@ -73,8 +73,9 @@ class Diagnosis:
     ranking : tuple of (str, float)
         The first step's candidates with their net scores, best first: the held-out
         fraction of the baseline's torque residual (sum of squares) each removes, net of
-        the measuring chain's share (:func:`~fricctl.diagnose.selection.net_of_chain`) [-]; NaN for a candidate with no net share (its
-        chain share could not be measured: the twin ran away), in the place a net 0 takes.
+        the measuring chain's share (:func:`~fricctl.diagnose.selection.net_of_chain`) [-];
+        NaN for a candidate with no net share (its chain share could not be measured: the
+        twin ran away), in the place a net 0 takes.
     evidence : str
         The evidence for the named causes, in words and numbers.
     baseline, extended : JointModel
@@ -288,8 +289,9 @@ class Diagnosis:
         lines += ["", f"A step names the candidate that removes the most of the remaining held-out "
                       f"torque residual (sum of squares), net of what the same term removes on the "
                       f"record's effect-free twin ({chain_said}): net = (gross - chain) / (1 - "
-                      f"chain) where gross > chain (else gross - chain), the chain's share being a fraction of the twin's residual, which is "
-                      f"what the record keeps with the term in; named when the net share is "
+                      f"chain) where gross > chain (else gross - chain), the chain's share being "
+                      f"a fraction of the twin's residual, which is what the record keeps with "
+                      f"the term in; named when the net share is "
                       f">= {100 * MIN_SCORE:.0f} % (a 10 % drop of the RMS).  Low-pass cut-off "
                       f"{self.cutoff:.4g} Hz.", ""]
         if self.not_identifiable:
@@ -418,8 +420,8 @@ def evidence_text(steps: tuple, bodies: tuple, ranking: tuple, gain: Gain,
         parts.append(f"{lead}{st.cause}: {causes.physical(st.cause)}. Adding the term removes "
                      f"{100 * st.score:.0f} % of {whose} held-out torque residual (sum of squares, "
                      f"blocked cross-validation, net of the measuring chain's share: the term "
-                     f"removes {100 * st.chain:.0f} % of the record's effect-free twin's residual); "
-                     f"{body}." + _passed_over(st))
+                     f"removes {100 * st.chain:.0f} % of the record's effect-free twin's "
+                     f"residual); {body}." + _passed_over(st))
     tail = (f" Held-out torque RMS {_num(gain.torque_rms_before, '.3g')} -> "
             f"{_num(gain.torque_rms_after, '.3g')} {u.torque}, windowed simulation RMS "
             f"{_num(gain.simulation_rms_before, '.3g')} -> {_num(gain.simulation_rms_after, '.3g')} "

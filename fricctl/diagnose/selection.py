@@ -8,9 +8,10 @@ the record's effect-free twin (:mod:`fricctl.diagnose.twin`: the measuring chain
 taken as a fraction of the record's chain residual (:func:`net_of_chain`).  The best
 candidate whose net score reaches :data:`~fricctl.diagnose.report.MIN_SCORE` and which can
 be told on this record (:func:`collinearity`; a positive inertia refitted beside it; then
-the cause's own ``identifiable``: e.g. a ripple period the record can resolve) and whose extended model simulates the held-out windows better is
-named -- one that lowers the torque residual but re-simulates worse is tried and
-rejected, with the reason -- and the search repeats until no candidate reaches it.
+the cause's own ``identifiable``: e.g. a ripple period the record can resolve) and whose
+extended model simulates the held-out windows better is named -- one that lowers the torque
+residual but re-simulates worse is tried and rejected, with the reason -- and the search
+repeats until no candidate reaches it.
 
 With a nominal model, a supported candidate must also remove at least as much of the
 held-out residual as a scale error of the recorded torque (:func:`torque_scale`: the model's torque times
@@ -76,6 +77,7 @@ __all__ = ["Step", "Selected", "Selection", "forward_selection", "collinearity",
 #: must remove, net of the measuring chain's share, to be named: 1 - 0.9**2, i.e. the
 #: held-out torque RMS must drop by 10 %, the issue's definition of an effect that matters.
 MIN_SCORE = 1.0 - 0.9 ** 2
+
 
 def net_of_chain(gross: float, chain: float) -> float:
     """The held-out fraction of the remaining residual a term removes beyond what the
