@@ -179,7 +179,12 @@ def _fit_again(args, record, controller, estimator):
         fit = idim_iv if args.recipe == "idim_iv" else didim
         return fit(record, model=args.model, offset=args.offset, controller=controller)
     return identify_run(record, model=args.model, estimator=estimator, offset=args.offset,
-                        border=50 if args.border is None else args.border)
+                        **_border(args))
+
+
+def _border(args) -> dict:
+    """``--border`` as identify_run's keyword, or nothing (its default)."""
+    return {} if args.border is None else {"border": args.border}
 
 
 def _poor_fit(result) -> list:
@@ -223,19 +228,19 @@ def _bias_checked(record, args, estimator, result):
     from ..identify import identify_run
     from ..identify.record import DISAGREEMENT_SIGMAS
 
-    border = 50 if args.border is None else args.border
+    border = _border(args)
     cutoff = 0.1 / record.sample_time  # butterworth_central's default: a fifth of Nyquist
     late = record.torque.copy()
     late[1:] = 0.5 * (record.torque[1:] + record.torque[:-1])
     checks = [("the torque taken half a sample earlier",
                lambda: identify_run(Run(t=record.t, torque=late, position=record.position,
                                         units=record.units), model=args.model,
-                                    estimator=estimator, offset=args.offset, border=border))]
+                                    estimator=estimator, offset=args.offset, **border))]
     if estimator == "butterworth_central":
         checks.insert(0, (f"the estimator's cut-off halved ({cutoff:.4g} -> {cutoff / 2:.4g} Hz)",
                           lambda: identify_run(record, model=args.model, offset=args.offset,
-                                               border=border,
-                                               estimator_options={"cutoff": cutoff / 2})))
+                                               estimator_options={"cutoff": cutoff / 2},
+                                               **border)))
     var, moved = result.std ** 2, []
     for what, refit in checks:
         try:
@@ -352,7 +357,7 @@ def run(args) -> int:
         else:
             estimator = args.estimator or "butterworth_central"
             result = identify_run(record, model=args.model, estimator=estimator, offset=args.offset,
-                                  border=50 if args.border is None else args.border)
+                                  **_border(args))
             if args.model in LINEAR_MODELS:
                 result = _bias_checked(record, args, estimator, result)
         held = None

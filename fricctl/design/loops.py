@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import control
 import numpy as np
@@ -235,7 +236,7 @@ class LinearLoop:
         The poles of :meth:`sampled` (:func:`control.poles`) mapped by ``s = ln(z)/Ts``; poles at
         ``z = 0`` are infinitely fast and left out (``control.damp`` would take their log).
         """
-        z = np.asarray(control.poles(self.sampled()), complex)
+        z = self._sampled_poles
         nz = z[np.abs(z) > 1e-12]
         return dominant_damping(np.log(nz) / self.sample_time)
 
@@ -274,7 +275,12 @@ class LinearLoop:
 
     def sampled_stable(self) -> bool:
         """Whether every pole of :meth:`sampled` lies strictly inside the unit circle."""
-        return bool(np.all(np.abs(np.asarray(control.poles(self.sampled()))) < 1.0))
+        return bool(np.all(np.abs(self._sampled_poles) < 1.0))
+
+    @cached_property
+    def _sampled_poles(self) -> np.ndarray:
+        # the poles of sampled(), built once per loop (sampled_metrics asks twice)
+        return np.asarray(control.poles(self.sampled()), complex)
 
 
 def sampled_loop(design: Design | None = None, *, kp: float | None = None,
