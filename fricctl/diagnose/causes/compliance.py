@@ -162,8 +162,8 @@ def _stays_a_spring(base, term) -> str | None:
     free) from standing for a dead band with a stiff contact that the rigid column models
     only up to the impacts: issue 21's new set, a gap of 1.0 deg at 1 kHz in closed loop,
     read as a spring of 15.5 Hz at zeta 0.39 (76 % of the residual, the dead band alone 69 %,
-    beside the spring 39 % of what it leaves); on sixteen development records with a true
-    spring ([9402, 0..7], the second simulator's [31, 100..102, 201, 202]) a dead band beside
+    beside the spring 39 % of what it leaves); on twelve development records with a true
+    spring ([9402, 0..7], the second simulator's [31, 100, 102, 201, 202]) a dead band beside
     it removed 0-3 %.
     """
     sig = base.sig
