@@ -13,8 +13,8 @@ where the load torque reverses (a dead band between motor and load, :mod:`.backl
 removes more of the residual than the spring, or fitted beside it :data:`DEAD_BAND_SHARE` of
 what the spring leaves: backlash imitated by a soft spring), or when a sinusoid in time near
 its frequency removes as much (:func:`_periodic_in_time`: a disturbance periodic in time, which
-a tuned spring rides on).  Not added to a model with backlash (its
-contact is the joint's coupling already).
+a tuned spring rides on).  Not added to a model with backlash (its contact is the joint's
+coupling already).
 Bench: link 0.5 .. 1.5 x actuator inertia, coupled resonance 12 .. 40 Hz, structural damping
 ratio 0.02 .. 0.1.
 """
@@ -78,23 +78,15 @@ def _refine(base, variants):
     (a cause per step: the residual is the model's as it stands); the search sees all the
     data, the held-out blocks too, as the choice of a grid point's neighbourhood does."""
     sig = base.sig
-    m = sig.moving
-    if not variants or not np.any(m):
+    y = base.current_residual
+    if not variants or not np.any(y[sig.moving]):
         return list(variants)
-    y = np.asarray(base.current_residual, dtype=float)[m]
-    x0 = base.columns[m] if base.columns is not None else np.zeros((y.size, 0))
-    q, _ = np.linalg.qr(x0) if x0.shape[1] else (np.zeros((y.size, 0)), None)
-    yp = y - q @ (q.T @ y)
-    yy = float(yp @ yp)
-    if not yy > 0:
-        return list(variants)
+    q = _backlash._basis(base)
 
-    def sse(col):
-        c = col[m] - q @ (q.T @ col[m])
-        cy, cc = float(c @ yp), float(c @ c)
-        return yy - cy * cy / cc if cy > 0 and cc > 0 else yy  # a load inertia >= 0
+    def left(col):  # the share of y the term leaves, its load inertia >= 0
+        return 1.0 - _backlash.drop_share(base, col, y, basis=q)
 
-    best = min(variants, key=lambda v: sse(v.extra[:, 0]))
+    best = min(variants, key=lambda v: left(v.extra[:, 0]))
     wl0, z0 = best.h
     step = np.log(10.0) / 8  # one step of the grid in log frequency
     lo = np.array([np.log(wl0) - step, np.log(REFINE_ZETA[0])])
@@ -104,7 +96,7 @@ def _refine(base, variants):
 
     def cost(x):
         x = np.clip(x, lo, hi)
-        return sse(_spring_column(sig, float(np.exp(x[0])), float(np.exp(x[1])))) / yy
+        return left(_spring_column(sig, float(np.exp(x[0])), float(np.exp(x[1]))))
 
     res = minimize(cost, np.array([np.log(wl0), np.log(z0)]), method="Nelder-Mead",
                    options=dict(xatol=1e-3, fatol=1e-6, maxfev=80, initial_simplex=np.array([
@@ -115,8 +107,9 @@ def _refine(base, variants):
     seen = {v.h for v in out}
     for f, z in ((1.0, 1.0), (1.02, 1.0), (1 / 1.02, 1.0), (1.0, 1.2), (1.0, 1 / 1.2)):
         w2, z2 = float(wl * f), float(np.clip(zeta * z, *REFINE_ZETA))
-        if w2 <= 2 * np.pi * sig.cutoff and (w2, z2) not in seen:  # a damping at its bound
-            seen.add((w2, z2))  # clips a neighbour onto the refined point itself
+        # (a damping at its bound clips a neighbour onto the refined point itself)
+        if w2 <= 2 * np.pi * sig.cutoff and (w2, z2) not in seen:
+            seen.add((w2, z2))
             out.append(base.variant((w2, z2), _spring_column(sig, w2, z2), (1,)))
     return out
 
